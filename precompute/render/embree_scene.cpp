@@ -1,0 +1,142 @@
+#include "precompute/render/embree_scene.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <mutex>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+namespace {
+
+void onEmbreeError(void*, RTCError code, const char* message) {
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  std::cerr << "embree error " << static_cast<int>(code) << ": " << (message ? message : "")
+            << "\n";
+}
+
+void checkDevice(RTCDevice device, const char* what) {
+  const RTCError code = rtcGetDeviceError(device);
+  ACPCA_CHECK(code == RTC_ERROR_NONE, "Embree failed while ", what, " (error ",
+              static_cast<int>(code), ")");
+}
+
+}  // namespace
+
+EmbreeScene::EmbreeScene(const Scene& scene) {
+  scene.validate();
+  device_ = rtcNewDevice("verbose=0");
+  ACPCA_CHECK(device_ != nullptr, "rtcNewDevice failed (error ",
+              static_cast<int>(rtcGetDeviceError(nullptr)), ")");
+  rtcSetDeviceErrorFunction(device_, onEmbreeError, nullptr);
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_NONE);
+  epsilon_ = static_cast<float>(1e-5 * scene.extent());
+
+  for (const auto& mesh : scene.meshes) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+      for (int c = 0; c < 3; ++c) v[3 * i + c] = mesh.vertices[i][c];
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int c = 0; c < 3; ++c) t[3 * i + c] = static_cast<unsigned>(mesh.triangles[i][c]);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+    ACPCA_CHECK(id == materials_.size(), "geometry id ", id);
+    materials_.push_back(mesh.material);
+    sphereOfGeometry_.push_back(nullptr);
+  }
+  for (const auto& sphere : scene.spheres) {
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    v[0] = float(sphere.center.x()), v[1] = float(sphere.center.y());
+    v[2] = float(sphere.center.z()), v[3] = float(sphere.radius);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+    ACPCA_CHECK(id == materials_.size(), "geometry id ", id);
+    materials_.push_back(sphere.material);
+    sphereOfGeometry_.push_back(&sphere);
+  }
+  rtcCommitScene(scene_);
+  checkDevice(device_, "building the scene");
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& direction) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
+  rh.ray.dir_x = float(direction.x()), rh.ray.dir_y = float(direction.y());
+  rh.ray.dir_z = float(direction.z());
+  rh.ray.tnear = 0;
+  rh.ray.tfar = std::numeric_limits<float>::infinity();
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  Hit hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.material = static_cast<int>(rh.hit.geomID);
+  hit.position = origin + double(rh.ray.tfar) * direction;
+  const Sphere* sphere = sphereOfGeometry_[rh.hit.geomID];
+  if (sphere) {
+    // Exact normal, and the hit point snapped back onto the true sphere.
+    hit.normal = (hit.position - sphere->center).normalized();
+    hit.position = sphere->center + sphere->radius * hit.normal;
+  } else {
+    hit.normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+  }
+  if (hit.normal.dot(direction) > 0) hit.normal = -hit.normal;  // two-sided: face the viewer
+  return hit;
+}
+
+Eigen::Vector2d pixelSampleOffset(int s) {
+  // R2 low-discrepancy sequence (plastic number), starting at the centre.
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  return {std::fmod(0.5 + s * a1, 1.0), std::fmod(0.5 + s * a2, 1.0)};
+}
+
+GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int samplesPerPixel) {
+  GBuffer g;
+  g.size = camera.size;
+  g.samplesPerPixel = samplesPerPixel;
+  g.samples.resize(static_cast<size_t>(camera.size.pixels()) * samplesPerPixel);
+  const float epsilon = scene.rayEpsilon();
+  tbb::parallel_for(tbb::blocked_range<int>(0, camera.size.height), [&](const auto& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < camera.size.width; ++x)
+        for (int s = 0; s < samplesPerPixel; ++s) {
+          const Eigen::Vector2d o = pixelSampleOffset(s);
+          const Vec3 dir = camera.rayDirection(x + o.x(), y + o.y());
+          const auto hit = scene.intersect(camera.eye, dir);
+          PixelSample& ps =
+              g.samples[(static_cast<size_t>(y) * camera.size.width + x) * samplesPerPixel + s];
+          ps.material = hit.material;
+          if (hit.material < 0) continue;
+          ps.normal = hit.normal.cast<float>();
+          ps.toViewer = (-dir).cast<float>();
+          // Pushed off along the normal so shadow rays miss their own surface.
+          ps.origin = (hit.position + epsilon * hit.normal).cast<float>();
+        }
+  });
+  return g;
+}
+
+}  // namespace acpca

@@ -1,0 +1,66 @@
+#pragma once
+// Embree scene built from a Scene, and the first-hit G-buffer of a camera.
+// Internal to the renderer target: only it links Embree.
+#include <embree3/rtcore.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "precompute/render/scene.h"
+
+namespace acpca {
+
+/// Owns an Embree device and the committed scene (high build quality, robust
+/// mode off: we offset shadow-ray origins ourselves).
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const Scene& scene);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  RTCScene handle() const { return scene_; }
+  /// Offset of shadow-ray origins along the normal, relative to the scene size.
+  float rayEpsilon() const { return epsilon_; }
+  const std::vector<Material>& materials() const { return materials_; }
+
+  /// First hit of a ray; material < 0 when it leaves the scene.
+  struct Hit {
+    int material = -1;
+    Vec3 position;
+    Vec3 normal;  ///< unit, turned to face the ray's origin
+  };
+  Hit intersect(const Vec3& origin, const Vec3& direction) const;
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  float epsilon_ = 1e-4f;
+  std::vector<Material> materials_;         // per geometry ID
+  std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
+};
+
+/// One camera sample of a pixel: where it hit and how it is seen.
+struct PixelSample {
+  Eigen::Vector3f origin;    ///< hit point pushed off the surface along the normal
+  Eigen::Vector3f normal;    ///< unit, facing the viewer
+  Eigen::Vector3f toViewer;  ///< unit
+  int material = -1;         ///< -1: the sample missed (background)
+};
+
+/// Camera samples of every pixel: samples[(y * width + x) * spp + s].
+struct GBuffer {
+  ImageSize size;
+  int samplesPerPixel = 1;
+  std::vector<PixelSample> samples;
+  const PixelSample& at(int x, int y, int s) const {
+    return samples[(static_cast<size_t>(y) * size.width + x) * samplesPerPixel + s];
+  }
+};
+
+/// Sub-pixel position of sample s (s = 0 is the pixel centre; an R2 sequence after).
+Eigen::Vector2d pixelSampleOffset(int s);
+/// Traces the camera rays of every pixel sample in parallel (TBB).
+GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int samplesPerPixel);
+
+}  // namespace acpca

@@ -1,0 +1,66 @@
+#pragma once
+// A renderable scene: a camera, triangle meshes and analytic spheres, each with a
+// material. Built-in scenes (builtin_scenes.cpp) and JSON files (scene_json.cpp)
+// both produce one.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "precompute/render/material.h"
+#include "precompute/transport/camera.h"
+
+namespace acpca {
+
+struct TriangleMesh {
+  std::string name;
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  Material material;
+};
+
+struct Sphere {
+  Vec3 center{0, 0, 0};
+  double radius = 1;
+  Material material;
+};
+
+struct Scene {
+  std::string name;
+  Camera camera;
+  std::vector<TriangleMesh> meshes;
+  std::vector<Sphere> spheres;
+
+  long long triangleCount() const;
+  /// Diagonal of the bounding box of all geometry (sets ray offsets).
+  double extent() const;
+  /// Throws UserError naming the object and what is wrong: non-finite or
+  /// out-of-range values, indices outside a mesh, an empty scene.
+  void validate() const;
+};
+
+/// Builders for the primitives that scenes are made of.
+TriangleMesh makeQuad(const Vec3& center, const Vec3& normal, double size, const Material& m,
+                      const std::string& name);
+TriangleMesh makeBox(const Vec3& lo, const Vec3& hi, const Material& m, const std::string& name);
+/// Appends mesh b to mesh a (materials must agree; a keeps its own).
+void appendMesh(TriangleMesh& a, const TriangleMesh& b);
+
+/// Name and one-line description of a built-in scene.
+struct BuiltinSceneInfo {
+  std::string name;
+  std::string description;
+};
+std::vector<BuiltinSceneInfo> builtinScenes();
+bool isBuiltinScene(const std::string& name);
+/// Throws UserError if the name is unknown.
+Scene makeBuiltinScene(const std::string& name);
+/// The procedural potted plant (plant.cpp); fixed seed, so always the same.
+Scene makePlantScene();
+
+/// Built-in name or path to a scene JSON file (docs/scenes.md).
+Scene loadScene(const std::string& nameOrPath);
+Scene loadSceneJson(const std::string& path);
+/// Loads an OBJ/PLY/glTF mesh (all its parts merged) through assimp.
+TriangleMesh loadMeshFile(const std::string& path);
+
+}  // namespace acpca

@@ -1,0 +1,221 @@
+// Scene files: JSON with a camera and a list of objects (schema: docs/scenes.md).
+// Every key is checked: unknown, missing or mistyped keys are errors naming the
+// key and where it is.
+#include <Eigen/Geometry>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "precompute/render/scene.h"
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+/// A JSON object being read, with its location for error messages.
+class Reader {
+ public:
+  Reader(const json& value, std::string where) : value_(value), where_(std::move(where)) {
+    if (!value_.is_object()) throw UserError(concat(where_, ": expected an object"));
+  }
+
+  /// Fails if the object has a key outside `allowed`.
+  void allowOnly(const std::set<std::string>& allowed) const {
+    for (const auto& item : value_.items())
+      if (!allowed.count(item.key()))
+        throw UserError(concat(where_, ": unknown key '", item.key(), "'"));
+  }
+  bool has(const std::string& key) const { return value_.contains(key); }
+  std::string path(const std::string& key) const { return concat(where_, ".", key); }
+  const json& at(const std::string& key) const {
+    if (!has(key)) throw UserError(concat(where_, ": missing key '", key, "'"));
+    return value_.at(key);
+  }
+
+  double number(const std::string& key) const {
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      throw UserError(concat(path(key), ": expected a finite number"));
+    return v.get<double>();
+  }
+  std::string text(const std::string& key) const {
+    const json& v = at(key);
+    if (!v.is_string()) throw UserError(concat(path(key), ": expected a string"));
+    return v.get<std::string>();
+  }
+  std::vector<double> numbers(const std::string& key, size_t count) const {
+    const json& v = at(key);
+    if (!v.is_array() || v.size() != count)
+      throw UserError(concat(path(key), ": expected an array of ", count, " numbers"));
+    std::vector<double> out;
+    for (const auto& e : v) {
+      if (!e.is_number() || !std::isfinite(e.get<double>()))
+        throw UserError(concat(path(key), ": expected an array of ", count, " finite numbers"));
+      out.push_back(e.get<double>());
+    }
+    return out;
+  }
+  Vec3 vec3(const std::string& key) const {
+    const auto v = numbers(key, 3);
+    return {v[0], v[1], v[2]};
+  }
+  Reader child(const std::string& key) const { return Reader(at(key), path(key)); }
+  const std::string& where() const { return where_; }
+
+ private:
+  const json& value_;
+  std::string where_;
+};
+
+int positiveInt(const Reader& r, const std::string& key) {
+  const double v = r.number(key);
+  if (v != std::floor(v) || v < 1 || v > kMaxImageSide)
+    throw UserError(concat(r.path(key), ": expected an integer in 1..", kMaxImageSide));
+  return static_cast<int>(v);
+}
+
+Camera readCamera(const Reader& r) {
+  r.allowOnly({"eye", "target", "up", "fov", "width", "height"});
+  Camera c;
+  c.eye = r.vec3("eye");
+  c.target = r.vec3("target");
+  c.up = r.vec3("up");
+  c.fovDegrees = r.number("fov");
+  if (r.has("width")) c.size.width = positiveInt(r, "width");
+  if (r.has("height")) c.size.height = positiveInt(r, "height");
+  try {
+    c.validate();
+  } catch (const UserError& e) {
+    throw UserError(concat(r.where(), ": ", e.what()));
+  }
+  return c;
+}
+
+Eigen::Vector3f readAlbedo(const Reader& r) {
+  const Vec3 a = r.vec3("albedo");
+  if ((a.array() < 0).any()) throw UserError(concat(r.path("albedo"), ": must be >= 0"));
+  return a.cast<float>();
+}
+
+Material readMaterial(const Reader& r) {
+  const std::string type = r.text("type");
+  Material m;
+  if (type == "diffuse") {
+    r.allowOnly({"type", "albedo"});
+    m.type = Material::Type::Diffuse;
+  } else if (type == "phong") {
+    r.allowOnly({"type", "albedo", "specular", "exponent"});
+    m.type = Material::Type::Phong;
+    m.specular = r.number("specular");
+    m.exponent = r.number("exponent");
+    if (m.specular < 0 || m.specular > 1)
+      throw UserError(concat(r.path("specular"), ": ", m.specular, " is outside [0, 1]"));
+    if (m.exponent < 0 || m.exponent > 1e6)
+      throw UserError(concat(r.path("exponent"), ": ", m.exponent, " is outside [0, 1e6]"));
+  } else {
+    throw UserError(concat(r.path("type"), ": unknown material type '", type,
+                           "' (diffuse or phong)"));
+  }
+  m.albedo = readAlbedo(r);
+  return m;
+}
+
+/// Row-major 4x4 affine transform of a mesh object.
+Eigen::Matrix4d readTransform(const Reader& r) {
+  r.allowOnly({"scale", "rotate_y_deg", "translate", "matrix"});
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  if (r.has("matrix")) {
+    if (r.has("scale") || r.has("rotate_y_deg") || r.has("translate"))
+      throw UserError(concat(r.where(), ": 'matrix' excludes scale, rotate_y_deg and translate"));
+    const auto v = r.numbers("matrix", 16);
+    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = v[i];
+    if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+      throw UserError(concat(r.path("matrix"), ": the last row must be 0 0 0 1 (affine)"));
+    return m;
+  }
+  Eigen::Vector3d scale(1, 1, 1);
+  if (r.has("scale")) {
+    if (r.at("scale").is_array()) scale = r.vec3("scale");
+    else scale.setConstant(r.number("scale"));
+  }
+  const double angle = r.has("rotate_y_deg") ? r.number("rotate_y_deg") * M_PI / 180 : 0.0;
+  const Vec3 translate = r.has("translate") ? r.vec3("translate") : Vec3::Zero();
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vec3::UnitY()).toRotationMatrix();
+  m.topLeftCorner<3, 3>() = rotation * scale.asDiagonal();
+  m.topRightCorner<3, 1>() = translate;
+  return m;
+}
+
+void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
+  if (r.has("shape") == r.has("mesh"))
+    throw UserError(concat(r.where(), ": give exactly one of 'shape' or 'mesh'"));
+  const Material material = readMaterial(r.child("material"));
+  if (r.has("mesh")) {
+    r.allowOnly({"mesh", "transform", "material"});
+    const fs::path file = baseDir / r.text("mesh");
+    TriangleMesh mesh;
+    try {
+      mesh = loadMeshFile(file.string());
+    } catch (const UserError& e) {
+      throw UserError(concat(r.path("mesh"), ": ", e.what()));
+    }
+    mesh.material = material;
+    if (r.has("transform")) {
+      const Eigen::Matrix4d t = readTransform(r.child("transform"));
+      for (auto& v : mesh.vertices)
+        v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
+    }
+    scene.meshes.push_back(std::move(mesh));
+    return;
+  }
+  const std::string shape = r.text("shape");
+  if (shape == "sphere") {
+    r.allowOnly({"shape", "center", "radius", "material"});
+    const double radius = r.number("radius");
+    if (radius <= 0) throw UserError(concat(r.path("radius"), ": must be > 0"));
+    scene.spheres.push_back({r.vec3("center"), radius, material});
+  } else if (shape == "plane") {
+    r.allowOnly({"shape", "center", "normal", "size", "material"});
+    const Vec3 normal = r.vec3("normal");
+    const double size = r.number("size");
+    if (normal.norm() == 0) throw UserError(concat(r.path("normal"), ": must not be zero"));
+    if (size <= 0) throw UserError(concat(r.path("size"), ": must be > 0"));
+    scene.meshes.push_back(makeQuad(r.vec3("center"), normal, size, material, r.where()));
+  } else {
+    throw UserError(concat(r.path("shape"), ": unknown shape '", shape, "' (sphere or plane)"));
+  }
+}
+
+}  // namespace
+
+Scene loadSceneJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UserError(concat(path, ": cannot open the scene file"));
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::exception& e) {
+    throw UserError(concat(path, ": not valid JSON: ", e.what()));
+  }
+  const Reader root(doc, path);
+  root.allowOnly({"camera", "objects", "name"});
+  Scene scene;
+  scene.name = root.has("name") ? root.text("name") : fs::path(path).stem().string();
+  scene.camera = readCamera(root.child("camera"));
+  const json& objects = root.at("objects");
+  if (!objects.is_array() || objects.empty())
+    throw UserError(concat(root.path("objects"), ": expected a non-empty array"));
+  const fs::path baseDir = fs::path(path).parent_path();
+  for (size_t i = 0; i < objects.size(); ++i)
+    readObject(Reader(objects[i], concat(path, ": objects[", i, "]")), baseDir, scene);
+  scene.validate();
+  return scene;
+}
+
+}  // namespace acpca

@@ -1,0 +1,43 @@
+#pragma once
+// The precompute: fills the transport row of every occupied pixel with Embree
+// and streams it to a transport file (design.md section 4).
+#include <functional>
+#include <string>
+
+#include "precompute/render/scene.h"
+#include "precompute/transport/transport_file.h"
+
+namespace acpca {
+
+struct PrecomputeOptions {
+  int cubemapResolution = 32;
+  int samplesPerPixel = 1;  ///< camera samples per pixel; rows are averaged
+  int texelRays = 1;        ///< occlusion rays per texel (> 1: fractional visibility)
+  Precision precision = Precision::F16;
+  int threads = 0;  ///< 0: all cores
+  /// Called from one thread as rows are written: (rows done, rows in total).
+  std::function<void(long long, long long)> progress;
+};
+
+struct PrecomputeStats {
+  long long triangles = 0;
+  long long occupiedPixels = 0;
+  long long occlusionRays = 0;
+  long long bytesWritten = 0;  ///< transport rows only
+  double seconds = 0;          ///< wall time of the whole precompute
+  double transportSeconds = 0;  ///< the occlusion-ray pass alone
+  int threadsUsed = 0;          ///< distinct threads that computed rows
+  double raysPerSecond() const { return transportSeconds > 0 ? occlusionRays / transportSeconds : 0; }
+};
+
+/// Validates the options (UserError on bad values) and writes the transport file
+/// atomically: on any failure no file appears at outPath.
+PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
+                                    const PrecomputeOptions& options);
+
+/// Computes the rows of image rows [0, rows) without writing a file (for the
+/// ray benchmark): returns the occlusion rays traced and the seconds spent.
+PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOptions& options,
+                                      int imageRows);
+
+}  // namespace acpca

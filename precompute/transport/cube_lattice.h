@@ -1,0 +1,74 @@
+#pragma once
+// The 6 x R x R cube-map lattice of lighting directions (design.md section 3).
+// Face order +X, -X, +Y, -Y, +Z, -Z; within a face the OpenGL major-axis (s, t)
+// table, used literally; texel j = face*R*R + row*R + col.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace acpca {
+
+using Vec3 = Eigen::Vector3d;
+
+/// A texel's address on the cube.
+struct TexelCoord {
+  int face = 0;
+  int row = 0;
+  int col = 0;
+};
+
+/// One of the (up to) four texels a bilinear lookup blends, with its weight.
+struct BilinearTap {
+  int texel = 0;
+  double weight = 0.0;
+};
+
+class CubeLattice {
+ public:
+  static constexpr int kFaces = 6;
+  static constexpr int kMaxResolution = 1024;
+
+  /// Throws UserError unless 1 <= resolution <= kMaxResolution.
+  explicit CubeLattice(int resolution);
+
+  int resolution() const { return resolution_; }
+  /// Number of texels, 6 R^2 (the l of the paper).
+  int size() const { return kFaces * resolution_ * resolution_; }
+
+  int texelIndex(const TexelCoord& c) const {
+    return (c.face * resolution_ + c.row) * resolution_ + c.col;
+  }
+  TexelCoord texelCoord(int texel) const;
+
+  /// Normalised direction through the texel's centre.
+  const Vec3& direction(int texel) const { return directions_[texel]; }
+  /// Exact solid angle of the texel (not 4 pi / l).
+  double solidAngle(int texel) const { return solidAngles_[texel]; }
+  const std::vector<double>& solidAngles() const { return solidAngles_; }
+
+  /// The texel whose footprint contains direction d (d need not be normalised).
+  int texelOf(const Vec3& d) const;
+
+  /// Bilinear interpolation weights between texel centres, continuous across face
+  /// seams: taps that fall off the face are moved to the neighbouring face.
+  std::array<BilinearTap, 4> bilinearTaps(const Vec3& d) const;
+  /// Bilinear lookup of one value per texel.
+  double bilinear(const std::vector<double>& values, const Vec3& d) const;
+
+  /// Unnormalised direction for face coordinates sc, tc in [-1, 1] (inverse of the
+  /// OpenGL table; values outside [-1, 1] extend the face plane).
+  static Vec3 faceDirection(int face, double sc, double tc);
+  /// Face and face coordinates (sc, tc in [-1, 1]) of a direction.
+  static void faceCoordinates(const Vec3& d, int& face, double& sc, double& tc);
+  /// Exact solid angle of the face-plane rectangle [x0, x1] x [y0, y1] (unit cube).
+  static double rectangleSolidAngle(double x0, double y0, double x1, double y1);
+
+ private:
+  int resolution_;
+  std::vector<Vec3> directions_;
+  std::vector<double> solidAngles_;
+};
+
+}  // namespace acpca

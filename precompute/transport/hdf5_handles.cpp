@@ -1,0 +1,224 @@
+#include "precompute/transport/hdf5_handles.h"
+
+#include <mutex>
+
+#include "precompute/transport/error.h"
+
+namespace acpca::h5 {
+
+Handle& Handle::operator=(Handle&& other) noexcept {
+  if (this != &other) {
+    reset();
+    id_ = other.id_;
+    closer_ = other.closer_;
+    other.id_ = -1;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ >= 0 && closer_) closer_(id_);
+  id_ = -1;
+}
+
+void silenceLibraryErrors() {
+  static std::once_flag once;
+  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+}
+
+void check(herr_t status, const std::string& context, const std::string& what) {
+  if (status < 0) throw UserError(concat(context, ": ", what));
+}
+
+hid_t checkId(hid_t id, const std::string& context, const std::string& what) {
+  if (id < 0) throw UserError(concat(context, ": ", what));
+  return id;
+}
+
+Handle halfType() {
+  Handle type(H5Tcopy(H5T_IEEE_F32LE), H5Tclose);
+  const hid_t t = type.get();
+  // Sign bit 15, exponent bits 10..14, mantissa bits 0..9, bias 15: binary16.
+  check(H5Tset_fields(t, 15, 10, 5, 0, 10), "HDF5", "defining the half type");
+  check(H5Tset_precision(t, 16), "HDF5", "defining the half type");
+  check(H5Tset_size(t, 2), "HDF5", "defining the half type");
+  check(H5Tset_ebias(t, 15), "HDF5", "defining the half type");
+  return type;
+}
+
+Handle createFile(const std::string& path) {
+  silenceLibraryErrors();
+  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), path,
+                        "cannot create the file (is the directory writable?)"),
+                H5Fclose);
+}
+
+Handle openFileReadOnly(const std::string& path) {
+  silenceLibraryErrors();
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw UserError(concat(path, ": not an HDF5 file (missing, unreadable, truncated or foreign)"));
+  return Handle(checkId(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path,
+                        "cannot open the file"),
+                H5Fclose);
+}
+
+bool hasAttribute(hid_t object, const std::string& name) {
+  return H5Aexists(object, name.c_str()) > 0;
+}
+
+namespace {
+
+void writeScalarAttribute(hid_t object, const std::string& name, hid_t type, const void* value,
+                          const std::string& ctx) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  if (hasAttribute(object, name)) check(H5Adelete(object, name.c_str()), ctx, "replacing " + name);
+  Handle attr(checkId(H5Acreate2(object, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                      ctx, "cannot write attribute " + name),
+              H5Aclose);
+  check(H5Awrite(attr.get(), type, value), ctx, "cannot write attribute " + name);
+}
+
+Handle openAttribute(hid_t object, const std::string& name, const std::string& ctx) {
+  if (!hasAttribute(object, name)) throw UserError(concat(ctx, ": missing attribute '", name, "'"));
+  return Handle(checkId(H5Aopen(object, name.c_str(), H5P_DEFAULT), ctx, "cannot open " + name),
+                H5Aclose);
+}
+
+hssize_t attributeElements(hid_t attr) {
+  Handle space(H5Aget_space(attr), H5Sclose);
+  return H5Sget_simple_extent_npoints(space.get());
+}
+
+template <typename T>
+T readScalarAttribute(hid_t object, const std::string& name, hid_t memType,
+                      const std::string& ctx) {
+  Handle attr = openAttribute(object, name, ctx);
+  if (attributeElements(attr.get()) != 1)
+    throw UserError(concat(ctx, ": attribute '", name, "' is not a single value"));
+  Handle fileType(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_class(fileType.get()) == H5T_STRING)
+    throw UserError(concat(ctx, ": attribute '", name, "' is text, expected a number"));
+  T value{};
+  check(H5Aread(attr.get(), memType, &value), ctx, "cannot read attribute " + name);
+  return value;
+}
+
+Handle openDataset(hid_t file, const std::string& name, const std::string& ctx) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0)
+    throw UserError(concat(ctx, ": missing dataset '", name, "'"));
+  return Handle(checkId(H5Dopen2(file, name.c_str(), H5P_DEFAULT), ctx, "cannot open " + name),
+                H5Dclose);
+}
+
+void writeWhole(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
+                hid_t type, const void* data, const std::string& ctx) {
+  Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose);
+  Handle set(checkId(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                                H5P_DEFAULT),
+                     ctx, "cannot create dataset " + name),
+             H5Dclose);
+  hsize_t count = 1;
+  for (hsize_t d : shape) count *= d;
+  if (count > 0)
+    check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), ctx,
+          "cannot write dataset " + name);
+}
+
+void readWhole(hid_t file, const std::string& name, hid_t type, void* data,
+               const std::string& ctx) {
+  Handle set = openDataset(file, name, ctx);
+  Handle space(H5Dget_space(set.get()), H5Sclose);
+  if (H5Sget_simple_extent_npoints(space.get()) == 0) return;
+  check(H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), ctx,
+        "cannot read dataset " + name + " (corrupt or truncated?)");
+}
+
+}  // namespace
+
+void writeAttribute(hid_t object, const std::string& name, long long value,
+                    const std::string& ctx) {
+  writeScalarAttribute(object, name, H5T_NATIVE_LLONG, &value, ctx);
+}
+
+void writeAttribute(hid_t object, const std::string& name, double value, const std::string& ctx) {
+  writeScalarAttribute(object, name, H5T_NATIVE_DOUBLE, &value, ctx);
+}
+
+void writeAttribute(hid_t object, const std::string& name, const std::string& value,
+                    const std::string& ctx) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  check(H5Tset_size(type.get(), std::max<size_t>(1, value.size())), ctx, "string type");
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), ctx, "string type");
+  std::string padded = value.empty() ? std::string(1, '\0') : value;
+  writeScalarAttribute(object, name, type.get(), padded.data(), ctx);
+}
+
+void writeAttribute(hid_t object, const std::string& name, const std::vector<double>& value,
+                    const std::string& ctx) {
+  const hsize_t n = value.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Handle attr(checkId(H5Acreate2(object, name.c_str(), H5T_NATIVE_DOUBLE, space.get(),
+                                 H5P_DEFAULT, H5P_DEFAULT),
+                      ctx, "cannot write attribute " + name),
+              H5Aclose);
+  check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, value.data()), ctx, "attribute " + name);
+}
+
+long long readIntAttribute(hid_t object, const std::string& name, const std::string& ctx) {
+  return readScalarAttribute<long long>(object, name, H5T_NATIVE_LLONG, ctx);
+}
+
+double readDoubleAttribute(hid_t object, const std::string& name, const std::string& ctx) {
+  return readScalarAttribute<double>(object, name, H5T_NATIVE_DOUBLE, ctx);
+}
+
+std::string readStringAttribute(hid_t object, const std::string& name, const std::string& ctx) {
+  Handle attr = openAttribute(object, name, ctx);
+  Handle type(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0)
+    throw UserError(concat(ctx, ": attribute '", name, "' is not fixed-length text"));
+  const size_t size = H5Tget_size(type.get());
+  if (size > (1u << 20)) throw UserError(concat(ctx, ": attribute '", name, "' is too long"));
+  std::string value(size, '\0');
+  check(H5Aread(attr.get(), type.get(), value.data()), ctx, "cannot read attribute " + name);
+  value.resize(value.find('\0') == std::string::npos ? size : value.find('\0'));
+  return value;
+}
+
+std::vector<double> readDoubleArrayAttribute(hid_t object, const std::string& name,
+                                             const std::string& ctx) {
+  Handle attr = openAttribute(object, name, ctx);
+  const hssize_t n = attributeElements(attr.get());
+  if (n < 0 || n > 4096) throw UserError(concat(ctx, ": attribute '", name, "' has a bad size"));
+  std::vector<double> values(n);
+  check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, values.data()), ctx, "attribute " + name);
+  return values;
+}
+
+std::vector<hsize_t> datasetShape(hid_t file, const std::string& name, const std::string& ctx) {
+  Handle set = openDataset(file, name, ctx);
+  Handle space(H5Dget_space(set.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > 8) throw UserError(concat(ctx, ": dataset '", name, "' has a bad rank"));
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
+void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
+                  const float* data, const std::string& ctx) {
+  writeWhole(file, name, shape, H5T_NATIVE_FLOAT, data, ctx);
+}
+void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
+                  const std::int32_t* data, const std::string& ctx) {
+  writeWhole(file, name, shape, H5T_NATIVE_INT32, data, ctx);
+}
+void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx) {
+  readWhole(file, name, H5T_NATIVE_FLOAT, data, ctx);
+}
+void readDataset(hid_t file, const std::string& name, std::int32_t* data,
+                 const std::string& ctx) {
+  readWhole(file, name, H5T_NATIVE_INT32, data, ctx);
+}
+
+}  // namespace acpca::h5

@@ -1,0 +1,91 @@
+#include "relight/environment.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+Vec3 directionFromAngles(double theta, double phi) {
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                             const std::function<Rgb(const Vec3&)>& radiance, int sub,
+                             LatticeLighting& lighting) {
+  ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
+  const double step = 2.0 / lattice.resolution(), cell = step / sub;
+  const Eigen::Matrix3d inverse = rotation.transpose();
+  // Each texel writes only its own entries: parallel and deterministic.
+  tbb::parallel_for(0, lattice.size(), [&](int j) {
+    const TexelCoord c = lattice.texelCoord(j);
+    Rgb sum = Rgb::Zero();
+    for (int a = 0; a < sub; ++a)
+      for (int b = 0; b < sub; ++b) {
+        const double s0 = -1 + c.col * step + b * cell, t0 = -1 + c.row * step + a * cell;
+        const double omega = CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+        const Vec3 w = CubeLattice::faceDirection(c.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized();
+        sum += omega * radiance(inverse * w);
+      }
+    for (int ch = 0; ch < 3; ++ch) lighting[3 * j + ch] += sum[ch];
+  });
+}
+
+namespace {
+
+std::vector<double> parseNumbers(const std::string& list, const std::string& spec) {
+  std::vector<double> values;
+  std::stringstream in(list);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size() || !std::isfinite(v))
+      throw UserError(concat("--env '", spec, "': '", part, "' is not a finite number"));
+    values.push_back(v);
+  }
+  return values;
+}
+
+}  // namespace
+
+bool isAnalyticEnvironment(const std::string& spec) {
+  return spec == "sky" || spec.rfind("constant:", 0) == 0 || spec.rfind("sun:", 0) == 0;
+}
+
+std::unique_ptr<Environment> loadEnvironment(const std::string& spec) {
+  if (spec == "sky") return makeSkyEnvironment();
+  if (spec.rfind("constant:", 0) == 0) {
+    const auto v = parseNumbers(spec.substr(9), spec);
+    if (v.size() != 1 && v.size() != 3)
+      throw UserError(concat("--env '", spec, "': expected constant:V or constant:R,G,B"));
+    const Rgb radiance = v.size() == 1 ? Rgb::Constant(v[0]) : Rgb(v[0], v[1], v[2]);
+    if ((radiance.array() < 0).any())
+      throw UserError(concat("--env '", spec, "': radiance must be >= 0"));
+    return makeConstantEnvironment(radiance);
+  }
+  if (spec.rfind("sun:", 0) == 0) {
+    const auto v = parseNumbers(spec.substr(4), spec);
+    if (v.size() != 4)
+      throw UserError(concat("--env '", spec, "': expected sun:THETA,PHI,SIZE_DEG,INTENSITY"));
+    if (!(v[2] > 0 && v[2] <= 180))
+      throw UserError(concat("--env '", spec, "': SIZE_DEG must be in (0, 180]"));
+    if (v[3] < 0) throw UserError(concat("--env '", spec, "': INTENSITY must be >= 0"));
+    return makeSunEnvironment(v[0], v[1], v[2], Rgb::Constant(v[3]));
+  }
+  if (!std::filesystem::exists(spec))
+    throw UserError(concat("--env '", spec,
+                           "': no such file, and not constant:V, sun:THETA,PHI,SIZE,I or sky"));
+  return loadLatLongFile(spec);
+}
+
+}  // namespace acpca

@@ -1,0 +1,64 @@
+#pragma once
+// Environment lighting: analytic maps (constant, sun, sky) and lat-long images,
+// integrated onto the cube lattice by area, never point-sampled, so that a small
+// sun keeps its energy at every resolution and rotation (design.md section 3).
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "precompute/transport/cube_lattice.h"
+
+namespace acpca {
+
+using Rgb = Eigen::Vector3d;
+
+/// Per-texel lighting on the lattice: RGB radiance integrated over each texel's
+/// solid angle (radiance x dOmega), laid out [texel * 3 + channel].
+using LatticeLighting = std::vector<double>;
+
+class Environment {
+ public:
+  virtual ~Environment() = default;
+  /// Short name for output files and manifests ("sky", "sun_50_30_4_1000", file stem).
+  virtual std::string name() const = 0;
+  /// Radiance arriving from unit direction d, of the unrotated map.
+  virtual Rgb radiance(const Vec3& d) const = 0;
+  /// Adds, for every texel j, the integral of the rotated map's radiance over the
+  /// texel: integral over texel j of L(R^T w) dw. Total energy is conserved.
+  virtual void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                         LatticeLighting& lighting) const = 0;
+};
+
+/// Parses an ENV argument: `constant:V` (or `constant:R,G,B`),
+/// `sun:THETA,PHI,SIZE_DEG,INTENSITY`, `sky`, or a lat-long image file (.exr, .hdr,
+/// anything OpenImageIO reads). Throws UserError naming the argument.
+std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
+/// Loads a lat-long image (OpenImageIO): RGB, finite, non-negative.
+std::unique_ptr<Environment> loadLatLongFile(const std::string& path);
+/// True if spec names an analytic map rather than a file.
+bool isAnalyticEnvironment(const std::string& spec);
+
+std::unique_ptr<Environment> makeConstantEnvironment(const Rgb& radiance);
+/// A disc of angular diameter sizeDegrees and uniform radiance, centred at the
+/// lat-long angles theta (from +Y) and phi (0 towards -Z, 90 towards +X).
+std::unique_ptr<Environment> makeSunEnvironment(double thetaDegrees, double phiDegrees,
+                                                double sizeDegrees, const Rgb& radiance);
+/// The built-in sun-and-sky (docs/lighting.md).
+std::unique_ptr<Environment> makeSkyEnvironment();
+/// A lat-long image in memory: width x height RGB, row 0 at the zenith.
+std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
+                                                    std::vector<float> rgb);
+
+/// Unit direction of lat-long angles (design.md section 3): theta from +Y, phi
+/// from -Z towards +X.
+Vec3 directionFromAngles(double thetaRadians, double phiRadians);
+
+/// Integrates a smooth radiance function over every texel by splitting the texel
+/// into sub x sub cells weighted by their exact solid angles (for analytic maps).
+void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                             const std::function<Rgb(const Vec3&)>& radiance, int sub,
+                             LatticeLighting& lighting);
+
+}  // namespace acpca

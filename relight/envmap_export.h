@@ -1,0 +1,24 @@
+#pragma once
+// What the lattice sees of a lighting, as pictures: a lat-long image and a
+// horizontal cube cross, piecewise constant per texel.
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+
+namespace acpca {
+
+/// Lat-long image (design.md section 3 mapping) of the lattice radiance.
+Image latticeToLatLong(const LatticeLighting& lighting, const CubeLattice& lattice, int width,
+                       int height);
+
+/// Horizontal cross, faces of faceSize pixels, laid out as seen from inside:
+///          +Y
+///     -X   -Z   +X   +Z
+///          -Y
+/// so that the middle row runs with the lat-long's u (u = 0.25 is -X) and every
+/// shared edge is continuous.
+Image latticeToCross(const LatticeLighting& lighting, const CubeLattice& lattice, int faceSize);
+
+/// Direction of cross pixel centre (x, y); false where the cross has no face.
+bool crossDirection(int x, int y, int faceSize, Vec3& direction);
+
+}  // namespace acpca

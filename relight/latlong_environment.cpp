@@ -1,0 +1,137 @@
+// Lat-long (equirectangular) environment images. Each source pixel is treated
+// as constant radiance over its exact solid angle and split into sub-cells
+// small against a texel; every sub-cell adds radiance x solid angle to the
+// texel that holds its (rotated) centre. Energy is conserved to rounding at any
+// rotation, and a small sun keeps its energy.
+#include <OpenImageIO/imageio.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "precompute/transport/error.h"
+#include "relight/environment.h"
+
+namespace acpca {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr long long kMaxPixels = 1LL << 28;  // 16k x 16k
+
+class LatLongEnvironment : public Environment {
+ public:
+  LatLongEnvironment(std::string name, int width, int height, std::vector<float> rgb)
+      : name_(std::move(name)), width_(width), height_(height), rgb_(std::move(rgb)) {
+    ACPCA_CHECK(rgb_.size() == 3ull * width * height, "lat-long buffer ", rgb_.size());
+  }
+  std::string name() const override { return name_; }
+
+  Rgb radiance(const Vec3& dir) const override {
+    const Vec3 d = dir.normalized();
+    // design.md section 3: u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
+    const double u = 0.5 + std::atan2(d.x(), -d.z()) / (2 * kPi);
+    const double v = std::acos(std::clamp(d.y(), -1.0, 1.0)) / kPi;
+    // Bilinear between pixel centres, wrapping in u and clamping in v.
+    const double x = u * width_ - 0.5, y = std::clamp(v * height_ - 0.5, 0.0, height_ - 1.0);
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const double fx = x - x0, fy = y - y0;
+    Rgb sum = Rgb::Zero();
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dx = 0; dx <= 1; ++dx) {
+        const int px = ((x0 + dx) % width_ + width_) % width_;
+        const int py = std::min(y0 + dy, height_ - 1);
+        const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+        sum += w * pixel(px, py);
+      }
+    return sum;
+  }
+
+  void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                 LatticeLighting& lighting) const override {
+    ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
+    // Sub-cells at most 1/8 of a texel's angular size.
+    const double texelAngle = 0.5 * kPi / lattice.resolution();
+    const int sub = std::max(1, static_cast<int>(std::ceil(8 * (kPi / height_) / texelAngle)));
+    const int subW = width_ * sub, subH = height_ * sub;
+    std::vector<double> sinPhi(subW), cosPhi(subW);
+    for (int i = 0; i < subW; ++i) {
+      const double phi = 2 * kPi * ((i + 0.5) / subW - 0.5);  // u = 0.5 + phi / 2 pi
+      sinPhi[i] = std::sin(phi), cosPhi[i] = std::cos(phi);
+    }
+    const double dPhi = 2 * kPi / subW;
+    // Fixed chunks of source rows, each with its own partial sums, added in
+    // order: the result does not depend on the thread count.
+    constexpr int kChunks = 16;
+    const int chunkRows = (subH + kChunks - 1) / kChunks;
+    const int chunks = (subH + chunkRows - 1) / chunkRows;
+    std::vector<std::vector<double>> partial(chunks);
+    tbb::parallel_for(0, chunks, [&](int chunk) {
+      auto& acc = partial[chunk];
+      acc.assign(lighting.size(), 0.0);
+      for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
+        const double theta0 = kPi * r / subH, theta1 = kPi * (r + 1) / subH;
+        const double omega = (std::cos(theta0) - std::cos(theta1)) * dPhi;
+        const double theta = 0.5 * (theta0 + theta1);
+        const double sinT = std::sin(theta), cosT = std::cos(theta);
+        const int py = r / sub;
+        for (int i = 0; i < subW; ++i) {
+          const float* p = &rgb_[3 * (static_cast<size_t>(py) * width_ + i / sub)];
+          if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
+          const Vec3 w(sinT * sinPhi[i], cosT, -sinT * cosPhi[i]);
+          const int j = lattice.texelOf(rotation * w);
+          for (int c = 0; c < 3; ++c) acc[3 * j + c] += omega * p[c];
+        }
+      }
+    });
+    for (const auto& acc : partial)
+      for (size_t k = 0; k < lighting.size(); ++k) lighting[k] += acc[k];
+  }
+
+ private:
+  Rgb pixel(int x, int y) const {
+    const float* p = &rgb_[3 * (static_cast<size_t>(y) * width_ + x)];
+    return {p[0], p[1], p[2]};
+  }
+  std::string name_;
+  int width_, height_;
+  std::vector<float> rgb_;
+};
+
+}  // namespace
+
+std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
+                                                    std::vector<float> rgb) {
+  return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));
+}
+
+std::unique_ptr<Environment> loadLatLongFile(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw UserError(concat(path, ": cannot read the environment map: ", OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 2 || spec.height < 1 || spec.depth != 1 ||
+      static_cast<long long>(spec.width) * spec.height > kMaxPixels)
+    throw UserError(concat(path, ": environment map size ", spec.width, "x", spec.height,
+                           " is out of range"));
+  if (spec.nchannels < 1)
+    throw UserError(concat(path, ": the environment map has no channels"));
+  const int channels = spec.nchannels;
+  std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
+    throw UserError(concat(path, ": cannot read the environment map pixels: ", in->geterror()));
+  std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * 3);
+  for (size_t p = 0; p < rgb.size() / 3; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = all[p * channels + std::min(c, channels < 3 ? 0 : c)];
+      if (!std::isfinite(v) || v < 0)
+        throw UserError(concat(path, ": pixel (", p % spec.width, ", ", p / spec.width,
+                               ") channel ", c, " is ", v,
+                               "; radiance must be finite and >= 0"));
+      rgb[3 * p + c] = v;
+    }
+  return makeLatLongEnvironment(std::filesystem::path(path).stem().string(), spec.width,
+                                spec.height, std::move(rgb));
+}
+
+}  // namespace acpca

@@ -1,0 +1,86 @@
+#include "relight/rotation.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+namespace {
+
+double toRadians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+
+std::string formatAngle(double degrees) {
+  std::ostringstream out;
+  out << degrees;
+  return out.str();
+}
+
+double parseNumber(const std::string& text, const std::string& spec) {
+  size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw UserError(concat("--rotate '", spec, "': '", text, "' is not a number"));
+  return value;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, separator)) parts.push_back(part);
+  if (!text.empty() && text.back() == separator) parts.push_back("");
+  return parts;
+}
+
+}  // namespace
+
+std::string EnvRotation::label() const {
+  std::string s = "y" + formatAngle(yaw);
+  if (pitch != 0 || roll != 0) s += "_p" + formatAngle(pitch) + "_r" + formatAngle(roll);
+  return s;
+}
+
+Eigen::Matrix3d rotationMatrix(const EnvRotation& r) {
+  using Eigen::AngleAxisd;
+  return (AngleAxisd(toRadians(r.roll), Eigen::Vector3d::UnitZ()) *
+          AngleAxisd(toRadians(r.pitch), Eigen::Vector3d::UnitX()) *
+          AngleAxisd(toRadians(r.yaw), Eigen::Vector3d::UnitY()))
+      .toRotationMatrix();
+}
+
+std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
+  if (spec.find(':') != std::string::npos) {
+    const auto parts = split(spec, ':');
+    if (parts.size() != 3) throw UserError(concat("--rotate '", spec, "': expected A:B:S"));
+    const double a = parseNumber(parts[0], spec), b = parseNumber(parts[1], spec),
+                 s = parseNumber(parts[2], spec);
+    if (s <= 0) throw UserError(concat("--rotate '", spec, "': the step must be > 0"));
+    if (b <= a) throw UserError(concat("--rotate '", spec, "': the end must exceed the start"));
+    const double count = std::ceil((b - a) / s - 1e-9);
+    if (count > 100000) throw UserError(concat("--rotate '", spec, "': more than 100000 steps"));
+    std::vector<EnvRotation> sweep;
+    for (int i = 0; i < static_cast<int>(count); ++i) sweep.push_back({a + i * s, 0, 0});
+    return sweep;
+  }
+  const auto parts = split(spec, ',');
+  if (parts.size() != 1 && parts.size() != 3)
+    throw UserError(concat("--rotate '", spec, "': expected YAW or YAW,PITCH,ROLL or A:B:S"));
+  EnvRotation r;
+  r.yaw = parseNumber(parts[0], spec);
+  if (parts.size() == 3) {
+    r.pitch = parseNumber(parts[1], spec);
+    r.roll = parseNumber(parts[2], spec);
+  }
+  return {r};
+}
+
+}  // namespace acpca

@@ -1,0 +1,24 @@
+#pragma once
+// Environment rotation of design.md section 3: R = Rz(roll) Rx(pitch) Ry(yaw),
+// degrees, right-handed, about fixed world axes; a feature the map holds at d0
+// lights the scene from R d0, i.e. L_rotated(d) = L(R^T d).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace acpca {
+
+struct EnvRotation {
+  double yaw = 0, pitch = 0, roll = 0;  ///< degrees
+  bool isIdentity() const { return yaw == 0 && pitch == 0 && roll == 0; }
+  /// "y30" or "y30_p10_r5", as output file names use it.
+  std::string label() const;
+};
+
+Eigen::Matrix3d rotationMatrix(const EnvRotation& r);
+
+/// Parses one --rotate SPEC: "YAW[,PITCH,ROLL]" or "A:B:S" (yaw from A inclusive
+/// to B exclusive in steps of S). Throws UserError naming the spec.
+std::vector<EnvRotation> parseRotationSpec(const std::string& spec);
+
+}  // namespace acpca

@@ -1,0 +1,104 @@
+#include "tools/cli_common.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "precompute/transport/atomic_file.h"
+#include "precompute/transport/error.h"
+
+namespace acpca::cli {
+
+void CommonOptions::add(CLI::App& app, bool withThreads) {
+  app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
+  app.add_option("--json", jsonPath, "Write machine-readable results to FILE (- for stdout)");
+  if (withThreads)
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+}
+
+ThreadLimit::ThreadLimit(int threads)
+    : threads_(threads > 0 ? threads : tbb::info::default_concurrency()) {
+  control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                   threads_);
+}
+
+ThreadLimit::~ThreadLimit() = default;
+
+Progress::Progress(std::string label, std::string unit, bool quiet)
+    : label_(std::move(label)), unit_(std::move(unit)), quiet_(quiet), tty_(isatty(STDERR_FILENO)) {
+  start_ = lastPrint_ = std::chrono::steady_clock::now();
+}
+
+namespace {
+std::string formatDuration(double seconds) {
+  if (!std::isfinite(seconds)) return "?";
+  const long s = std::lround(seconds);
+  char buffer[32];
+  if (s >= 3600) std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, (s / 60) % 60);
+  else if (s >= 60) std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
+  else std::snprintf(buffer, sizeof buffer, "%lds", s);
+  return buffer;
+}
+}  // namespace
+
+void Progress::update(long long done, long long total) {
+  if (quiet_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double sinceLast = std::chrono::duration<double>(now - lastPrint_).count();
+  if (done < total && sinceLast < (tty_ ? 0.25 : 5.0)) return;
+  lastPrint_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double rate = elapsed > 0 ? done / elapsed : 0;
+  const double eta = rate > 0 ? (total - done) / rate : NAN;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s: %lld/%lld %s (%.1f%%), %.3g %s/s, elapsed %s, ETA %s",
+                label_.c_str(), done, total, unit_.c_str(), total ? 100.0 * done / total : 100.0,
+                rate, unit_.c_str(), formatDuration(elapsed).c_str(), formatDuration(eta).c_str());
+  std::cerr << (tty_ ? "\r" : "") << line << (tty_ ? "\033[K" : "\n") << std::flush;
+  printed_ = true;
+}
+
+void Progress::finish() {
+  if (!quiet_ && printed_ && tty_) std::cerr << "\n";
+}
+
+void writeJson(const std::string& path, const nlohmann::json& value) {
+  if (path.empty()) return;
+  if (path == "-") {
+    std::cout << value.dump(2) << std::endl;
+    return;
+  }
+  AtomicOutput output(path);
+  {
+    std::ofstream out(output.tempPath());
+    out << value.dump(2) << "\n";
+    if (!out) throw UserError(concat(path, ": cannot write the JSON file"));
+  }
+  output.commit();
+}
+
+ImageSize parseSize(const std::string& text, const std::string& option) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw UserError(concat(option, " '", text, "': expected WxH, e.g. 256x256"));
+  const ImageSize size{w, h};
+  validateImageSize(size, option + " " + text);
+  return size;
+}
+
+std::string formatBytes(double bytes) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  int u = 0;
+  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, u ? "%.2f %s" : "%.0f %s", bytes, units[u]);
+  return buffer;
+}
+
+}  // namespace acpca::cli

@@ -1,0 +1,61 @@
+#pragma once
+// Helpers every subcommand shares: options common to all, progress lines,
+// JSON output, thread control and size parsing.
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "precompute/transport/camera.h"
+
+
+namespace acpca::cli {
+
+/// --quiet, --json FILE|-, --threads N, as most subcommands take them.
+struct CommonOptions {
+  bool quiet = false;
+  std::string jsonPath;
+  int threads = 0;
+  void add(CLI::App& app, bool withThreads = true);
+};
+
+/// Caps TBB at `threads` worker threads (0: all cores) while it lives.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads);
+  ~ThreadLimit();
+  int threads() const { return threads_; }
+
+ private:
+  std::unique_ptr<tbb::global_control> control_;
+  int threads_;
+};
+
+/// A progress line on stderr: done/total, rate, ETA; rewritten in place on a
+/// terminal, one line every few seconds otherwise; silent when quiet.
+class Progress {
+ public:
+  Progress(std::string label, std::string unit, bool quiet);
+  void update(long long done, long long total);
+  void finish();
+
+ private:
+  std::string label_, unit_;
+  bool quiet_, tty_;
+  std::chrono::steady_clock::time_point start_, lastPrint_;
+  bool printed_ = false;
+};
+
+/// Writes JSON to a file (atomically) or to stdout for "-"; nothing when empty.
+void writeJson(const std::string& path, const nlohmann::json& value);
+
+/// Parses "WxH" (e.g. 256x256); throws UserError naming the option.
+ImageSize parseSize(const std::string& text, const std::string& option);
+
+/// Human-readable byte count (e.g. "1.2 GiB").
+std::string formatBytes(double bytes);
+
+}  // namespace acpca::cli

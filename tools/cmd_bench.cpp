@@ -1,0 +1,69 @@
+// `adaptive-cpca bench rays`: the precompute's occlusion-ray rate against raw
+// Embree loops on the same scene points and directions, measured in one run.
+#include <cstdio>
+#include <iostream>
+
+#include "precompute/render/ray_benchmark.h"
+#include "precompute/render/scene.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct RaysArgs {
+  CommonOptions common;
+  std::string scene = "plant", size = "256x256";
+  int cubemap = 32, rows = 32, repeats = 3;
+};
+
+void runRays(const RaysArgs& a) {
+  Scene scene = loadScene(a.scene);
+  scene.camera.size = parseSize(a.size, "--size");
+  ThreadLimit limit(a.common.threads);
+  const RayBenchmarkReport r =
+      runRayBenchmark(scene, a.cubemap, limit.threads(), a.rows, std::max(1, a.repeats));
+  const RayRate& best = r.bestRawLoop();
+  std::printf("scene %s: %lld triangles, %s image, middle %d rows, 6x%dx%d lattice, %d threads\n",
+              scene.name.c_str(), r.triangles, a.size.c_str(), a.rows, a.cubemap, a.cubemap,
+              r.threads);
+  std::printf("%-58s %14s %12s %10s\n", "loop", "rays", "M rays/s", "per core");
+  auto row = [&](const RayRate& rate) {
+    std::printf("%-58s %14lld %12.2f %10.2f\n", rate.name.c_str(), rate.rays,
+                rate.raysPerSecond() / 1e6, rate.raysPerSecond() / 1e6 / r.threads);
+  };
+  row(r.precompute);
+  for (const auto& raw : r.rawLoops) row(raw);
+  const double ratio = r.precompute.raysPerSecond() / best.raysPerSecond();
+  std::printf("precompute / best raw loop (%s): %.3f\n", best.name.c_str(), ratio);
+  nlohmann::json loops = nlohmann::json::array();
+  for (const auto& raw : r.rawLoops)
+    loops.push_back({{"name", raw.name}, {"rays", raw.rays}, {"rays_per_second", raw.raysPerSecond()}});
+  writeJson(a.common.jsonPath, {{"scene", scene.name},
+                                {"triangles", r.triangles},
+                                {"threads", r.threads},
+                                {"cubemap", a.cubemap},
+                                {"precompute_rays_per_second", r.precompute.raysPerSecond()},
+                                {"raw_loops", loops},
+                                {"best_raw_loop", best.name},
+                                {"ratio_to_best", ratio}});
+}
+
+}  // namespace
+
+void registerBench(CLI::App& app) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks that print absolute figures and ratios");
+  bench->require_subcommand(1);
+  auto args = std::make_shared<RaysArgs>();
+  auto* rays = bench->add_subcommand("rays", "Occlusion rays/s: precompute vs raw Embree loops");
+  rays->add_option("--scene", args->scene, "Built-in scene or scene JSON");
+  rays->add_option("--size", args->size, "Image size WxH");
+  rays->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
+  rays->add_option("--rows", args->rows, "Image rows (from the middle) to trace");
+  rays->add_option("--repeats", args->repeats, "Runs of each loop; the fastest counts");
+  args->common.add(*rays);
+  rays->callback([args] { runRays(*args); });
+}
+
+}  // namespace acpca::cli

@@ -1,0 +1,65 @@
+// `adaptive-cpca envmap`: what the lattice sees of a lighting, as images.
+#include <iostream>
+
+#include "precompute/transport/error.h"
+#include "relight/envmap_export.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct EnvmapArgs {
+  CommonOptions common;
+  std::string env, out, cross, rotate, size = "2048x1024";
+  int cubemap = 32;
+  bool fastRotation = false;
+};
+
+void run(const EnvmapArgs& a) {
+  const ImageSize size = parseSize(a.size, "--size");
+  EnvRotation rotation;
+  if (!a.rotate.empty()) {
+    const auto parsed = parseRotationSpec(a.rotate);
+    if (parsed.size() != 1) throw UserError("--rotate: envmap takes one rotation, not a sweep");
+    rotation = parsed.front();
+  }
+  const CubeLattice lattice(a.cubemap);
+  const auto env = loadEnvironment(a.env);
+  const LatticeLighting lighting = computeLighting(
+      *env, lattice, rotation, a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+  writeImage(latticeToLatLong(lighting, lattice, size.width, size.height), a.out, ImageFormat::Exr,
+             0, true);
+  if (!a.cross.empty())
+    writeImage(latticeToCross(lighting, lattice, std::max(8 * a.cubemap, 64)), a.cross,
+               ImageFormat::Exr, 0, true);
+  const Rgb energy = totalEnergy(lighting);
+  if (!a.common.quiet)
+    std::cerr << "wrote " << a.out << (a.cross.empty() ? "" : " and " + a.cross) << ": "
+              << env->name() << " on 6x" << a.cubemap << "x" << a.cubemap
+              << ", energy (sum of radiance x solid angle) " << energy.transpose() << "\n";
+  writeJson(a.common.jsonPath, {{"env", a.env},
+                                {"cubemap", a.cubemap},
+                                {"energy", {energy[0], energy[1], energy[2]}},
+                                {"out", a.out},
+                                {"cross", a.cross}});
+}
+
+}  // namespace
+
+void registerEnvmap(CLI::App& app) {
+  auto args = std::make_shared<EnvmapArgs>();
+  auto* sub = app.add_subcommand("envmap", "Write what the cube lattice sees of a lighting");
+  sub->add_option("env", args->env, "Lighting (file, constant:V, sun:..., sky)")->required();
+  sub->add_option("--out", args->out, "Lat-long EXR to write")->required();
+  sub->add_option("--cross", args->cross, "Also write a horizontal cube cross EXR");
+  sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
+  sub->add_option("--rotate", args->rotate, "YAW[,PITCH,ROLL] in degrees");
+  sub->add_option("--size", args->size, "Lat-long size WxH");
+  sub->add_flag("--fast-rotation", args->fastRotation, "Bilinear lattice rotation (fast mode)");
+  args->common.add(*sub, false);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli

@@ -1,0 +1,79 @@
+// `adaptive-cpca precompute`: scene -> transport file (Embree).
+#include <iostream>
+
+#include "precompute/render/scene.h"
+#include "precompute/render/transport_renderer.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct PrecomputeArgs {
+  CommonOptions common;
+  std::string scene, out, size, precision = "f16";
+  int cubemap = 32, spp = 1, texelRays = 1;
+};
+
+void run(const PrecomputeArgs& a) {
+  // Reject bad options before any work.
+  PrecomputeOptions options;
+  options.cubemapResolution = a.cubemap;
+  options.samplesPerPixel = a.spp;
+  options.texelRays = a.texelRays;
+  options.precision = parsePrecision(a.precision);
+  options.threads = a.common.threads;
+  Scene scene = loadScene(a.scene);
+  if (!a.size.empty()) scene.camera.size = parseSize(a.size, "--size");
+  scene.validate();
+
+  ThreadLimit limit(a.common.threads);
+  Progress progress("precompute " + scene.name, "rows", a.common.quiet);
+  options.progress = [&](long long done, long long total) { progress.update(done, total); };
+  const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
+  progress.finish();
+
+  const double raysPerSecond = stats.raysPerSecond();
+  if (!a.common.quiet)
+    std::cerr << "wrote " << a.out << ": " << scene.camera.size.width << "x"
+              << scene.camera.size.height << ", " << stats.occupiedPixels << " occupied pixels, "
+              << 6 * a.cubemap * a.cubemap << " directions, " << formatBytes(stats.bytesWritten)
+              << " of rows; " << stats.occlusionRays << " occlusion rays in "
+              << stats.transportSeconds << " s (" << raysPerSecond / 1e6 << " M rays/s, "
+              << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
+              << formatBytes(peakMemoryBytes()) << "\n";
+  writeJson(a.common.jsonPath,
+            {{"out", a.out},
+             {"scene", scene.name},
+             {"width", scene.camera.size.width},
+             {"height", scene.camera.size.height},
+             {"cubemap", a.cubemap},
+             {"triangles", stats.triangles},
+             {"occupied_pixels", stats.occupiedPixels},
+             {"occlusion_rays", stats.occlusionRays},
+             {"rays_per_second", raysPerSecond},
+             {"transport_seconds", stats.transportSeconds},
+             {"seconds", stats.seconds},
+             {"threads_used", stats.threadsUsed},
+             {"row_bytes", stats.bytesWritten},
+             {"peak_memory_bytes", peakMemoryBytes()}});
+}
+
+}  // namespace
+
+void registerPrecompute(CLI::App& app) {
+  auto args = std::make_shared<PrecomputeArgs>();
+  auto* sub = app.add_subcommand("precompute", "Ray-trace the light transport of a scene");
+  sub->add_option("--scene", args->scene, "Built-in scene name or scene JSON file")->required();
+  sub->add_option("--out", args->out, "Transport file to write (HDF5)")->required();
+  sub->add_option("--size", args->size, "Image size WxH (default: the scene's)");
+  sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R (6 R^2 directions)");
+  sub->add_option("--spp", args->spp, "Camera samples per pixel");
+  sub->add_option("--texel-rays", args->texelRays, "Occlusion rays per texel (fractional visibility)");
+  sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli

@@ -1,0 +1,17 @@
+#pragma once
+// Each subcommand registers itself on the CLI app (one file per subcommand).
+#include <CLI/CLI.hpp>
+
+namespace acpca::cli {
+
+void registerPrecompute(CLI::App& app);
+void registerRelight(CLI::App& app);
+void registerEnvmap(CLI::App& app);
+void registerInfo(CLI::App& app);
+void registerScenes(CLI::App& app);
+void registerBench(CLI::App& app);
+
+/// Peak resident memory of this process so far, in bytes.
+long long peakMemoryBytes();
+
+}  // namespace acpca::cli
