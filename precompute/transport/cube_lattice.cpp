@@ -95,22 +95,35 @@ std::array<BilinearTap, 4> CubeLattice::bilinearTaps(const Vec3& d) const {
   const int c0 = static_cast<int>(std::floor(u)), r0 = static_cast<int>(std::floor(v));
   const double fu = u - c0, fv = v - r0;
   std::array<BilinearTap, 4> taps;
-  int k = 0;
+  const auto inside = [&](int i) { return i >= 0 && i < resolution_; };
+  int k = 0, corner = -1;
   for (int dr = 0; dr <= 1; ++dr)
     for (int dc = 0; dc <= 1; ++dc) {
       const int row = r0 + dr, col = c0 + dc;
       const double w = (dc ? fu : 1 - fu) * (dr ? fv : 1 - fv);
-      int texel;
-      if (row >= 0 && row < resolution_ && col >= 0 && col < resolution_) {
-        texel = texelIndex({face, row, col});
+      if (inside(row) && inside(col)) {
+        taps[k++] = {texelIndex({face, row, col}), w};
+      } else if (inside(row) || inside(col)) {
+        // Off the face: take the texel just across the seam, in the same row (or
+        // column) as the tap, so both sides of a seam blend the same texels.
+        const double step = 2.0 / resolution_, beyond = 1 + 1e-6;
+        const auto across = [&](int i) {
+          return i < 0 ? -beyond : i >= resolution_ ? beyond : -1 + (i + 0.5) * step;
+        };
+        taps[k++] = {texelOf(faceDirection(face, across(col), across(row))), w};
       } else {
-        // Off the face: the centre of this virtual texel, extended on the face
-        // plane, points into the neighbouring face's texel across the seam.
-        const double step = 2.0 / resolution_;
-        texel = texelOf(faceDirection(face, -1 + (col + 0.5) * step, -1 + (row + 0.5) * step));
+        corner = k;  // off both edges: no texel there, three meet at a cube corner
+        taps[k++] = {0, w};
       }
-      taps[k++] = {texel, w};
     }
+  if (corner >= 0) {
+    // The missing fourth value is the mean of the three texels that meet at the
+    // corner, as seamless cube-map filtering does; it is the same seen from any face.
+    const double share = taps[corner].weight / 3;
+    for (int i = 0; i < 4; ++i)
+      if (i != corner) taps[i].weight += share;
+    taps[corner] = {taps[corner == 0 ? 1 : 0].texel, 0.0};
+  }
   return taps;
 }
 

@@ -213,6 +213,10 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
                   const std::int32_t* data, const std::string& ctx) {
   writeWhole(file, name, shape, H5T_NATIVE_INT32, data, ctx);
 }
+void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
+                  const double* data, const std::string& ctx) {
+  writeWhole(file, name, shape, H5T_NATIVE_DOUBLE, data, ctx);
+}
 void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx) {
   readWhole(file, name, H5T_NATIVE_FLOAT, data, ctx);
 }

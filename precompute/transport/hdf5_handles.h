@@ -62,6 +62,8 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
                   const float* data, const std::string& ctx);
 void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
                   const std::int32_t* data, const std::string& ctx);
+void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
+                  const double* data, const std::string& ctx);
 /// Reads a whole dataset whose shape the caller has already validated.
 void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx);
 void readDataset(hid_t file, const std::string& name, std::int32_t* data, const std::string& ctx);

@@ -88,7 +88,15 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   h5::writeDataset(f, "coverage", {n}, header.coverage.data(), ctx);
   h5::writeDataset(f, "normal", {n, 3}, header.normals.data(), ctx);
 
+  // The lattice itself, so that readers (h5py) need not re-derive it:
+  // B = albedo * (T @ (radiance * solid_angle)).
+  const CubeLattice lattice(header.cubemapResolution);
+  std::vector<double> directions;
+  for (int j = 0; j < lattice.size(); ++j)
+    directions.insert(directions.end(), lattice.direction(j).data(), lattice.direction(j).data() + 3);
   const hsize_t l = header.latticeSize();
+  h5::writeDataset(f, "lattice_solid_angle", {l}, lattice.solidAngles().data(), ctx);
+  h5::writeDataset(f, "lattice_direction", {l, 3}, directions.data(), ctx);
   const hsize_t dims[2] = {n, l}, maxDims[2] = {H5S_UNLIMITED, l};
   const hsize_t chunk[2] = {rowsPerChunk(header.latticeSize(), header.precision), l};
   h5::Handle space(H5Screate_simple(2, dims, maxDims), H5Sclose);

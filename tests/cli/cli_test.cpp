@@ -1,0 +1,166 @@
+// End-to-end runs of the real `adaptive-cpca` binary on tiny inputs: the happy
+// path, and bad input giving a clear message, a non-zero exit and no partial file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+
+struct RunResult {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+RunResult runCli(const std::string& args) {
+  const std::string command = std::string(ACPCA_CLI_PATH) + " " + args + " 2>&1";
+  RunResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
+  const int raw = pclose(pipe);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return r;
+}
+
+void expectFailure(const std::string& args, const std::string& needle) {
+  const RunResult r = runCli(args);
+  EXPECT_NE(r.status, 0) << args << "\n" << r.output;
+  EXPECT_NE(r.status, 3) << "an internal error, not a user error: " << r.output;
+  EXPECT_NE(r.output.find(needle), std::string::npos)
+      << "message should mention '" << needle << "':\n" << r.output;
+}
+
+size_t filesIn(const test::fs::path& dir) {
+  size_t n = 0;
+  for (const auto& e : test::fs::recursive_directory_iterator(dir)) n += e.is_regular_file();
+  return n;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir;
+    transport_ = dir_->file("sphere.h5");
+    const RunResult r = runCli("precompute --scene sphere --size 20x16 --cubemap 8 --quiet --out " +
+                               transport_);
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static TempDir* dir_;
+  static std::string transport_;
+};
+TempDir* Cli::dir_ = nullptr;
+std::string Cli::transport_;
+
+TEST_F(Cli, PrecomputeInfoAndRelightWork) {
+  const RunResult info = runCli("info " + transport_ + " --json -");
+  ASSERT_EQ(info.status, 0) << info.output;
+  const auto j = nlohmann::json::parse(info.output);
+  EXPECT_EQ(j["kind"], "transport");
+  EXPECT_EQ(j["width"], 20);
+  EXPECT_EQ(j["cubemap"], 8);
+  EXPECT_GT(j["occupied_pixels"].get<int>(), 50);
+
+  TempDir out;
+  const RunResult one = runCli("relight " + transport_ + " --env constant:1 --quiet --format both --out " +
+                               out.file("furnace.exr"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_TRUE(test::fs::exists(out.file("furnace.exr")));
+  EXPECT_TRUE(test::fs::exists(out.file("furnace.png")));
+  // The furnace, read back from the EXR: the sphere is 0.5 and the sky is 1.
+  auto in = OIIO::ImageInput::open(out.file("furnace.exr"));
+  ASSERT_TRUE(in);
+  std::vector<float> px(20 * 16 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, px.data()));
+  EXPECT_NEAR(px[3 * (8 * 20 + 10)], 0.5, 0.005);
+  EXPECT_NEAR(px[0], 1.0, 1e-3);
+
+  const RunResult batch = runCli("relight " + transport_ +
+                                 " --env sky --env sun:50,30,4,1000 --rotate 0:90:45 --quiet --json " +
+                                 out.file("r.json") + " --out " + out.file("batch"));
+  ASSERT_EQ(batch.status, 0) << batch.output;
+  for (const char* name : {"sky_y0.exr", "sky_y45.exr", "sun_50_30_4_1000_y0.exr",
+                           "sun_50_30_4_1000_y45.exr", "manifest.csv"})
+    EXPECT_TRUE(test::fs::exists(out.path() / "batch" / name)) << name;
+  const auto report = nlohmann::json::parse(std::ifstream(out.file("r.json")));
+  EXPECT_EQ(report["frames"], 4);
+  EXPECT_GT(report["ms_per_frame_median"].get<double>(), 0);
+
+  const RunResult envmap = runCli("envmap sky --cubemap 8 --size 64x32 --quiet --out " +
+                                  out.file("sky.exr") + " --cross " + out.file("cross.exr"));
+  ASSERT_EQ(envmap.status, 0) << envmap.output;
+  EXPECT_TRUE(test::fs::exists(out.file("cross.exr")));
+  EXPECT_EQ(runCli("scenes").status, 0);
+}
+
+TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
+  TempDir out;
+  expectFailure("precompute --scene teapot --out " + out.file("t.h5"), "teapot");
+  expectFailure("precompute --scene sphere --size 0x10 --out " + out.file("t.h5"), "0x10");
+  expectFailure("precompute --scene sphere --size 100000x100000 --out " + out.file("t.h5"),
+                "out of range");
+  expectFailure("precompute --scene sphere --cubemap 0 --out " + out.file("t.h5"), "cubemap");
+  expectFailure("precompute --scene sphere --size 8x8 --out /nonexistent-dir/t.h5", "nonexistent-dir");
+  {
+    std::ofstream(out.file("bad.json")) << R"({"camera": {"eye": [0,0,5], "target": [0,0,0],
+      "up": [0,1,0], "fov": 40}, "objects": [{"shape": "sphere", "centre": [0,0,0], "radius": 1,
+      "material": {"type": "diffuse", "albedo": [1,1,1]}}]})";
+  }
+  expectFailure("precompute --scene " + out.file("bad.json") + " --out " + out.file("t.h5"),
+                "'centre'");
+  expectFailure("relight " + out.file("missing.h5") + " --env sky --out " + out.file("x.exr"),
+                "missing.h5");
+  {
+    std::ofstream(out.file("junk.h5")) << "junk";
+  }
+  expectFailure("relight " + out.file("junk.h5") + " --env sky --out " + out.file("x.exr"), "junk.h5");
+  expectFailure("relight " + transport_ + " --env sun:1,2 --out " + out.file("x.exr"), "sun:1,2");
+  expectFailure("relight " + transport_ + " --env sky --rotate 1,2 --out " + out.file("x.exr"), "1,2");
+  expectFailure("relight " + transport_ + " --env sky --out " + out.file("x.bmpx"), "format");
+  expectFailure("relight " + transport_ + " --env sky --out /nonexistent-dir/x.exr", "nonexistent-dir");
+  {  // An env map with a NaN texel.
+    std::vector<float> pixels(3 * 8 * 4, 1.0f);
+    pixels[5] = NAN;
+    auto o = OIIO::ImageOutput::create(out.file("nan.exr"));
+    o->open(out.file("nan.exr"), OIIO::ImageSpec(8, 4, 3, OIIO::TypeDesc::FLOAT));
+    o->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+    o->close();
+  }
+  expectFailure("relight " + transport_ + " --env " + out.file("nan.exr") + " --out " + out.file("x.exr"),
+                "nan.exr");
+  // Only the inputs the test wrote itself are left: no outputs, no temporaries.
+  EXPECT_EQ(filesIn(out.path()), 3u);
+
+  // In a batch the good maps are still done and the bad one is listed.
+  const RunResult r = runCli("relight " + transport_ + " --env sky --env " + out.file("nan.exr") +
+                             " --env constant:1 --quiet --out " + out.file("batch"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("nan.exr"), std::string::npos) << r.output;
+  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "sky_y0.exr"));
+  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "constant_1_y0.exr"));
+  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "manifest.csv"));
+}
+
+TEST_F(Cli, EveryCommandHasHelp) {
+  for (const char* cmd : {"precompute", "relight", "envmap", "info", "scenes", "bench rays"}) {
+    const RunResult r = runCli(std::string(cmd) + " --help");
+    EXPECT_EQ(r.status, 0) << cmd;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd;
+  }
+}
+
+}  // namespace
+}  // namespace acpca

@@ -1,0 +1,54 @@
+#include "cluster/pca.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace acpca {
+namespace {
+
+Eigen::MatrixXd lowRank(int rows, int cols, int rank, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n;
+  Eigen::MatrixXd a(rows, rank), b(rank, cols);
+  for (int i = 0; i < a.size(); ++i) a.data()[i] = n(rng);
+  for (int i = 0; i < b.size(); ++i) b.data()[i] = n(rng);
+  return a * b;
+}
+
+TEST(Pca, RecoversTheRankOfLowRankDataAndReconstructsIt) {
+  for (auto [rows, cols] : {std::pair{40, 100}, std::pair{100, 40}}) {
+    const Eigen::MatrixXd x = lowRank(rows, cols, 5, 1);
+    const PcaResult pca = pcaToTolerance(x, 1.0, false);
+    EXPECT_EQ(pca.rank, 5);
+    const Eigen::MatrixXd back = x * pca.basis * pca.basis.transpose();
+    EXPECT_LT((back - x).norm() / x.norm(), 1e-9);
+    EXPECT_LT((pca.basis.transpose() * pca.basis - Eigen::MatrixXd::Identity(5, 5)).norm(), 1e-9);
+  }
+}
+
+TEST(Pca, HonoursTheToleranceAndNeverExceedsIt) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n;
+  Eigen::MatrixXd x(60, 30);
+  for (int i = 0; i < x.size(); ++i) x.data()[i] = n(rng) * std::exp(-0.2 * (i % 30));
+  int previous = 0;
+  for (double tol : {0.5, 0.9, 0.99, 0.999}) {
+    const PcaResult pca = pcaToTolerance(x, tol, false);
+    const Eigen::MatrixXd residual = x - x * pca.basis * pca.basis.transpose();
+    EXPECT_LE(residual.squaredNorm(), (1 - tol) * x.squaredNorm() * (1 + 1e-9));
+    EXPECT_NEAR(residual.squaredNorm(), pca.residualEnergy, 1e-8 * x.squaredNorm());
+    EXPECT_GE(pca.rank, previous);
+    previous = pca.rank;
+  }
+}
+
+TEST(Pca, AllZeroRowsGiveRankZero) {
+  const PcaResult pca = pcaToTolerance(Eigen::MatrixXd::Zero(7, 12), 0.999, true);
+  EXPECT_EQ(pca.rank, 0);
+  EXPECT_EQ(pca.basis.cols(), 0);
+  EXPECT_TRUE(pca.mean.allFinite());
+}
+
+}  // namespace
+}  // namespace acpca

@@ -1,0 +1,105 @@
+#include "relight/dense_relight.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "precompute/render/scene.h"
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+class DenseRelight : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    Scene scene = makeBuiltinScene("grid2d");
+    scene.camera.size = {40, 30};
+    PrecomputeOptions o;
+    o.cubemapResolution = 8;
+    path_ = dir_.file("t.h5");
+    precomputeTransport(scene, path_, o);
+  }
+  test::TempDir dir_;
+  std::string path_;
+};
+
+TEST_F(DenseRelight, EqualsAPlainLoopOverTheFile) {
+  const TransportReader t(path_);
+  const CubeLattice lattice(8);
+  const LatticeLighting L = computeLighting(*loadEnvironment("sky"), lattice, {25, 0, 0});
+  const auto result = denseRelight(t, {L});
+  std::vector<float> rows(t.rows() * t.latticeSize());
+  t.readRows(0, t.rows(), rows.data());
+  for (long long r = 0; r < t.rows(); ++r)
+    for (int c = 0; c < 3; ++c) {
+      double dot = 0;
+      for (int j = 0; j < t.latticeSize(); ++j) dot += double(rows[r * t.latticeSize() + j]) * L[3 * j + c];
+      const double expected = t.header().albedo[3 * r + c] * dot;
+      ASSERT_NEAR(result[0][3 * r + c], expected, 1e-5 * (1 + std::abs(expected)));
+    }
+}
+
+TEST_F(DenseRelight, ManyMapsAtOnceEqualOneAtATimeForAnyThreadCount) {
+  const TransportReader t(path_);
+  const CubeLattice lattice(8);
+  std::vector<LatticeLighting> lightings;
+  for (const char* env : {"sky", "constant:1", "sun:30,60,5,400"})
+    lightings.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
+  const auto together = denseRelight(t, lightings);
+  for (size_t m = 0; m < lightings.size(); ++m) {
+    const auto alone = denseRelight(t, {lightings[m]});
+    for (size_t k = 0; k < alone[0].size(); ++k)
+      ASSERT_NEAR(together[m][k], alone[0][k], 1e-6 * (1 + std::abs(alone[0][k])));
+  }
+  std::vector<std::vector<float>> single;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    single = denseRelight(t, lightings);
+  }
+  EXPECT_EQ(single, together);
+}
+
+TEST_F(DenseRelight, ComposedImagesShowBackgroundAsAsked) {
+  const TransportReader t(path_);
+  const CubeLattice lattice(8);
+  const auto env = loadEnvironment("constant:0.25");
+  const auto result = denseRelight(t, {computeLighting(*env, lattice, {})});
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+  const Image withEnv = composeImage(t.header(), result[0], Background::Env, *env, identity);
+  const Image black = composeImage(t.header(), result[0], Background::Black, *env, identity);
+  const Image alpha = composeImage(t.header(), result[0], Background::Alpha, *env, identity);
+  ASSERT_EQ(alpha.channels, 4);
+  int background = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      if (test::rowOfPixel(t.header(), x, y) >= 0) continue;
+      ++background;
+      EXPECT_FLOAT_EQ(withEnv.at(x, y)[0], 0.25f);
+      EXPECT_EQ(black.at(x, y)[0], 0.0f);
+      EXPECT_EQ(alpha.at(x, y)[3], 0.0f);
+    }
+  EXPECT_GT(background, 0) << "the test scene should show some sky";
+  for (const float v : withEnv.pixels) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST(ImageOutput, PngIsSrgbEncodedAndWritesAreAtomic) {
+  EXPECT_NEAR(linearToSrgb(0.0), 0.0, 1e-12);
+  EXPECT_NEAR(linearToSrgb(1.0), 1.0, 1e-12);
+  EXPECT_NEAR(linearToSrgb(0.18), 0.4614, 1e-3);
+  test::TempDir dir;
+  Image image{4, 2, 3, std::vector<float>(24, 0.5f)};
+  EXPECT_THROW(writeImage(image, dir.file("no/dir/x.png"), ImageFormat::Png, 0), UserError);
+  writeImage(image, dir.file("x.exr"), ImageFormat::Exr, 1.0);
+  writeImage(image, dir.file("x.png"), ImageFormat::Png, 0);
+  int files = 0;
+  for (const auto& e : test::fs::directory_iterator(dir.path())) {
+    ++files;
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos);
+  }
+  EXPECT_EQ(files, 2);
+}
+
+}  // namespace
+}  // namespace acpca

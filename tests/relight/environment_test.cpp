@@ -1,0 +1,197 @@
+#include "relight/environment.h"
+
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "precompute/transport/error.h"
+#include "relight/envmap_export.h"
+#include "relight/lighting.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A 2048x1024 black map with one small bright disc; returns its exact energy.
+std::unique_ptr<Environment> discMap(const Vec3& centre, double radiusDegrees, double value,
+                                     double& energy) {
+  const int w = 2048, h = 1024;
+  std::vector<float> rgb(3ull * w * h, 0.0f);
+  energy = 0;
+  const double cosR = std::cos(radiusDegrees * kPi / 180);
+  for (int y = 0; y < h; ++y) {
+    const double t0 = kPi * y / h, t1 = kPi * (y + 1) / h;
+    const double omega = (std::cos(t0) - std::cos(t1)) * 2 * kPi / w;
+    for (int x = 0; x < w; ++x) {
+      const Vec3 d = directionFromAngles(0.5 * (t0 + t1), 2 * kPi * ((x + 0.5) / w - 0.5));
+      if (d.dot(centre.normalized()) < cosR) continue;
+      for (int c = 0; c < 3; ++c) rgb[3 * (static_cast<size_t>(y) * w + x) + c] = float(value);
+      energy += value * omega;
+    }
+  }
+  return makeLatLongEnvironment("disc", w, h, std::move(rgb));
+}
+
+TEST(Environment, ConstantIntegratesToFourPiTimesItsRadiance) {
+  const CubeLattice lattice(16);
+  const auto env = makeConstantEnvironment(Rgb(1, 2, 3));
+  const Rgb e = totalEnergy(computeLighting(*env, lattice, {}));
+  EXPECT_NEAR(e[0], 4 * kPi, 1e-9);
+  EXPECT_NEAR(e[2], 12 * kPi, 1e-9);
+}
+
+TEST(Environment, SunKeepsItsEnergyAtAnySizeAndRotation) {
+  for (double size : {0.5, 4.0, 30.0}) {
+    const double expected = 7 * 2 * kPi * (1 - std::cos(0.5 * size * kPi / 180));
+    const auto sun = makeSunEnvironment(50, 30, size, Rgb::Constant(7));
+    for (int r : {8, 32})
+      for (const EnvRotation& rot : {EnvRotation{}, EnvRotation{37, 11, -5}}) {
+        const Rgb e = totalEnergy(computeLighting(*sun, CubeLattice(r), rot));
+        EXPECT_NEAR(e[0] / expected, 1.0, 1e-9) << "size " << size << " R " << r;
+      }
+  }
+}
+
+TEST(Environment, SunSitsWhereItsAnglesSay) {
+  const CubeLattice lattice(32);
+  const auto sun = makeSunEnvironment(50, 30, 1, Rgb::Constant(1));
+  const LatticeLighting L = computeLighting(*sun, lattice, {});
+  int brightest = 0;
+  for (int j = 0; j < lattice.size(); ++j)
+    if (L[3 * j] > L[3 * brightest]) brightest = j;
+  const double t = 50 * kPi / 180, p = 30 * kPi / 180;
+  const Vec3 expected(std::sin(t) * std::sin(p), std::cos(t), -std::sin(t) * std::cos(p));
+  EXPECT_GT(lattice.direction(brightest).dot(expected), std::cos(3 * kPi / 180));
+}
+
+TEST(Environment, LatLongDiscKeepsItsEnergyUnrotatedRotatedAndAfterAFullTurn) {
+  double energy = 0;
+  const auto map = discMap({0.3, 0.8, -0.5}, 0.6, 5000, energy);
+  const CubeLattice lattice(32);
+  const LatticeLighting plain = computeLighting(*map, lattice, {});
+  EXPECT_NEAR(totalEnergy(plain)[0] / energy, 1.0, 0.01);
+  const LatticeLighting turned = computeLighting(*map, lattice, {37, 0, 0});
+  EXPECT_NEAR(totalEnergy(turned)[0] / energy, 1.0, 0.01);
+  const LatticeLighting tilted = computeLighting(*map, lattice, {37, 21, 13});
+  EXPECT_NEAR(totalEnergy(tilted)[0] / energy, 1.0, 0.01);
+  // 360 degrees is the identity.
+  const LatticeLighting full = computeLighting(*map, lattice, {360, 0, 0});
+  double diff = 0, norm = 0;
+  for (size_t k = 0; k < plain.size(); ++k) {
+    diff += (full[k] - plain[k]) * (full[k] - plain[k]);
+    norm += plain[k] * plain[k];
+  }
+  EXPECT_LT(std::sqrt(diff / norm), 1e-6);
+}
+
+TEST(Environment, FastLatticeRotationIsMeasurablyWorseOnSmallSuns) {
+  // The fast mode of paper 000 is offered for interactive use only: it changes
+  // the energy of a one-texel sun, where the exact mode keeps it.
+  const CubeLattice lattice(32);
+  const auto sun = makeSunEnvironment(60, 20, 2.5, Rgb::Constant(100));
+  const double energy = totalEnergy(computeLighting(*sun, lattice, {}))[0];
+  double worstFast = 0;
+  for (double yaw : {13.0, 37.0, 61.0}) {
+    const double exact = totalEnergy(computeLighting(*sun, lattice, {yaw, 0, 0}))[0];
+    const double fast =
+        totalEnergy(computeLighting(*sun, lattice, {yaw, 0, 0}, RotationMode::FastLattice))[0];
+    EXPECT_NEAR(exact / energy, 1.0, 1e-9);
+    worstFast = std::max(worstFast, std::abs(fast / energy - 1));
+  }
+  EXPECT_GT(worstFast, 1e-3);
+  EXPECT_LT(worstFast, 0.5);
+}
+
+TEST(Environment, LatLongIsReadWithTheDesignOrientation) {
+  // A map bright only near u = 0.75 is bright towards +X; near v = 0 at the zenith.
+  const int w = 256, h = 128;
+  std::vector<float> rgb(3 * w * h, 0.0f);
+  for (int y = 60; y < 68; ++y)
+    for (int x = 188; x < 196; ++x) rgb[3 * (y * w + x)] = 1;
+  const auto map = makeLatLongEnvironment("m", w, h, rgb);
+  EXPECT_GT(map->radiance({1, 0, 0})[0], 0.9);
+  EXPECT_EQ(map->radiance({-1, 0, 0})[0], 0);
+  EXPECT_EQ(map->radiance({0, 0, -1})[0], 0);
+}
+
+TEST(Environment, FilesWithNaNInfOrNegativeTexelsAreRefused) {
+  test::TempDir dir;
+  for (float bad : {NAN, INFINITY, -1.0f}) {
+    const std::string path = dir.file("bad.exr");
+    std::vector<float> pixels(3 * 16 * 8, 0.5f);
+    pixels[3 * 20 + 1] = bad;
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(16, 8, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    out->close();
+    try {
+      loadEnvironment(path);
+      FAIL() << "accepted a texel of " << bad;
+    } catch (const UserError& e) {
+      EXPECT_NE(std::string(e.what()).find("(4, 1)"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(loadEnvironment(dir.file("missing.exr")), UserError);
+}
+
+TEST(Environment, SpecsParseOrFailClearly) {
+  EXPECT_EQ(loadEnvironment("constant:2")->name(), "constant_2");
+  EXPECT_EQ(loadEnvironment("sun:50,30,4,1000")->name(), "sun_50_30_4_1000");
+  EXPECT_EQ(loadEnvironment("sky")->name(), "sky");
+  for (const char* bad : {"constant:", "constant:-1", "constant:x", "sun:1,2,3", "sun:1,2,0,5",
+                          "sun:1,2,3,-5", "sun:1,2,3,nan"})
+    EXPECT_THROW(loadEnvironment(bad), UserError) << bad;
+}
+
+TEST(Rotation, SpecsAndConventions) {
+  EXPECT_EQ(parseRotationSpec("0:360:15").size(), 24u);
+  const auto r = parseRotationSpec("10,20,30");
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].roll, 30);
+  EXPECT_EQ(r[0].label(), "y10_p20_r30");
+  for (const char* bad : {"", "a", "1,2", "10:0:5", "0:10:0", "0:10", "1,,2"})
+    EXPECT_THROW(parseRotationSpec(bad), UserError) << bad;
+  // Positive yaw turns +X towards -Z; the order is roll(pitch(yaw(d))).
+  EXPECT_TRUE((rotationMatrix({90, 0, 0}) * Vec3(1, 0, 0)).isApprox(Vec3(0, 0, -1), 1e-12));
+  EXPECT_TRUE(rotationMatrix({360, 0, 0}).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+  const Eigen::Matrix3d m = rotationMatrix({30, 40, 50});
+  EXPECT_TRUE(m.isApprox(rotationMatrix({0, 0, 50}) * rotationMatrix({0, 40, 0}) *
+                             rotationMatrix({30, 0, 0}),
+                         1e-12));
+}
+
+TEST(EnvmapExport, CrossIsContinuousAndMatchesTheLatLong) {
+  const int face = 16;
+  // Neighbouring pixels of the cross, also across face edges, look in nearby directions.
+  Vec3 a, b;
+  int pairs = 0;
+  for (int y = 0; y < 3 * face; ++y)
+    for (int x = 0; x + 1 < 4 * face; ++x)
+      if (crossDirection(x, y, face, a) && crossDirection(x + 1, y, face, b)) {
+        EXPECT_LT(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)), 0.2);
+        ++pairs;
+      }
+  for (int x = 0; x < 4 * face; ++x)
+    for (int y = 0; y + 1 < 3 * face; ++y)
+      if (crossDirection(x, y, face, a) && crossDirection(x, y + 1, face, b))
+        EXPECT_LT(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)), 0.2);
+  EXPECT_GT(pairs, 6 * face * face / 2);
+  // The middle of the cross looks down -Z, as the centre of the lat-long does.
+  ASSERT_TRUE(crossDirection(face + face / 2, face + face / 2, face, a));
+  EXPECT_GT(a.normalized().dot(Vec3(0, 0, -1)), 0.99);
+  // Same radiance in both pictures of a sun towards +X.
+  const CubeLattice lattice(8);
+  const LatticeLighting L = computeLighting(*makeSunEnvironment(90, 90, 20, Rgb::Constant(3)), lattice, {});
+  const Image latlong = latticeToLatLong(L, lattice, 64, 32);
+  const Image cross = latticeToCross(L, lattice, face);
+  EXPECT_GT(latlong.at(48, 16)[0], 0);  // u = 0.75, the horizon
+  EXPECT_FLOAT_EQ(cross.at(2 * face + face / 2, face + face / 2)[0], latlong.at(48, 16)[0]);
+}
+
+}  // namespace
+}  // namespace acpca

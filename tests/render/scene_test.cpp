@@ -1,0 +1,120 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "precompute/render/scene.h"
+#include "precompute/transport/error.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+
+TEST(BuiltinScenes, AllExistAndAreValid) {
+  for (const char* name : {"sphere", "plant", "phong-sphere", "concave", "step", "grid1d", "grid2d"}) {
+    ASSERT_TRUE(isBuiltinScene(name)) << name;
+    const Scene s = makeBuiltinScene(name);
+    EXPECT_NO_THROW(s.validate()) << name;
+    EXPECT_EQ(s.camera.size.width, 256);
+  }
+  EXPECT_THROW(makeBuiltinScene("teapot"), UserError);
+}
+
+TEST(BuiltinScenes, PlantIsDetailedAndTheSameEveryTime) {
+  const Scene a = makePlantScene(), b = makePlantScene();
+  EXPECT_GE(a.triangleCount(), 50000);
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (size_t m = 0; m < a.meshes.size(); ++m) EXPECT_EQ(a.meshes[m].vertices, b.meshes[m].vertices);
+}
+
+std::string writeFile(const TempDir& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir.file(name)) << text;
+  return dir.file(name);
+}
+
+const char* kCamera = R"("camera": {"eye": [0, 2, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40})";
+
+TEST(SceneJson, ReadsPrimitivesMeshesAndTransforms) {
+  TempDir dir;
+  writeFile(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4 2\n");
+  writeFile(dir, "tri.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const std::string path = writeFile(dir, "scene.json", std::string("{") + kCamera + R"(,
+    "objects": [
+      {"shape": "sphere", "center": [0, 1, 0], "radius": 0.5,
+       "material": {"type": "phong", "albedo": [0.5, 0.5, 0.5], "specular": 0.4, "exponent": 50}},
+      {"shape": "plane", "center": [0, 0, 0], "normal": [0, 1, 0], "size": 10,
+       "material": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]}},
+      {"mesh": "tri.obj", "transform": {"scale": 2, "rotate_y_deg": 90, "translate": [1, 0, 0]},
+       "material": {"type": "diffuse", "albedo": [1, 0, 0]}},
+      {"mesh": "tri.ply", "transform": {"matrix": [1,0,0,5, 0,1,0,0, 0,0,1,0, 0,0,0,1]},
+       "material": {"type": "diffuse", "albedo": [0, 1, 0]}}]})");
+  const Scene s = loadSceneJson(path);
+  EXPECT_EQ(s.spheres.size(), 1u);
+  EXPECT_EQ(s.spheres[0].material.type, Material::Type::Phong);
+  ASSERT_EQ(s.meshes.size(), 3u);
+  EXPECT_EQ(s.meshes[1].triangles.size(), 3u);  // a triangle and a triangulated quad
+  // scale 2, then 90 degrees about +Y (x -> -z), then +1 in x: (1,0,0) -> (1,0,-2).
+  EXPECT_TRUE(s.meshes[1].vertices[1].isApprox(Eigen::Vector3f(1, 0, -2), 1e-6f));
+  EXPECT_TRUE(s.meshes[2].vertices[1].isApprox(Eigen::Vector3f(6, 0, 0), 1e-6f));
+}
+
+void expectError(const std::string& path, const std::string& needle) {
+  try {
+    loadSceneJson(path);
+    FAIL() << "no error; expected one mentioning " << needle;
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneJson, ErrorsNameTheKey) {
+  TempDir dir;
+  const std::string sphere =
+      R"({"shape": "sphere", "center": [0,0,0], "radius": 1, "material": {"type": "diffuse", "albedo": [1,1,1]}})";
+  expectError(writeFile(dir, "a.json", std::string("{") + kCamera + R"(, "objects": [], "extra": 1})"),
+              "'extra'");
+  expectError(writeFile(dir, "b.json", R"({"objects": [)" + sphere + "]}"), "'camera'");
+  expectError(writeFile(dir, "c.json", std::string("{") + kCamera +
+                                           R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
+               "material": {"type": "diffuse", "albedo": [1,1,1], "shiny": 3}}]})"),
+              "'shiny'");
+  expectError(writeFile(dir, "d.json", std::string("{") + kCamera +
+                                           R"(, "objects": [{"shape": "sphere", "center": [0,0], "radius": 1,
+               "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
+              "center");
+  expectError(writeFile(dir, "e.json", std::string("{") + kCamera +
+                                           R"(, "objects": [{"shape": "cone", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
+              "cone");
+  expectError(writeFile(dir, "f.json", std::string("{") + kCamera +
+                                           R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
+               "material": {"type": "phong", "albedo": [1,1,1], "specular": 2, "exponent": 10}}]})"),
+              "specular");
+  expectError(writeFile(dir, "g.json", "{not json"), "not valid JSON");
+  expectError(writeFile(dir, "h.json", R"({"camera": {"eye": [0,0,0], "target": [0,0,0], "up": [0,1,0], "fov": 40}, "objects": [)" + sphere + "]}"),
+              "eye and target coincide");
+  expectError(writeFile(dir, "i.json", std::string("{") + kCamera +
+                                           R"(, "objects": [{"mesh": "missing.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
+              "missing.obj");
+  expectError(dir.file("nope.json"), "cannot open");
+}
+
+TEST(SceneJson, MeshWithNaNVerticesIsAnError) {
+  TempDir dir;
+  writeFile(dir, "bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string path = writeFile(dir, "s.json", std::string("{") + kCamera +
+                                                        R"(, "objects": [{"mesh": "bad.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})");
+  expectError(path, "NaN");
+}
+
+TEST(SceneJson, ShippedExampleLoads) {
+  const Scene s = loadSceneJson(std::string(ACPCA_DATA_DIR) + "/scenes/example.json");
+  EXPECT_NO_THROW(s.validate());
+  EXPECT_GT(s.meshes.size() + s.spheres.size(), 1u);
+}
+
+}  // namespace
+}  // namespace acpca

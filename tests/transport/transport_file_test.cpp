@@ -1,0 +1,154 @@
+#include "precompute/transport/transport_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "precompute/transport/error.h"
+#include "precompute/transport/half.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+
+TransportHeader smallHeader(Precision precision, int rows) {
+  TransportHeader h;
+  h.camera.size = {8, 4};
+  h.cubemapResolution = 2;
+  h.precision = precision;
+  h.scene = "synthetic";
+  for (int r = 0; r < rows; ++r) {
+    h.pixels.push_back(r * 3 % 32);
+    h.albedo.insert(h.albedo.end(), {0.1f * r, 0.5f, 0.25f});
+    h.coverage.push_back(1.0f);
+    h.normals.insert(h.normals.end(), {0.f, 1.f, 0.f});
+  }
+  std::sort(h.pixels.begin(), h.pixels.end());
+  return h;
+}
+
+std::vector<float> randomRows(int rows, int l) {
+  std::mt19937 rng(11);
+  std::vector<float> v(static_cast<size_t>(rows) * l);
+  for (auto& x : v) x = float(rng() % 10000) / 3000.0f;
+  return v;
+}
+
+TEST(Half, RoundTripsWithinHalfAnUlp) {
+  std::vector<float> in;
+  for (int i = -2000; i < 2000; ++i) in.push_back(i * 0.0137f);
+  in.push_back(1e6f);  // clamped to the largest half, never Inf
+  std::vector<std::uint16_t> h(in.size());
+  std::vector<float> out(in.size());
+  floatToHalf(in.data(), h.data(), in.size());
+  halfToFloat(h.data(), out.data(), in.size());
+  for (size_t i = 0; i + 1 < in.size(); ++i)
+    EXPECT_NEAR(out[i], in[i], std::abs(in[i]) * (1.0 / 2048) + 1e-7) << in[i];
+  EXPECT_EQ(out.back(), kHalfMax);
+}
+
+class TransportRoundTrip : public ::testing::TestWithParam<Precision> {};
+
+TEST_P(TransportRoundTrip, WritesInBlocksAndReadsBack) {
+  TempDir dir;
+  const std::string path = dir.file("t.h5");
+  const TransportHeader header = smallHeader(GetParam(), 10);
+  const int l = header.latticeSize();
+  const std::vector<float> rows = randomRows(10, l);
+  {
+    TransportWriter writer(path, header);
+    writer.writeRows(0, 3, rows.data());
+    writer.writeRows(3, 7, rows.data() + 3 * l);
+    EXPECT_FALSE(test::fs::exists(path)) << "visible before finish()";
+    writer.finish();
+  }
+  const TransportReader reader(path);
+  EXPECT_EQ(reader.rows(), 10);
+  EXPECT_EQ(reader.header().pixels, header.pixels);
+  EXPECT_EQ(reader.header().albedo, header.albedo);
+  EXPECT_EQ(reader.header().scene, "synthetic");
+  EXPECT_EQ(reader.header().camera.size.width, 8);
+  std::vector<float> back(rows.size());
+  reader.readRows(0, 10, back.data());
+  const double tolerance = GetParam() == Precision::F16 ? 1.0 / 2048 : 0;
+  for (size_t i = 0; i < rows.size(); ++i)
+    ASSERT_NEAR(back[i], rows[i], std::abs(rows[i]) * tolerance) << i;
+  std::vector<float> middle(2 * l);
+  reader.readRows(4, 2, middle.data());
+  EXPECT_EQ(std::vector<float>(back.begin() + 4 * l, back.begin() + 6 * l), middle);
+}
+
+INSTANTIATE_TEST_SUITE_P(Precisions, TransportRoundTrip,
+                         ::testing::Values(Precision::F16, Precision::F32));
+
+TEST(TransportFile, AnUnfinishedWriterLeavesNoFile) {
+  TempDir dir;
+  const std::string path = dir.file("t.h5");
+  {
+    TransportWriter writer(path, smallHeader(Precision::F16, 4));
+    const auto rows = randomRows(2, 24);
+    writer.writeRows(0, 2, rows.data());
+  }  // destroyed without finish(), as when a precompute fails half-way
+  EXPECT_FALSE(test::fs::exists(path));
+  EXPECT_TRUE(test::fs::is_empty(dir.path())) << "temporary file left behind";
+}
+
+TEST(TransportFile, RefusesMissingForeignAndTruncatedFiles) {
+  TempDir dir;
+  EXPECT_THROW(TransportReader(dir.file("missing.h5")), UserError);
+  {
+    std::ofstream(dir.file("foreign.h5")) << "this is not an HDF5 file";
+  }
+  EXPECT_THROW(TransportReader(dir.file("foreign.h5")), UserError);
+
+  const std::string path = dir.file("t.h5");
+  const TransportHeader header = smallHeader(Precision::F32, 10);
+  {
+    TransportWriter writer(path, header);
+    const auto rows = randomRows(10, header.latticeSize());
+    writer.writeRows(0, 10, rows.data());
+    writer.finish();
+  }
+  const auto size = test::fs::file_size(path);
+  for (double keep : {0.3, 0.6, 0.9}) {
+    const std::string cut = dir.file("cut.h5");
+    test::fs::copy_file(path, cut, test::fs::copy_options::overwrite_existing);
+    test::fs::resize_file(cut, static_cast<uintmax_t>(size * keep));
+    try {
+      const TransportReader reader(cut);
+      std::vector<float> rows(10 * header.latticeSize());
+      reader.readRows(0, 10, rows.data());
+      FAIL() << "a file cut to " << keep << " of its size was read";
+    } catch (const UserError& e) {
+      EXPECT_NE(std::string(e.what()).find("cut.h5"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(TransportFile, HeaderValidationNamesTheProblem) {
+  TransportHeader h = smallHeader(Precision::F16, 3);
+  h.albedo.pop_back();
+  EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  std::swap(h.pixels[0], h.pixels[1]);
+  EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.camera.size = {0, 4};
+  EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.albedo[0] = NAN;
+  EXPECT_THROW(h.validate("x"), UserError);
+}
+
+TEST(TransportFile, RefusesAnUnwritableDestination) {
+  TempDir dir;
+  EXPECT_THROW(TransportWriter(dir.file("no/such/dir/t.h5"), smallHeader(Precision::F16, 2)),
+               UserError);
+}
+
+}  // namespace
+}  // namespace acpca
