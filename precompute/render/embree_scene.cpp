@@ -107,6 +107,22 @@ EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& directio
   return hit;
 }
 
+std::vector<std::array<int, 16>> texelBlocks(const CubeLattice& lattice) {
+  const int r = lattice.resolution();
+  std::vector<std::array<int, 16>> blocks;
+  for (int face = 0; face < CubeLattice::kFaces; ++face)
+    for (int row0 = 0; row0 < r; row0 += 4)
+      for (int col0 = 0; col0 < r; col0 += 4) {
+        std::array<int, 16> block;
+        for (int i = 0; i < 16; ++i) {
+          const int row = row0 + i / 4, col = col0 + i % 4;
+          block[i] = row < r && col < r ? lattice.texelIndex({face, row, col}) : -1;
+        }
+        blocks.push_back(block);
+      }
+  return blocks;
+}
+
 Eigen::Vector2d pixelSampleOffset(int s) {
   // R2 low-discrepancy sequence (plastic number), starting at the centre.
   constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;

@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "precompute/render/scene.h"
@@ -57,6 +58,11 @@ struct GBuffer {
     return samples[(static_cast<size_t>(y) * size.width + x) * samplesPerPixel + s];
   }
 };
+
+/// Lattice texels grouped in 4x4 blocks of one face (16 neighbouring directions:
+/// a coherent shadow-ray packet from one point); -1 pads blocks at the edge of a
+/// face when R is not a multiple of 4.
+std::vector<std::array<int, 16>> texelBlocks(const CubeLattice& lattice);
 
 /// Sub-pixel position of sample s (s = 0 is the pixel centre; an R2 sequence after).
 Eigen::Vector2d pixelSampleOffset(int s);

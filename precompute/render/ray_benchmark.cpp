@@ -22,6 +22,7 @@ using Clock = std::chrono::steady_clock;
 struct Workload {
   std::vector<PixelSample> points;  // in 4x4 pixel blocks, 16 consecutive per block
   std::vector<Eigen::Vector3f> directions;
+  std::vector<std::array<int, 16>> blocks;  // 4x4 texel blocks
   float epsilon = 0;
 };
 
@@ -37,6 +38,7 @@ Workload makeWorkload(const EmbreeScene& embree, const GBuffer& g, const CubeLat
         for (int x = bx; x < std::min(bx + 4, g.size.width); ++x)
           if (g.at(x, y, 0).material >= 0) w.points.push_back(g.at(x, y, 0));
   for (int j = 0; j < lattice.size(); ++j) w.directions.push_back(lattice.direction(j).cast<float>());
+  w.blocks = texelBlocks(lattice);
   return w;
 }
 
@@ -116,6 +118,30 @@ long long loopDirectionPackets(RTCScene scene, const Workload& w, size_t begin, 
   return rays;
 }
 
+/// rtcOccluded16, a 4x4 block of neighbouring texels from one point.
+long long loopTexelBlocks(RTCScene scene, const Workload& w, size_t begin, size_t end) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRay16 ray;
+  alignas(64) int valid[16];
+  long long rays = 0;
+  for (size_t p = begin; p < end; ++p)
+    for (const auto& block : w.blocks) {
+      int active = 0;
+      for (int i = 0; i < 16; ++i) {
+        const int j = block[i] >= 0 ? block[i] : block[0];
+        valid[i] = (block[i] >= 0 && w.points[p].normal.dot(w.directions[j]) > 0) ? -1 : 0;
+        active += valid[i] != 0;
+        setRay(ray, i, w.points[p].origin, w.directions[j], w.epsilon);
+      }
+      if (!active) continue;
+      rtcOccluded16(valid, scene, &ctx, &ray);
+      rays += active;
+    }
+  return rays;
+}
+
 template <typename Loop>
 RayRate timeLoop(const std::string& name, RTCScene scene, const Workload& w, int repeats,
                  Loop loop) {
@@ -155,7 +181,7 @@ RayBenchmarkReport runRayBenchmark(const Scene& scene, int cubemapResolution, in
   PrecomputeOptions options;
   options.cubemapResolution = cubemapResolution;
   options.threads = report.threads;
-  report.precompute = {"precompute (rtcOccluded16, 4x4 points, full transport)", 0,
+  report.precompute = {"precompute (4x4 texel blocks, BRDF and rows, all)", 0,
                        std::numeric_limits<double>::infinity()};
   for (int r = 0; r < repeats; ++r) {
     const PrecomputeStats s = measurePrecomputeRate(scene, options, imageRows);
@@ -174,6 +200,8 @@ RayBenchmarkReport runRayBenchmark(const Scene& scene, int cubemapResolution, in
                                        embree.handle(), w, repeats, loopPointPackets));
     report.rawLoops.push_back(timeLoop("raw rtcOccluded16, 16 directions from one point",
                                        embree.handle(), w, repeats, loopDirectionPackets));
+    report.rawLoops.push_back(timeLoop("raw rtcOccluded16, 4x4 texel block from one point",
+                                       embree.handle(), w, repeats, loopTexelBlocks));
   });
   return report;
 }

@@ -24,10 +24,8 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-/// Pixels per side of a packet: one direction over 4x4 neighbouring points is
-/// what Embree traces fastest (coherent rtcOccluded16).
-constexpr int kBlock = 4;
-constexpr int kLanes = kBlock * kBlock;
+/// Image rows per band: the unit of parallel work and of ordered writing.
+constexpr int kBandRows = 1;
 
 /// The shadow-ray directions of every texel: its centre when one ray per texel,
 /// else `raysPerTexel` stratified points weighted by their solid-angle density
@@ -73,128 +71,140 @@ TexelDirections makeTexelDirections(const CubeLattice& lattice, int raysPerTexel
   return t;
 }
 
-/// Computes transport rows for bands of kBlock image rows.
+/// Computes transport rows for bands of kBandRows image rows. Shadow rays go
+/// out as rtcOccluded16 packets of a 4x4 block of neighbouring texels from one
+/// point: the fastest of the layouts `bench rays` measures on our scenes.
 class BandRenderer {
  public:
   BandRenderer(const EmbreeScene& scene, const GBuffer& gbuffer, const TexelDirections& dirs,
-               int latticeSize)
-      : scene_(scene), gbuffer_(gbuffer), dirs_(dirs), l_(latticeSize) {}
-
-  /// Occupied pixels of image rows [y0, y0 + kBlock), in row-major order.
-  long long countRows(int y0) const {
-    long long n = 0;
-    for (int y = y0; y < std::min(y0 + kBlock, gbuffer_.size.height); ++y)
-      for (int x = 0; x < gbuffer_.size.width; ++x) n += hits(x, y) > 0;
-    return n;
+               const CubeLattice& lattice)
+      : scene_(scene), gbuffer_(gbuffer), dirs_(dirs), blocks_(texelBlocks(lattice)),
+        l_(lattice.size()) {
+    // A cone around each block's directions, to skip blocks wholly below a
+    // point's horizon with one dot product.
+    for (const auto& block : blocks_) {
+      Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+      forEachDirection(block, [&](const Eigen::Vector3f& d) { centre += d; });
+      centre.normalize();
+      float minCos = 1;
+      forEachDirection(block, [&](const Eigen::Vector3f& d) { minCos = std::min(minCos, centre.dot(d)); });
+      const float sinSpread = std::sqrt(std::max(0.0f, 1 - minCos * minCos)) + 1e-4f;
+      cones_.push_back({centre, minCos < 0 ? 2.0f : sinSpread});
+    }
   }
 
-  /// Fills out (countRows(y0) x l, zeroed here) and returns the occlusion rays traced.
+  /// Fills out (one row per occupied pixel of image rows [y0, y0 + kBandRows), in
+  /// row-major order) and returns the occlusion rays traced.
   long long render(int y0, std::vector<float>& out) const {
     const int width = gbuffer_.size.width;
-    const int y1 = std::min(y0 + kBlock, gbuffer_.size.height);
-    std::vector<int> rowOf(static_cast<size_t>(kBlock) * width, -1);
+    const int y1 = std::min(y0 + kBandRows, gbuffer_.size.height);
     int rows = 0;
     for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < width; ++x)
-        if (hits(x, y) > 0) rowOf[(y - y0) * width + x] = rows++;
+      for (int x = 0; x < width; ++x) rows += hits(x, y) > 0;
     out.assign(static_cast<size_t>(rows) * l_, 0.0f);
     long long rays = 0;
-    for (int x0 = 0; x0 < width; x0 += kBlock)
-      for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
-        Packet packet;
-        for (int y = y0; y < y1; ++y)
-          for (int x = x0; x < std::min(x0 + kBlock, width); ++x) {
-            const PixelSample& ps = gbuffer_.at(x, y, s);
-            if (ps.material >= 0)
-              packet.add(ps, scene_.materials()[ps.material], rowOf[(y - y0) * width + x],
-                         1.0f / hits(x, y));
-          }
-        if (packet.lanes > 0) rays += trace(packet, out);
+    int row = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < width; ++x) {
+        const int n = hits(x, y);
+        if (n == 0) continue;
+        for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
+          const PixelSample& ps = gbuffer_.at(x, y, s);
+          if (ps.material >= 0)
+            rays += trace(ps, scene_.materials()[ps.material], 1.0f / n,
+                          out.data() + static_cast<size_t>(row) * l_);
+        }
+        ++row;
       }
     return rays;
   }
 
  private:
-  /// Up to 16 pixel samples that share each shadow direction.
-  struct Packet {
-    int lanes = 0;
-    std::array<Eigen::Vector3f, kLanes> origin, normal, mirrored;
-    std::array<int, kLanes> row{};
-    std::array<float, kLanes> weight{}, specular{}, exponent{};
-    std::array<bool, kLanes> glossy{};
-
-    void add(const PixelSample& ps, const Material& m, int r, float w) {
-      origin[lanes] = ps.origin;
-      normal[lanes] = ps.normal;
-      mirrored[lanes] = 2 * ps.normal.dot(ps.toViewer) * ps.normal - ps.toViewer;
-      glossy[lanes] = m.type == Material::Type::Phong && m.specular > 0;
-      specular[lanes] = glossy[lanes] ? float(m.specular) : 0.0f;
-      exponent[lanes] = float(m.exponent);
-      row[lanes] = r;
-      weight[lanes] = w;
-      ++lanes;
-    }
-  };
-
   int hits(int x, int y) const {
     int n = 0;
     for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) n += gbuffer_.at(x, y, s).material >= 0;
     return n;
   }
 
-  long long trace(const Packet& p, std::vector<float>& out) const {
+  /// Adds weight x V x cos x (f / albedo) of one pixel sample to its row.
+  long long trace(const PixelSample& ps, const Material& m, float weight, float* row) const {
     constexpr float invPi = std::numbers::inv_pi_v<float>;
+    const Eigen::Vector3f n = ps.normal;
+    const Eigen::Vector3f mirrored = 2 * n.dot(ps.toViewer) * n - ps.toViewer;
+    const bool glossy = m.type == Material::Type::Phong && m.specular > 0;
+    const float ks = float(m.specular), s = float(m.exponent);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     alignas(64) RTCRay16 ray;
-    alignas(64) int valid[kLanes];
-    const float epsilon = scene_.rayEpsilon();
-    for (int i = 0; i < kLanes; ++i) {
-      const int lane = std::min(i, p.lanes - 1);  // unused lanes mirror a real one
-      ray.org_x[i] = p.origin[lane].x(), ray.org_y[i] = p.origin[lane].y();
-      ray.org_z[i] = p.origin[lane].z();
-      ray.tnear[i] = epsilon, ray.time[i] = 0, ray.mask[i] = ~0u, ray.id[i] = i, ray.flags[i] = 0;
+    alignas(64) int valid[16];
+    for (int i = 0; i < 16; ++i) {
+      ray.org_x[i] = ps.origin.x(), ray.org_y[i] = ps.origin.y(), ray.org_z[i] = ps.origin.z();
+      ray.tnear[i] = scene_.rayEpsilon(), ray.time[i] = 0, ray.mask[i] = ~0u;
+      ray.id[i] = i, ray.flags[i] = 0;
     }
     long long rays = 0;
-    float cosine[kLanes];
+    float cosine[16];
+    size_t slot[16];
     const int k = dirs_.raysPerTexel;
-    for (int j = 0; j < l_; ++j)
+    for (size_t b = 0; b < blocks_.size(); ++b) {
+      // All of the block is below the horizon when n is more than 90 degrees
+      // plus the block's spread away from its axis.
+      if (n.dot(cones_[b].axis) < -cones_[b].sinSpread) continue;
+      const auto& block = blocks_[b];
       for (int r = 0; r < k; ++r) {
-        const size_t q = static_cast<size_t>(j) * k + r;
-        const float dx = dirs_.x[q], dy = dirs_.y[q], dz = dirs_.z[q];
         int active = 0;
-        for (int i = 0; i < kLanes; ++i) {
-          cosine[i] = i < p.lanes ? p.normal[i].x() * dx + p.normal[i].y() * dy + p.normal[i].z() * dz
-                                  : 0.0f;
-          valid[i] = cosine[i] > 0 ? -1 : 0;  // below the horizon: zero, no ray
-          active += cosine[i] > 0;
+        for (int i = 0; i < 16; ++i) {
+          const int j = block[i] >= 0 ? block[i] : block[0];
+          const size_t q = static_cast<size_t>(j) * k + r;
+          slot[i] = q;
+          cosine[i] = n.x() * dirs_.x[q] + n.y() * dirs_.y[q] + n.z() * dirs_.z[q];
+          valid[i] = block[i] >= 0 && cosine[i] > 0 ? -1 : 0;  // below the horizon: no ray
+          active += valid[i] != 0;
         }
         if (active == 0) continue;
-        for (int i = 0; i < kLanes; ++i) {
-          ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
+        for (int i = 0; i < 16; ++i) {
+          ray.dir_x[i] = dirs_.x[slot[i]], ray.dir_y[i] = dirs_.y[slot[i]];
+          ray.dir_z[i] = dirs_.z[slot[i]];
           ray.tfar[i] = std::numeric_limits<float>::infinity();
         }
         rtcOccluded16(valid, scene_.handle(), &context, &ray);
         rays += active;
-        for (int i = 0; i < p.lanes; ++i) {
+        for (int i = 0; i < 16; ++i) {
           if (!valid[i] || ray.tfar[i] < 0) continue;  // occluded rays come back with tfar = -inf
+          const size_t q = slot[i];
           float shape = invPi;
-          if (p.glossy[i]) {  // Phong of design.md section 4, divided by the albedo
-            const float c = p.mirrored[i].x() * dx + p.mirrored[i].y() * dy + p.mirrored[i].z() * dz;
-            const float lobe = c > 0 ? std::pow(c, p.exponent[i]) : 0.0f;
-            shape = (1 - p.specular[i]) * invPi +
-                    p.specular[i] * (p.exponent[i] + 2) * 0.5f * invPi * lobe;
+          if (glossy) {  // Phong of design.md section 4, divided by the albedo
+            const float c = mirrored.x() * dirs_.x[q] + mirrored.y() * dirs_.y[q] + mirrored.z() * dirs_.z[q];
+            shape = (1 - ks) * invPi + ks * (s + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s) : 0.0f);
           }
-          out[static_cast<size_t>(p.row[i]) * l_ + j] += p.weight[i] * dirs_.weight[q] * cosine[i] * shape;
+          row[block[i]] += weight * dirs_.weight[q] * cosine[i] * shape;
         }
       }
+    }
     return rays;
   }
+
+  template <typename F>
+  void forEachDirection(const std::array<int, 16>& block, F&& f) const {
+    for (int j : block)
+      if (j >= 0)
+        for (int r = 0; r < dirs_.raysPerTexel; ++r) {
+          const size_t q = static_cast<size_t>(j) * dirs_.raysPerTexel + r;
+          f(Eigen::Vector3f(dirs_.x[q], dirs_.y[q], dirs_.z[q]));
+        }
+  }
+
+  struct Cone {
+    Eigen::Vector3f axis;
+    float sinSpread;  ///< every direction d of the block has d.axis >= cos(spread)
+  };
 
   const EmbreeScene& scene_;
   const GBuffer& gbuffer_;
   const TexelDirections& dirs_;
+  std::vector<std::array<int, 16>> blocks_;
+  std::vector<Cone> cones_;
   int l_;
 };
 
@@ -212,7 +222,7 @@ int arenaThreads(int threads) {
   return threads > 0 ? threads : tbb::info::default_concurrency();
 }
 
-/// Runs the band pipeline over image rows [firstBand, lastBand) * kBlock: bands are
+/// Runs the band pipeline over image rows [firstBand, lastBand) * kBandRows: bands are
 /// computed in parallel and handed to `sink` in order (so output is identical for
 /// any thread count).
 template <typename Sink>
@@ -238,7 +248,7 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
                                         return nullptr;
                                       }
                                       Slot* slot = &slots[(next - firstBand) % tokens];
-                                      slot->y0 = kBlock * next++;
+                                      slot->y0 = kBandRows * next++;
                                       return slot;
                                     }) &
           tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
@@ -301,9 +311,9 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
 
     TransportWriter writer(outPath, header);
     const TexelDirections dirs = makeTexelDirections(lattice, options.texelRays);
-    const BandRenderer renderer(embree, gbuffer, dirs, lattice.size());
+    const BandRenderer renderer(embree, gbuffer, dirs, lattice);
     long long written = 0;
-    const int bands = (size.height + kBlock - 1) / kBlock;
+    const int bands = (size.height + kBandRows - 1) / kBandRows;
     PrecomputeStats stats = runBands(renderer, 0, bands, threads, [&](const std::vector<float>& rows) {
       const long long count = static_cast<long long>(rows.size()) / lattice.size();
       writer.writeRows(written, count, rows.data());
@@ -329,10 +339,11 @@ PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOption
     const EmbreeScene embree(scene);
     const GBuffer gbuffer = renderGBuffer(embree, scene.camera, options.samplesPerPixel);
     const TexelDirections dirs = makeTexelDirections(lattice, options.texelRays);
-    const BandRenderer renderer(embree, gbuffer, dirs, lattice.size());
-    // The middle rows of the image, where the scene's detail usually is.
-    const int bands = (scene.camera.size.height + kBlock - 1) / kBlock;
-    const int want = std::clamp((imageRows + kBlock - 1) / kBlock, 1, bands);
+    const BandRenderer renderer(embree, gbuffer, dirs, lattice);
+    // The middle rows of the image, where the scene's detail usually is (the same
+    // rows as the raw loops of ray_benchmark.cpp trace).
+    const int bands = (scene.camera.size.height + kBandRows - 1) / kBandRows;
+    const int want = std::clamp((imageRows + kBandRows - 1) / kBandRows, 1, bands);
     const int first = (bands - want) / 2;
     long long rows = 0;
     PrecomputeStats stats = runBands(renderer, first, first + want, threads,
