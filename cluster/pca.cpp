@@ -21,8 +21,8 @@ PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool su
   }
   // Eigen-decompose the smaller Gram matrix; bases then follow from the rows.
   const bool viaRows = p < n;
-  const Eigen::MatrixXd gram = viaRows ? Eigen::MatrixXd(rows * rows.transpose())
-                                       : Eigen::MatrixXd(rows.transpose() * rows);
+  const Eigen::MatrixXd gram =
+      viaRows ? Eigen::MatrixXd(rows * rows.transpose()) : Eigen::MatrixXd(rows.transpose() * rows);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gram);
   ACPCA_CHECK(solver.info() == Eigen::Success, "eigensolver failed on a ", gram.rows(), "^2 Gram");
   const Eigen::Index m = gram.rows();

@@ -6,12 +6,12 @@
 namespace acpca {
 
 struct PcaResult {
-  Eigen::MatrixXd basis;          ///< columns: orthonormal principal directions (cols x n)
-  Eigen::VectorXd eigenvalues;    ///< all of them, descending (squared singular values)
-  Eigen::RowVectorXd mean;        ///< subtracted first when asked, else zero
-  int rank = 0;                   ///< n: bases kept
-  double totalEnergy = 0;         ///< sum of squares of the (centred) rows
-  double residualEnergy = 0;      ///< what the kept bases miss: sum of dropped eigenvalues
+  Eigen::MatrixXd basis;        ///< columns: orthonormal principal directions (cols x n)
+  Eigen::VectorXd eigenvalues;  ///< all of them, descending (squared singular values)
+  Eigen::RowVectorXd mean;      ///< subtracted first when asked, else zero
+  int rank = 0;                 ///< n: bases kept
+  double totalEnergy = 0;       ///< sum of squares of the (centred) rows
+  double residualEnergy = 0;    ///< what the kept bases miss: sum of dropped eigenvalues
 };
 
 /// Keeps the fewest bases whose energy reaches `tolerance` of the total (1 keeps

@@ -12,7 +12,9 @@ namespace acpca {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-double toRadians(double degrees) { return degrees * kPi / 180.0; }
+double toRadians(double degrees) {
+  return degrees * kPi / 180.0;
+}
 
 std::string formatNumber(double v) {
   std::ostringstream out;
@@ -63,7 +65,8 @@ class SunEnvironment : public Environment {
     // Rings of equal solid angle (cos theta uniform), more of them than the
     // disc spans texels so that its footprint is resolved.
     const double texelAngle = 0.5 * kPi / lattice.resolution();
-    const int rings = std::clamp(static_cast<int>(std::ceil(16 * toRadians(size_) / texelAngle)), 8, 512);
+    const int rings =
+        std::clamp(static_cast<int>(std::ceil(16 * toRadians(size_) / texelAngle)), 8, 512);
     const int segments = 2 * rings;
     const Vec3 axis = rotation * centre_;
     const Vec3 helper = std::abs(axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
@@ -134,6 +137,8 @@ std::unique_ptr<Environment> makeSunEnvironment(double theta, double phi, double
   return std::make_unique<SunEnvironment>(theta, phi, size, radiance);
 }
 
-std::unique_ptr<Environment> makeSkyEnvironment() { return std::make_unique<SkyEnvironment>(); }
+std::unique_ptr<Environment> makeSkyEnvironment() {
+  return std::make_unique<SkyEnvironment>();
+}
 
 }  // namespace acpca

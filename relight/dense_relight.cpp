@@ -20,7 +20,8 @@ std::vector<std::vector<float>> denseRelight(const TransportReader& transport,
     ACPCA_CHECK(lightings[m].size() == 3u * l, "lighting ", m, " has ", lightings[m].size(),
                 " values for a lattice of ", l);
     for (int j = 0; j < l; ++j)
-      for (int c = 0; c < 3; ++c) lighting(j, 3 * m + c) = static_cast<float>(lightings[m][3 * j + c]);
+      for (int c = 0; c < 3; ++c)
+        lighting(j, 3 * m + c) = static_cast<float>(lightings[m][3 * j + c]);
   }
   std::vector<std::vector<float>> result(maps, std::vector<float>(3 * rows));
   if (rows == 0 || maps == 0) return result;
@@ -37,30 +38,30 @@ std::vector<std::vector<float>> denseRelight(const TransportReader& transport,
   int slot = 0;
   const auto& albedo = transport.header().albedo;
   tbb::parallel_pipeline(
-      tokens,
-      tbb::make_filter<void, Block*>(tbb::filter_mode::serial_in_order,
-                                     [&](tbb::flow_control& fc) -> Block* {
-                                       if (next >= rows) {
-                                         fc.stop();
-                                         return nullptr;
-                                       }
-                                       Block* b = &blocks[slot++ % tokens];
-                                       b->first = next;
-                                       b->count = std::min(blockRows, rows - next);
-                                       b->rows.resize(b->count, l);
-                                       transport.readRows(b->first, b->count, b->rows.data());
-                                       next += b->count;
-                                       return b;
-                                     }) &
-          tbb::make_filter<Block*, void>(tbb::filter_mode::parallel, [&](Block* b) {
-            const Eigen::MatrixXf product = b->rows * lighting;  // count x 3M
-            for (long long r = 0; r < b->count; ++r) {
-              const long long row = b->first + r;
-              for (int m = 0; m < maps; ++m)
-                for (int c = 0; c < 3; ++c)
-                  result[m][3 * row + c] = albedo[3 * row + c] * product(r, 3 * m + c);
-            }
-          }));
+      tokens, tbb::make_filter<void, Block*>(tbb::filter_mode::serial_in_order,
+                                             [&](tbb::flow_control& fc) -> Block* {
+                                               if (next >= rows) {
+                                                 fc.stop();
+                                                 return nullptr;
+                                               }
+                                               Block* b = &blocks[slot++ % tokens];
+                                               b->first = next;
+                                               b->count = std::min(blockRows, rows - next);
+                                               b->rows.resize(b->count, l);
+                                               transport.readRows(b->first, b->count,
+                                                                  b->rows.data());
+                                               next += b->count;
+                                               return b;
+                                             }) &
+                  tbb::make_filter<Block*, void>(tbb::filter_mode::parallel, [&](Block* b) {
+                    const Eigen::MatrixXf product = b->rows * lighting;  // count x 3M
+                    for (long long r = 0; r < b->count; ++r) {
+                      const long long row = b->first + r;
+                      for (int m = 0; m < maps; ++m)
+                        for (int c = 0; c < 3; ++c)
+                          result[m][3 * row + c] = albedo[3 * row + c] * product(r, 3 * m + c);
+                    }
+                  }));
   return result;
 }
 

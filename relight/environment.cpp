@@ -28,7 +28,8 @@ void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& 
       for (int b = 0; b < sub; ++b) {
         const double s0 = -1 + c.col * step + b * cell, t0 = -1 + c.row * step + a * cell;
         const double omega = CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
-        const Vec3 w = CubeLattice::faceDirection(c.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized();
+        const Vec3 w =
+            CubeLattice::faceDirection(c.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized();
         sum += omega * radiance(inverse * w);
       }
     for (int ch = 0; ch < 3; ++ch) lighting[3 * j + ch] += sum[ch];

@@ -22,8 +22,7 @@ double linearToSrgb(double v) {
 }
 
 Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
-                   Background background, const Environment& env,
-                   const Eigen::Matrix3d& rotation) {
+                   Background background, const Environment& env, const Eigen::Matrix3d& rotation) {
   const Camera& camera = header.camera;
   Image image;
   image.width = camera.size.width;
@@ -51,8 +50,8 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
   return image;
 }
 
-void writeImage(const Image& image, const std::string& path, ImageFormat format,
-                double exposureEv, bool exrFloat) {
+void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
+                bool exrFloat) {
   AtomicOutput output(path);
   auto out = OIIO::ImageOutput::create(output.tempPath());
   if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));

@@ -31,8 +31,8 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
 
 /// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
 /// EXR output is also scaled by 2^exposure. Throws UserError naming the path.
-void writeImage(const Image& image, const std::string& path, ImageFormat format,
-                double exposureEv, bool exrFloat = false);
+void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
+                bool exrFloat = false);
 
 /// sRGB transfer function of a linear value in [0, 1].
 double linearToSrgb(double v);

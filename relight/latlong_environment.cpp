@@ -112,10 +112,9 @@ std::unique_ptr<Environment> loadLatLongFile(const std::string& path) {
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 2 || spec.height < 1 || spec.depth != 1 ||
       static_cast<long long>(spec.width) * spec.height > kMaxPixels)
-    throw UserError(concat(path, ": environment map size ", spec.width, "x", spec.height,
-                           " is out of range"));
-  if (spec.nchannels < 1)
-    throw UserError(concat(path, ": the environment map has no channels"));
+    throw UserError(
+        concat(path, ": environment map size ", spec.width, "x", spec.height, " is out of range"));
+  if (spec.nchannels < 1) throw UserError(concat(path, ": the environment map has no channels"));
   const int channels = spec.nchannels;
   std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
@@ -126,8 +125,7 @@ std::unique_ptr<Environment> loadLatLongFile(const std::string& path) {
       const float v = all[p * channels + std::min(c, channels < 3 ? 0 : c)];
       if (!std::isfinite(v) || v < 0)
         throw UserError(concat(path, ": pixel (", p % spec.width, ", ", p / spec.width,
-                               ") channel ", c, " is ", v,
-                               "; radiance must be finite and >= 0"));
+                               ") channel ", c, " is ", v, "; radiance must be finite and >= 0"));
       rgb[3 * p + c] = v;
     }
   return makeLatLongEnvironment(std::filesystem::path(path).stem().string(), spec.width,

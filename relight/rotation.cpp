@@ -11,7 +11,9 @@ namespace acpca {
 
 namespace {
 
-double toRadians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+double toRadians(double degrees) {
+  return degrees * std::numbers::pi / 180.0;
+}
 
 std::string formatAngle(double degrees) {
   std::ostringstream out;

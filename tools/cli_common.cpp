@@ -18,13 +18,14 @@ void CommonOptions::add(CLI::App& app, bool withThreads) {
   app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
   app.add_option("--json", jsonPath, "Write machine-readable results to FILE (- for stdout)");
   if (withThreads)
-    app.add_option("--threads", threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    app.add_option("--threads", threads, "Worker threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
 }
 
 ThreadLimit::ThreadLimit(int threads)
     : threads_(threads > 0 ? threads : tbb::info::default_concurrency()) {
-  control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                   threads_);
+  control_ =
+      std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads_);
 }
 
 ThreadLimit::~ThreadLimit() = default;
@@ -39,9 +40,12 @@ std::string formatDuration(double seconds) {
   if (!std::isfinite(seconds)) return "?";
   const long s = std::lround(seconds);
   char buffer[32];
-  if (s >= 3600) std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, (s / 60) % 60);
-  else if (s >= 60) std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
-  else std::snprintf(buffer, sizeof buffer, "%lds", s);
+  if (s >= 3600)
+    std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, (s / 60) % 60);
+  else if (s >= 60)
+    std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
+  else
+    std::snprintf(buffer, sizeof buffer, "%lds", s);
   return buffer;
 }
 }  // namespace

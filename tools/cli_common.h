@@ -11,7 +11,6 @@
 
 #include "precompute/transport/camera.h"
 
-
 namespace acpca::cli {
 
 /// --quiet, --json FILE|-, --threads N, as most subcommands take them.

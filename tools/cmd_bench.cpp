@@ -39,7 +39,8 @@ void runRays(const RaysArgs& a) {
   std::printf("precompute / best raw loop (%s): %.3f\n", best.name.c_str(), ratio);
   nlohmann::json loops = nlohmann::json::array();
   for (const auto& raw : r.rawLoops)
-    loops.push_back({{"name", raw.name}, {"rays", raw.rays}, {"rays_per_second", raw.raysPerSecond()}});
+    loops.push_back(
+        {{"name", raw.name}, {"rays", raw.rays}, {"rays_per_second", raw.raysPerSecond()}});
   writeJson(a.common.jsonPath, {{"scene", scene.name},
                                 {"triangles", r.triangles},
                                 {"threads", r.threads},

@@ -39,8 +39,8 @@ void run(const InfoArgs& a) {
   }
   std::cout << a.file << ": transport of scene '" << h.scene << "'\n"
             << "  image        " << h.camera.size.width << "x" << h.camera.size.height << ", "
-            << t.rows() << " occupied pixels ("
-            << 100.0 * t.rows() / h.camera.size.pixels() << "%)\n"
+            << t.rows() << " occupied pixels (" << 100.0 * t.rows() / h.camera.size.pixels()
+            << "%)\n"
             << "  lattice      6x" << h.cubemapResolution << "x" << h.cubemapResolution << " = "
             << t.latticeSize() << " directions\n"
             << "  sampling     " << h.samplesPerPixel << " sample(s) per pixel, " << h.texelRays

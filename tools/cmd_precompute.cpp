@@ -43,21 +43,20 @@ void run(const PrecomputeArgs& a) {
               << stats.transportSeconds << " s (" << raysPerSecond / 1e6 << " M rays/s, "
               << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
               << formatBytes(peakMemoryBytes()) << "\n";
-  writeJson(a.common.jsonPath,
-            {{"out", a.out},
-             {"scene", scene.name},
-             {"width", scene.camera.size.width},
-             {"height", scene.camera.size.height},
-             {"cubemap", a.cubemap},
-             {"triangles", stats.triangles},
-             {"occupied_pixels", stats.occupiedPixels},
-             {"occlusion_rays", stats.occlusionRays},
-             {"rays_per_second", raysPerSecond},
-             {"transport_seconds", stats.transportSeconds},
-             {"seconds", stats.seconds},
-             {"threads_used", stats.threadsUsed},
-             {"row_bytes", stats.bytesWritten},
-             {"peak_memory_bytes", peakMemoryBytes()}});
+  writeJson(a.common.jsonPath, {{"out", a.out},
+                                {"scene", scene.name},
+                                {"width", scene.camera.size.width},
+                                {"height", scene.camera.size.height},
+                                {"cubemap", a.cubemap},
+                                {"triangles", stats.triangles},
+                                {"occupied_pixels", stats.occupiedPixels},
+                                {"occlusion_rays", stats.occlusionRays},
+                                {"rays_per_second", raysPerSecond},
+                                {"transport_seconds", stats.transportSeconds},
+                                {"seconds", stats.seconds},
+                                {"threads_used", stats.threadsUsed},
+                                {"row_bytes", stats.bytesWritten},
+                                {"peak_memory_bytes", peakMemoryBytes()}});
 }
 
 }  // namespace
@@ -70,7 +69,8 @@ void registerPrecompute(CLI::App& app) {
   sub->add_option("--size", args->size, "Image size WxH (default: the scene's)");
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R (6 R^2 directions)");
   sub->add_option("--spp", args->spp, "Camera samples per pixel");
-  sub->add_option("--texel-rays", args->texelRays, "Occlusion rays per texel (fractional visibility)");
+  sub->add_option("--texel-rays", args->texelRays,
+                  "Occlusion rays per texel (fractional visibility)");
   sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });

@@ -48,7 +48,8 @@ std::vector<std::string> expandEnvironments(const std::vector<std::string>& spec
     if (!isAnalyticEnvironment(spec) && fs::is_directory(spec)) {
       std::vector<std::string> files;
       for (const auto& entry : fs::directory_iterator(spec))
-        if (entry.is_regular_file() && isImageFile(entry.path())) files.push_back(entry.path().string());
+        if (entry.is_regular_file() && isImageFile(entry.path()))
+          files.push_back(entry.path().string());
       if (files.empty())
         throw UserError(concat("--env '", spec, "': the directory holds no .exr/.hdr maps"));
       std::sort(files.begin(), files.end());
@@ -69,11 +70,14 @@ std::vector<ImageFormat> formatsFor(const std::string& format, const fs::path& o
   const std::string ext = out.extension().string();
   if (ext == ".exr") return {ImageFormat::Exr};
   if (ext == ".png") return {ImageFormat::Png};
-  throw UserError(concat("--out '", out.string(),
-                         "': cannot tell the format from the extension; use .exr/.png or --format"));
+  throw UserError(
+      concat("--out '", out.string(),
+             "': cannot tell the format from the extension; use .exr/.png or --format"));
 }
 
-std::string extensionOf(ImageFormat f) { return f == ImageFormat::Exr ? ".exr" : ".png"; }
+std::string extensionOf(ImageFormat f) {
+  return f == ImageFormat::Exr ? ".exr" : ".png";
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -146,7 +150,8 @@ void run(const RelightArgs& a) {
     const size_t count = std::min(kGroup, frames.size() - g);
     std::vector<LatticeLighting> lightings;
     for (size_t k = 0; k < count; ++k)
-      lightings.push_back(computeLighting(*frames[g + k].input->env, lattice, frames[g + k].rotation, mode));
+      lightings.push_back(
+          computeLighting(*frames[g + k].input->env, lattice, frames[g + k].rotation, mode));
     std::vector<std::vector<float>> results;
     const int repeats = std::max(1, a.frames);
     for (int rep = 0; rep < repeats; ++rep) {
@@ -162,19 +167,24 @@ void run(const RelightArgs& a) {
       std::vector<std::string> paths;
       for (ImageFormat format : formats) {
         fs::path path = out;
-        if (batch) path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
-        else if (formats.size() > 1) path = out.parent_path() / (out.stem().string() + extensionOf(format));
+        if (batch)
+          path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
+        else if (formats.size() > 1)
+          path = out.parent_path() / (out.stem().string() + extensionOf(format));
         writeImage(image, path.string(), format, a.exposure, a.exrFloat);
         paths.push_back(path.string());
       }
       const double ms = msPerFrame.back();
       std::string joined;
       for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
-      manifest.push_back(concat(csvField(a.input), ",", csvField(f.input->spec), ",", f.rotation.yaw,
-                                ",", f.rotation.pitch, ",", f.rotation.roll, ",", a.exposure, ",",
-                                csvField(joined), ",", ms));
-      outputs.push_back({{"env", f.input->spec}, {"yaw", f.rotation.yaw},
-                         {"pitch", f.rotation.pitch}, {"roll", f.rotation.roll}, {"paths", paths}});
+      manifest.push_back(concat(csvField(a.input), ",", csvField(f.input->spec), ",",
+                                f.rotation.yaw, ",", f.rotation.pitch, ",", f.rotation.roll, ",",
+                                a.exposure, ",", csvField(joined), ",", ms));
+      outputs.push_back({{"env", f.input->spec},
+                         {"yaw", f.rotation.yaw},
+                         {"pitch", f.rotation.pitch},
+                         {"roll", f.rotation.roll},
+                         {"paths", paths}});
     }
     progress.update(static_cast<long long>(g + count), static_cast<long long>(frames.size()));
   }
@@ -195,20 +205,24 @@ void run(const RelightArgs& a) {
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
   const double med = median(msPerFrame);
-  const double bytesPerFrame = frames.empty() ? 0 : double(tBytes) / std::min(kGroup, frames.size());
+  const double bytesPerFrame =
+      frames.empty() ? 0 : double(tBytes) / std::min(kGroup, frames.size());
   if (!a.common.quiet)
     std::cerr << "relit " << frames.size() << " frame(s) densely from " << a.input << ": median "
               << med << " ms/frame (" << formatBytes(bytesPerFrame) << " of transport per frame)\n";
-  nlohmann::json report = {{"input", a.input},
-                           {"method", "dense"},
-                           {"frames", frames.size()},
-                           {"ms_per_frame_median", med},
-                           {"ms_per_frame_min", msPerFrame.empty() ? 0 : *std::min_element(msPerFrame.begin(), msPerFrame.end())},
-                           {"ms_per_frame_max", msPerFrame.empty() ? 0 : *std::max_element(msPerFrame.begin(), msPerFrame.end())},
-                           {"bytes_per_frame", bytesPerFrame},
-                           {"gb_per_s", med > 0 ? bytesPerFrame / (med * 1e6) : 0},
-                           {"outputs", outputs},
-                           {"failed", failed}};
+  nlohmann::json report = {
+      {"input", a.input},
+      {"method", "dense"},
+      {"frames", frames.size()},
+      {"ms_per_frame_median", med},
+      {"ms_per_frame_min",
+       msPerFrame.empty() ? 0 : *std::min_element(msPerFrame.begin(), msPerFrame.end())},
+      {"ms_per_frame_max",
+       msPerFrame.empty() ? 0 : *std::max_element(msPerFrame.begin(), msPerFrame.end())},
+      {"bytes_per_frame", bytesPerFrame},
+      {"gb_per_s", med > 0 ? bytesPerFrame / (med * 1e6) : 0},
+      {"outputs", outputs},
+      {"failed", failed}};
   writeJson(a.common.jsonPath, report);
   if (!failed.empty()) {
     std::string list;
@@ -230,7 +244,8 @@ void registerRelight(CLI::App& app) {
                   "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)")
       ->required();
   sub->add_option("--out", args->out, "Output image, or directory for several")->required();
-  sub->add_option("--rotate", args->rotations, "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
+  sub->add_option("--rotate", args->rotations,
+                  "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
   sub->add_option("--exposure", args->exposure, "Exposure in stops applied to the outputs");
   sub->add_option("--format", args->format, "exr, png or both (default: from --out, exr in batch)");
   sub->add_option("--background", args->background, "env, black or alpha");

@@ -15,8 +15,7 @@ long long peakMemoryBytes() {
 }  // namespace acpca::cli
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "adaptive-cpca: relight fixed-view images under all-frequency environment lighting"};
+  CLI::App app{"adaptive-cpca: relight fixed-view images under all-frequency environment lighting"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "adaptive-cpca 0.1.0");
   acpca::cli::registerPrecompute(app);

@@ -11,7 +11,9 @@ namespace acpca {
 
 namespace {
 
-Material diffuse(float r, float g, float b) { return {Material::Type::Diffuse, {r, g, b}}; }
+Material diffuse(float r, float g, float b) {
+  return {Material::Type::Diffuse, {r, g, b}};
+}
 
 const Material kGround = diffuse(0.6f, 0.6f, 0.6f);
 const Material kBlocker = diffuse(0.7f, 0.35f, 0.25f);
@@ -82,7 +84,8 @@ Scene grid1dScene() {
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
   TriangleMesh bars{"bars", {}, {}, kBlocker};
   for (int i = -6; i <= 6; ++i)  // thin bars along x, floating at height 0.5
-    appendMesh(bars, makeBox({-3, 0.45, i * 0.35 - 0.06}, {3, 0.55, i * 0.35 + 0.06}, kBlocker, ""));
+    appendMesh(bars,
+               makeBox({-3, 0.45, i * 0.35 - 0.06}, {3, 0.55, i * 0.35 + 0.06}, kBlocker, ""));
   s.meshes.push_back(std::move(bars));
   return s;
 }
@@ -109,15 +112,12 @@ const std::vector<BuiltinEntry>& registry() {
       {{"plant", "potted plant of ~300 curved leaves (>50k triangles) on a ground plane"},
        makePlantScene},
       {{"sphere", "diffuse sphere alone, albedo 0.5 (the furnace test)"}, sphereScene},
-      {{"phong-sphere", "Phong sphere alone, ks 0.5, s 100 (glossy reflection)"},
-       phongSphereScene},
+      {{"phong-sphere", "Phong sphere alone, ks 0.5, s 100 (glossy reflection)"}, phongSphereScene},
       {{"concave", "inside of a hemispherical bowl on a ground plane (self-shadowing)"},
        concaveScene},
       {{"step", "long step blocker over a ground plane (one shadow edge)"}, stepScene},
-      {{"grid1d", "row of thin bars floating over a ground plane (1D blocker grid)"},
-       grid1dScene},
-      {{"grid2d", "13x13 small cubes floating over a ground plane (2D blocker grid)"},
-       grid2dScene},
+      {{"grid1d", "row of thin bars floating over a ground plane (1D blocker grid)"}, grid1dScene},
+      {{"grid2d", "13x13 small cubes floating over a ground plane (2D blocker grid)"}, grid2dScene},
   };
   return entries;
 }

@@ -46,8 +46,9 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
       for (int c = 0; c < 3; ++c) v[3 * i + c] = mesh.vertices[i][c];
-    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
+                                                             RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                             mesh.triangles.size()));
     for (size_t i = 0; i < mesh.triangles.size(); ++i)
       for (int c = 0; c < 3; ++c) t[3 * i + c] = static_cast<unsigned>(mesh.triangles[i][c]);
     rtcCommitGeometry(g);
@@ -83,7 +84,8 @@ EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& directio
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
-  rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
+  rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()),
+  rh.ray.org_z = float(origin.z());
   rh.ray.dir_x = float(direction.x()), rh.ray.dir_y = float(direction.y());
   rh.ray.dir_z = float(direction.z());
   rh.ray.tnear = 0;

@@ -37,7 +37,7 @@ class EmbreeScene {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   float epsilon_ = 1e-4f;
-  std::vector<Material> materials_;         // per geometry ID
+  std::vector<Material> materials_;              // per geometry ID
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
 };
 

@@ -20,9 +20,13 @@ constexpr int kAcrossSegments = 8;  // and across its width
 
 /// Uniform in [0, 1) from the raw mt19937 output (specified by the standard, so
 /// the plant is the same on every platform, unlike std::uniform_*_distribution).
-double uniform(std::mt19937& rng) { return rng() / 4294967296.0; }
+double uniform(std::mt19937& rng) {
+  return rng() / 4294967296.0;
+}
 
-Eigen::Vector3f f(const Vec3& v) { return v.cast<float>(); }
+Eigen::Vector3f f(const Vec3& v) {
+  return v.cast<float>();
+}
 
 /// A tube of `sides` sides from a to b (stems and leaf stalks).
 void addTube(TriangleMesh& mesh, const Vec3& a, const Vec3& b, double radius, int sides) {
@@ -80,7 +84,7 @@ void addPot(Scene& scene) {
   const Material soil{Material::Type::Diffuse, {0.14f, 0.1f, 0.07f}};
   TriangleMesh pot{"pot", {}, {}, terracotta};
   const int segments = 64;
-  const double profile[][2] = {{0.30, 0.0}, {0.40, 0.50}, {0.44, 0.50}, {0.44, 0.60},
+  const double profile[][2] = {{0.30, 0.0},  {0.40, 0.50}, {0.44, 0.50}, {0.44, 0.60},
                                {0.40, 0.60}, {0.38, 0.50}};  // (radius, height) around the rim
   const int rings = static_cast<int>(std::size(profile));
   for (int r = 0; r < rings; ++r)
@@ -125,8 +129,11 @@ Scene makePlantScene() {
   std::vector<TriangleMesh> leaves;
   for (int shade = 0; shade < kLeafShades; ++shade) {
     const float t = shade / float(kLeafShades - 1);
-    leaves.push_back({"leaves", {}, {}, {Material::Type::Diffuse,
-                                         {0.10f + 0.06f * t, 0.32f + 0.16f * t, 0.07f + 0.03f * t}}});
+    leaves.push_back(
+        {"leaves",
+         {},
+         {},
+         {Material::Type::Diffuse, {0.10f + 0.06f * t, 0.32f + 0.16f * t, 0.07f + 0.03f * t}}});
   }
   std::mt19937 rng(20070805u);
   const double goldenAngle = kPi * (3 - std::sqrt(5.0));
@@ -137,7 +144,8 @@ Scene makePlantScene() {
     // Lower leaves reach out nearly level and droop; upper ones point upwards.
     const double elevation = (-0.05 + 0.9 * t + 0.25 * (uniform(rng) - 0.5)) * 0.5 * kPi * 0.8;
     const Vec3 out(std::sin(azimuth), 0, std::cos(azimuth));
-    const Vec3 axis = (std::cos(elevation) * out + std::sin(elevation) * Vec3(0, 1, 0)).normalized();
+    const Vec3 axis =
+        (std::cos(elevation) * out + std::sin(elevation) * Vec3(0, 1, 0)).normalized();
     const double stalk = 0.06 + 0.12 * (1 - t) * uniform(rng);
     const Vec3 stemPoint(0, height, 0);
     const Vec3 leafBase = stemPoint + stalk * (out + 0.6 * Vec3(0, 1, 0)).normalized();

@@ -37,7 +37,8 @@ Workload makeWorkload(const EmbreeScene& embree, const GBuffer& g, const CubeLat
       for (int y = by; y < std::min(by + 4, y1); ++y)
         for (int x = bx; x < std::min(bx + 4, g.size.width); ++x)
           if (g.at(x, y, 0).material >= 0) w.points.push_back(g.at(x, y, 0));
-  for (int j = 0; j < lattice.size(); ++j) w.directions.push_back(lattice.direction(j).cast<float>());
+  for (int j = 0; j < lattice.size(); ++j)
+    w.directions.push_back(lattice.direction(j).cast<float>());
   w.blocks = texelBlocks(lattice);
   return w;
 }
@@ -152,8 +153,8 @@ RayRate timeLoop(const std::string& name, RTCScene scene, const Workload& w, int
     const long long rays = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, blocks, 4), 0LL,
         [&](const tbb::blocked_range<size_t>& range, long long sum) {
-          return sum + loop(scene, w, range.begin() * 16,
-                            std::min(w.points.size(), range.end() * 16));
+          return sum +
+                 loop(scene, w, range.begin() * 16, std::min(w.points.size(), range.end() * 16));
         },
         std::plus<>());
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();

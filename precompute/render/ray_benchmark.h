@@ -19,7 +19,7 @@ struct RayBenchmarkReport {
   int threads = 0;
   long long triangles = 0;
   int imageRows = 0;
-  RayRate precompute;            ///< the real transport pass (BRDF, accumulation, all)
+  RayRate precompute;             ///< the real transport pass (BRDF, accumulation, all)
   std::vector<RayRate> rawLoops;  ///< bare Embree loops
   const RayRate& bestRawLoop() const;
 };

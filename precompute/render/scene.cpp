@@ -54,7 +54,8 @@ void Scene::validate() const {
   for (size_t i = 0; i < spheres.size(); ++i) {
     const std::string what = concat("scene ", name, ", sphere ", i);
     validateMaterial(spheres[i].material, what);
-    if (!spheres[i].center.allFinite() || !(spheres[i].radius > 0 && std::isfinite(spheres[i].radius)))
+    if (!spheres[i].center.allFinite() ||
+        !(spheres[i].radius > 0 && std::isfinite(spheres[i].radius)))
       throw UserError(concat(what, ": centre must be finite and radius > 0"));
   }
 }
@@ -66,8 +67,8 @@ TriangleMesh makeQuad(const Vec3& center, const Vec3& normal, double size, const
   const Vec3 a = n.cross(helper).normalized() * (0.5 * size);
   const Vec3 b = n.cross(a);
   TriangleMesh mesh{name, {}, {}, m};
-  for (const Vec3& c : {Vec3(center - a - b), Vec3(center + a - b), Vec3(center + a + b),
-                        Vec3(center - a + b)})
+  for (const Vec3& c :
+       {Vec3(center - a - b), Vec3(center + a - b), Vec3(center + a + b), Vec3(center - a + b)})
     mesh.vertices.push_back(c.cast<float>());
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   return mesh;

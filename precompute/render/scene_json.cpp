@@ -119,8 +119,8 @@ Material readMaterial(const Reader& r) {
     if (m.exponent < 0 || m.exponent > 1e6)
       throw UserError(concat(r.path("exponent"), ": ", m.exponent, " is outside [0, 1e6]"));
   } else {
-    throw UserError(concat(r.path("type"), ": unknown material type '", type,
-                           "' (diffuse or phong)"));
+    throw UserError(
+        concat(r.path("type"), ": unknown material type '", type, "' (diffuse or phong)"));
   }
   m.albedo = readAlbedo(r);
   return m;
@@ -141,8 +141,10 @@ Eigen::Matrix4d readTransform(const Reader& r) {
   }
   Eigen::Vector3d scale(1, 1, 1);
   if (r.has("scale")) {
-    if (r.at("scale").is_array()) scale = r.vec3("scale");
-    else scale.setConstant(r.number("scale"));
+    if (r.at("scale").is_array())
+      scale = r.vec3("scale");
+    else
+      scale.setConstant(r.number("scale"));
   }
   const double angle = r.has("rotate_y_deg") ? r.number("rotate_y_deg") * M_PI / 180 : 0.0;
   const Vec3 translate = r.has("translate") ? r.vec3("translate") : Vec3::Zero();

@@ -1,12 +1,12 @@
 #include "precompute/render/transport_renderer.h"
 
-#include <tbb/parallel_pipeline.h>
 #include <tbb/info.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <array>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -66,7 +66,8 @@ TexelDirections makeTexelDirections(const CubeLattice& lattice, int raysPerTexel
       t.weight[q] = float(density);
       total += density;
     }
-    for (int k = 0; k < raysPerTexel; ++k) t.weight[static_cast<size_t>(j) * raysPerTexel + k] /= float(total);
+    for (int k = 0; k < raysPerTexel; ++k)
+      t.weight[static_cast<size_t>(j) * raysPerTexel + k] /= float(total);
   }
   return t;
 }
@@ -78,7 +79,10 @@ class BandRenderer {
  public:
   BandRenderer(const EmbreeScene& scene, const GBuffer& gbuffer, const TexelDirections& dirs,
                const CubeLattice& lattice)
-      : scene_(scene), gbuffer_(gbuffer), dirs_(dirs), blocks_(texelBlocks(lattice)),
+      : scene_(scene),
+        gbuffer_(gbuffer),
+        dirs_(dirs),
+        blocks_(texelBlocks(lattice)),
         l_(lattice.size()) {
     // A cone around each block's directions, to skip blocks wholly below a
     // point's horizon with one dot product.
@@ -87,7 +91,8 @@ class BandRenderer {
       forEachDirection(block, [&](const Eigen::Vector3f& d) { centre += d; });
       centre.normalize();
       float minCos = 1;
-      forEachDirection(block, [&](const Eigen::Vector3f& d) { minCos = std::min(minCos, centre.dot(d)); });
+      forEachDirection(block,
+                       [&](const Eigen::Vector3f& d) { minCos = std::min(minCos, centre.dot(d)); });
       const float sinSpread = std::sqrt(std::max(0.0f, 1 - minCos * minCos)) + 1e-4f;
       cones_.push_back({centre, minCos < 0 ? 2.0f : sinSpread});
     }
@@ -175,8 +180,10 @@ class BandRenderer {
           const size_t q = slot[i];
           float shape = invPi;
           if (glossy) {  // Phong of design.md section 4, divided by the albedo
-            const float c = mirrored.x() * dirs_.x[q] + mirrored.y() * dirs_.y[q] + mirrored.z() * dirs_.z[q];
-            shape = (1 - ks) * invPi + ks * (s + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s) : 0.0f);
+            const float c =
+                mirrored.x() * dirs_.x[q] + mirrored.y() * dirs_.y[q] + mirrored.z() * dirs_.z[q];
+            shape =
+                (1 - ks) * invPi + ks * (s + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s) : 0.0f);
           }
           row[block[i]] += weight * dirs_.weight[q] * cosine[i] * shape;
         }
@@ -240,27 +247,28 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
   int next = firstBand;
   const auto start = Clock::now();
   tbb::parallel_pipeline(
-      tokens,
-      tbb::make_filter<void, Slot*>(tbb::filter_mode::serial_in_order,
-                                    [&](tbb::flow_control& fc) -> Slot* {
-                                      if (next >= lastBand) {
-                                        fc.stop();
-                                        return nullptr;
-                                      }
-                                      Slot* slot = &slots[(next - firstBand) % tokens];
-                                      slot->y0 = kBandRows * next++;
-                                      return slot;
-                                    }) &
-          tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
-                                         [&](Slot* slot) {
-                                           const int t = tbb::this_task_arena::current_thread_index();
-                                           threadMask |= 1ull << (t & 63);
-                                           slot->rays = renderer.render(slot->y0, slot->rows);
-                                           rays += slot->rays;
-                                           return slot;
-                                         }) &
-          tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order,
-                                        [&](Slot* slot) { sink(slot->rows); }));
+      tokens, tbb::make_filter<void, Slot*>(tbb::filter_mode::serial_in_order,
+                                            [&](tbb::flow_control& fc) -> Slot* {
+                                              if (next >= lastBand) {
+                                                fc.stop();
+                                                return nullptr;
+                                              }
+                                              Slot* slot = &slots[(next - firstBand) % tokens];
+                                              slot->y0 = kBandRows * next++;
+                                              return slot;
+                                            }) &
+                  tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
+                                                 [&](Slot* slot) {
+                                                   const int t =
+                                                       tbb::this_task_arena::current_thread_index();
+                                                   threadMask |= 1ull << (t & 63);
+                                                   slot->rays =
+                                                       renderer.render(slot->y0, slot->rows);
+                                                   rays += slot->rays;
+                                                   return slot;
+                                                 }) &
+                  tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order,
+                                                [&](Slot* slot) { sink(slot->rows); }));
   PrecomputeStats stats;
   stats.transportSeconds = secondsSince(start);
   stats.occlusionRays = rays;
@@ -314,12 +322,13 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     const BandRenderer renderer(embree, gbuffer, dirs, lattice);
     long long written = 0;
     const int bands = (size.height + kBandRows - 1) / kBandRows;
-    PrecomputeStats stats = runBands(renderer, 0, bands, threads, [&](const std::vector<float>& rows) {
-      const long long count = static_cast<long long>(rows.size()) / lattice.size();
-      writer.writeRows(written, count, rows.data());
-      written += count;
-      if (options.progress) options.progress(written, header.rows());
-    });
+    PrecomputeStats stats =
+        runBands(renderer, 0, bands, threads, [&](const std::vector<float>& rows) {
+          const long long count = static_cast<long long>(rows.size()) / lattice.size();
+          writer.writeRows(written, count, rows.data());
+          written += count;
+          if (options.progress) options.progress(written, header.rows());
+        });
     writer.finish();
     stats.triangles = scene.triangleCount();
     stats.occupiedPixels = header.rows();
@@ -346,10 +355,10 @@ PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOption
     const int want = std::clamp((imageRows + kBandRows - 1) / kBandRows, 1, bands);
     const int first = (bands - want) / 2;
     long long rows = 0;
-    PrecomputeStats stats = runBands(renderer, first, first + want, threads,
-                                     [&](const std::vector<float>& r) {
-                                       rows += static_cast<long long>(r.size()) / lattice.size();
-                                     });
+    PrecomputeStats stats =
+        runBands(renderer, first, first + want, threads, [&](const std::vector<float>& r) {
+          rows += static_cast<long long>(r.size()) / lattice.size();
+        });
     stats.occupiedPixels = rows;
     stats.triangles = scene.triangleCount();
     stats.seconds = stats.transportSeconds;

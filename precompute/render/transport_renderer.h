@@ -23,11 +23,13 @@ struct PrecomputeStats {
   long long triangles = 0;
   long long occupiedPixels = 0;
   long long occlusionRays = 0;
-  long long bytesWritten = 0;  ///< transport rows only
-  double seconds = 0;          ///< wall time of the whole precompute
+  long long bytesWritten = 0;   ///< transport rows only
+  double seconds = 0;           ///< wall time of the whole precompute
   double transportSeconds = 0;  ///< the occlusion-ray pass alone
   int threadsUsed = 0;          ///< distinct threads that computed rows
-  double raysPerSecond() const { return transportSeconds > 0 ? occlusionRays / transportSeconds : 0; }
+  double raysPerSecond() const {
+    return transportSeconds > 0 ? occlusionRays / transportSeconds : 0;
+  }
 };
 
 /// Validates the options (UserError on bad values) and writes the transport file

@@ -22,8 +22,8 @@ AtomicOutput::AtomicOutput(std::string finalPath) : finalPath_(std::move(finalPa
     throw UserError(concat(finalPath_, ": is a directory, expected a file path"));
   static std::atomic<int> counter{0};
   // Keep the extension last: image writers pick the format from it.
-  tempPath_ = (dir / concat(".", target.stem().string(), ".partial-", ::getpid(), "-",
-                            counter++, target.extension().string()))
+  tempPath_ = (dir / concat(".", target.stem().string(), ".partial-", ::getpid(), "-", counter++,
+                            target.extension().string()))
                   .string();
 }
 
@@ -37,8 +37,9 @@ AtomicOutput::~AtomicOutput() {
 void AtomicOutput::commit() {
   std::error_code ec;
   fs::rename(tempPath_, finalPath_, ec);
-  if (ec) throw UserError(concat(finalPath_, ": cannot move the finished file into place: ",
-                                 ec.message()));
+  if (ec)
+    throw UserError(
+        concat(finalPath_, ": cannot move the finished file into place: ", ec.message()));
   committed_ = true;
 }
 

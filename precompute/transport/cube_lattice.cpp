@@ -8,13 +8,15 @@ namespace acpca {
 
 namespace {
 // Solid angle subtended by [0, x] x [0, y] on the plane at distance 1.
-double cornerArea(double x, double y) { return std::atan2(x * y, std::sqrt(x * x + y * y + 1)); }
+double cornerArea(double x, double y) {
+  return std::atan2(x * y, std::sqrt(x * x + y * y + 1));
+}
 }  // namespace
 
 CubeLattice::CubeLattice(int resolution) : resolution_(resolution) {
   if (resolution < 1 || resolution > kMaxResolution)
-    throw UserError(concat("cube-map resolution ", resolution, " is out of range 1..",
-                           kMaxResolution));
+    throw UserError(
+        concat("cube-map resolution ", resolution, " is out of range 1..", kMaxResolution));
   const int n = size();
   directions_.resize(n);
   solidAngles_.resize(n);
@@ -41,12 +43,18 @@ TexelCoord CubeLattice::texelCoord(int texel) const {
 
 Vec3 CubeLattice::faceDirection(int face, double sc, double tc) {
   switch (face) {
-    case 0: return {1, -tc, -sc};   // +X: sc = -z, tc = -y
-    case 1: return {-1, -tc, sc};   // -X: sc = +z, tc = -y
-    case 2: return {sc, 1, tc};     // +Y: sc = +x, tc = +z
-    case 3: return {sc, -1, -tc};   // -Y: sc = +x, tc = -z
-    case 4: return {sc, -tc, 1};    // +Z: sc = +x, tc = -y
-    default: return {-sc, -tc, -1};  // -Z: sc = -x, tc = -y
+    case 0:
+      return {1, -tc, -sc};  // +X: sc = -z, tc = -y
+    case 1:
+      return {-1, -tc, sc};  // -X: sc = +z, tc = -y
+    case 2:
+      return {sc, 1, tc};  // +Y: sc = +x, tc = +z
+    case 3:
+      return {sc, -1, -tc};  // -Y: sc = +x, tc = -z
+    case 4:
+      return {sc, -tc, 1};  // +Z: sc = +x, tc = -y
+    default:
+      return {-sc, -tc, -1};  // -Z: sc = -x, tc = -y
   }
 }
 

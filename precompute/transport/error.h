@@ -29,8 +29,8 @@ std::string concat(const Parts&... parts) {
 
 }  // namespace acpca
 
-#define ACPCA_CHECK(condition, ...)                                                 \
-  do {                                                                              \
-    if (!(condition))                                                               \
+#define ACPCA_CHECK(condition, ...)                                                     \
+  do {                                                                                  \
+    if (!(condition))                                                                   \
       ::acpca::failCheck(#condition, __FILE__, __LINE__, ::acpca::concat(__VA_ARGS__)); \
   } while (0)

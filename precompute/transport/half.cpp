@@ -20,8 +20,8 @@ void floatToHalf(const float* in, std::uint16_t* out, std::size_t count) {
   }
 #endif
   for (; i < count; ++i)
-    out[i] = Eigen::numext::bit_cast<std::uint16_t>(
-        Eigen::half(std::clamp(in[i], -kHalfMax, kHalfMax)));
+    out[i] =
+        Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(std::clamp(in[i], -kHalfMax, kHalfMax)));
 }
 
 void halfToFloat(const std::uint16_t* in, float* out, std::size_t count) {
@@ -31,8 +31,7 @@ void halfToFloat(const std::uint16_t* in, float* out, std::size_t count) {
     _mm256_storeu_ps(out + i,
                      _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + i))));
 #endif
-  for (; i < count; ++i)
-    out[i] = static_cast<float>(Eigen::numext::bit_cast<Eigen::half>(in[i]));
+  for (; i < count; ++i) out[i] = static_cast<float>(Eigen::numext::bit_cast<Eigen::half>(in[i]));
 }
 
 }  // namespace acpca

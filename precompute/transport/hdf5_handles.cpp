@@ -57,9 +57,9 @@ Handle openFileReadOnly(const std::string& path) {
   silenceLibraryErrors();
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw UserError(concat(path, ": not an HDF5 file (missing, unreadable, truncated or foreign)"));
-  return Handle(checkId(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path,
-                        "cannot open the file"),
-                H5Fclose);
+  return Handle(
+      checkId(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path, "cannot open the file"),
+      H5Fclose);
 }
 
 bool hasAttribute(hid_t object, const std::string& name) {
@@ -110,8 +110,8 @@ Handle openDataset(hid_t file, const std::string& name, const std::string& ctx) 
                 H5Dclose);
 }
 
-void writeWhole(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
-                hid_t type, const void* data, const std::string& ctx) {
+void writeWhole(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
+                const void* data, const std::string& ctx) {
   Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose);
   Handle set(checkId(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
                                 H5P_DEFAULT),
@@ -157,8 +157,8 @@ void writeAttribute(hid_t object, const std::string& name, const std::vector<dou
                     const std::string& ctx) {
   const hsize_t n = value.size();
   Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
-  Handle attr(checkId(H5Acreate2(object, name.c_str(), H5T_NATIVE_DOUBLE, space.get(),
-                                 H5P_DEFAULT, H5P_DEFAULT),
+  Handle attr(checkId(H5Acreate2(object, name.c_str(), H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT,
+                                 H5P_DEFAULT),
                       ctx, "cannot write attribute " + name),
               H5Aclose);
   check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, value.data()), ctx, "attribute " + name);
@@ -220,8 +220,7 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
 void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx) {
   readWhole(file, name, H5T_NATIVE_FLOAT, data, ctx);
 }
-void readDataset(hid_t file, const std::string& name, std::int32_t* data,
-                 const std::string& ctx) {
+void readDataset(hid_t file, const std::string& name, std::int32_t* data, const std::string& ctx) {
   readWhole(file, name, H5T_NATIVE_INT32, data, ctx);
 }
 

@@ -16,7 +16,9 @@ Precision parsePrecision(const std::string& text) {
   throw UserError(concat("precision '", text, "' is not one of f16, f32"));
 }
 
-const char* precisionName(Precision p) { return p == Precision::F16 ? "f16" : "f32"; }
+const char* precisionName(Precision p) {
+  return p == Precision::F16 ? "f16" : "f32";
+}
 
 void TransportHeader::validate(const std::string& context) const {
   camera.validate();
@@ -37,7 +39,8 @@ void TransportHeader::validate(const std::string& context) const {
       throw UserError(concat(context, ": pixel index of row ", i, " is out of order or range"));
   }
   for (float a : albedo)
-    if (!std::isfinite(a) || a < 0) throw UserError(concat(context, ": albedo must be finite, >= 0"));
+    if (!std::isfinite(a) || a < 0)
+      throw UserError(concat(context, ": albedo must be finite, >= 0"));
   for (float c : coverage)
     if (!(c >= 0 && c <= 1)) throw UserError(concat(context, ": coverage must be in [0, 1]"));
 }
@@ -52,7 +55,9 @@ hsize_t rowsPerChunk(int latticeSize, Precision p) {
   return std::clamp<hsize_t>((1u << 20) / rowBytes, 1, 4096);
 }
 
-std::vector<double> toVector(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+std::vector<double> toVector(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 Vec3 toVec3(const std::vector<double>& v, const std::string& ctx, const std::string& name) {
   if (v.size() != 3) throw UserError(concat(ctx, ": attribute '", name, "' must hold 3 numbers"));
@@ -93,7 +98,8 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   const CubeLattice lattice(header.cubemapResolution);
   std::vector<double> directions;
   for (int j = 0; j < lattice.size(); ++j)
-    directions.insert(directions.end(), lattice.direction(j).data(), lattice.direction(j).data() + 3);
+    directions.insert(directions.end(), lattice.direction(j).data(),
+                      lattice.direction(j).data() + 3);
   const hsize_t l = header.latticeSize();
   h5::writeDataset(f, "lattice_solid_angle", {l}, lattice.solidAngles().data(), ctx);
   h5::writeDataset(f, "lattice_direction", {l, 3}, directions.data(), ctx);
@@ -115,8 +121,8 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
 TransportWriter::~TransportWriter() = default;
 
 void TransportWriter::writeRows(long long firstRow, long long count, const float* rows) {
-  ACPCA_CHECK(firstRow == nextRow_ && count >= 0 && firstRow + count <= header_.rows(),
-              "rows ", firstRow, "+", count, " after ", nextRow_);
+  ACPCA_CHECK(firstRow == nextRow_ && count >= 0 && firstRow + count <= header_.rows(), "rows ",
+              firstRow, "+", count, " after ", nextRow_);
   if (count == 0) return;
   const hsize_t l = header_.latticeSize();
   const hsize_t start[2] = {static_cast<hsize_t>(firstRow), 0}, size[2] = {(hsize_t)count, l};
@@ -133,8 +139,8 @@ void TransportWriter::writeRows(long long firstRow, long long count, const float
                       halfBuffer_.data());
     bytesWritten_ += values * 2;
   } else {
-    status = H5Dwrite(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(),
-                      H5P_DEFAULT, rows);
+    status =
+        H5Dwrite(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT, rows);
     bytesWritten_ += values * 4;
   }
   h5::check(status, output_.finalPath(), "cannot write transport rows (disk full?)");
@@ -155,7 +161,8 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
   const std::string& ctx = path;
   file_ = h5::openFileReadOnly(path);
   const hid_t f = file_.get();
-  if (!h5::hasAttribute(f, "format") || h5::readStringAttribute(f, "format", ctx) != kTransportFormat)
+  if (!h5::hasAttribute(f, "format") ||
+      h5::readStringAttribute(f, "format", ctx) != kTransportFormat)
     throw UserError(concat(ctx, ": not an adaptive-cpca transport file"));
   const long long version = h5::readIntAttribute(f, "version", ctx);
   if (version != kTransportVersion)
@@ -212,8 +219,7 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
                      H5Dclose);
   h5::Handle type(H5Dget_type(rows_.get()), H5Tclose);
   const size_t size = H5Tget_size(type.get());
-  if (H5Tget_class(type.get()) != H5T_FLOAT ||
-      size != (h.precision == Precision::F16 ? 2u : 4u))
+  if (H5Tget_class(type.get()) != H5T_FLOAT || size != (h.precision == Precision::F16 ? 2u : 4u))
     throw UserError(concat(ctx, ": transport rows are not ", precisionName(h.precision)));
 }
 
@@ -235,11 +241,12 @@ void TransportReader::readRows(long long first, long long count, float* out) con
                      halfBuffer_.data());
     if (status >= 0) halfToFloat(halfBuffer_.data(), out, values);
   } else {
-    status = H5Dread(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT,
-                     out);
+    status =
+        H5Dread(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT, out);
   }
-  h5::check(status, path_, concat("cannot read transport rows ", first, "..", first + count,
-                                  " (truncated or corrupt file?)"));
+  h5::check(status, path_,
+            concat("cannot read transport rows ", first, "..", first + count,
+                   " (truncated or corrupt file?)"));
   for (size_t i = 0; i < values; ++i)
     if (!std::isfinite(out[i]))
       throw UserError(concat(path_, ": non-finite transport value in row ", first + i / l));

@@ -40,7 +40,8 @@ void expectFailure(const std::string& args, const std::string& needle) {
   EXPECT_NE(r.status, 0) << args << "\n" << r.output;
   EXPECT_NE(r.status, 3) << "an internal error, not a user error: " << r.output;
   EXPECT_NE(r.output.find(needle), std::string::npos)
-      << "message should mention '" << needle << "':\n" << r.output;
+      << "message should mention '" << needle << "':\n"
+      << r.output;
 }
 
 size_t filesIn(const test::fs::path& dir) {
@@ -54,8 +55,8 @@ class Cli : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     transport_ = dir_->file("sphere.h5");
-    const RunResult r = runCli("precompute --scene sphere --size 20x16 --cubemap 8 --quiet --out " +
-                               transport_);
+    const RunResult r =
+        runCli("precompute --scene sphere --size 20x16 --cubemap 8 --quiet --out " + transport_);
     ASSERT_EQ(r.status, 0) << r.output;
   }
   static void TearDownTestSuite() { delete dir_; }
@@ -75,8 +76,9 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
   EXPECT_GT(j["occupied_pixels"].get<int>(), 50);
 
   TempDir out;
-  const RunResult one = runCli("relight " + transport_ + " --env constant:1 --quiet --format both --out " +
-                               out.file("furnace.exr"));
+  const RunResult one =
+      runCli("relight " + transport_ + " --env constant:1 --quiet --format both --out " +
+             out.file("furnace.exr"));
   ASSERT_EQ(one.status, 0) << one.output;
   EXPECT_TRUE(test::fs::exists(out.file("furnace.exr")));
   EXPECT_TRUE(test::fs::exists(out.file("furnace.png")));
@@ -88,9 +90,10 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
   EXPECT_NEAR(px[3 * (8 * 20 + 10)], 0.5, 0.005);
   EXPECT_NEAR(px[0], 1.0, 1e-3);
 
-  const RunResult batch = runCli("relight " + transport_ +
-                                 " --env sky --env sun:50,30,4,1000 --rotate 0:90:45 --quiet --json " +
-                                 out.file("r.json") + " --out " + out.file("batch"));
+  const RunResult batch =
+      runCli("relight " + transport_ +
+             " --env sky --env sun:50,30,4,1000 --rotate 0:90:45 --quiet --json " +
+             out.file("r.json") + " --out " + out.file("batch"));
   ASSERT_EQ(batch.status, 0) << batch.output;
   for (const char* name : {"sky_y0.exr", "sky_y45.exr", "sun_50_30_4_1000_y0.exr",
                            "sun_50_30_4_1000_y45.exr", "manifest.csv"})
@@ -113,7 +116,8 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
   expectFailure("precompute --scene sphere --size 100000x100000 --out " + out.file("t.h5"),
                 "out of range");
   expectFailure("precompute --scene sphere --cubemap 0 --out " + out.file("t.h5"), "cubemap");
-  expectFailure("precompute --scene sphere --size 8x8 --out /nonexistent-dir/t.h5", "nonexistent-dir");
+  expectFailure("precompute --scene sphere --size 8x8 --out /nonexistent-dir/t.h5",
+                "nonexistent-dir");
   {
     std::ofstream(out.file("bad.json")) << R"({"camera": {"eye": [0,0,5], "target": [0,0,0],
       "up": [0,1,0], "fov": 40}, "objects": [{"shape": "sphere", "centre": [0,0,0], "radius": 1,
@@ -123,14 +127,15 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
                 "'centre'");
   expectFailure("relight " + out.file("missing.h5") + " --env sky --out " + out.file("x.exr"),
                 "missing.h5");
-  {
-    std::ofstream(out.file("junk.h5")) << "junk";
-  }
-  expectFailure("relight " + out.file("junk.h5") + " --env sky --out " + out.file("x.exr"), "junk.h5");
+  { std::ofstream(out.file("junk.h5")) << "junk"; }
+  expectFailure("relight " + out.file("junk.h5") + " --env sky --out " + out.file("x.exr"),
+                "junk.h5");
   expectFailure("relight " + transport_ + " --env sun:1,2 --out " + out.file("x.exr"), "sun:1,2");
-  expectFailure("relight " + transport_ + " --env sky --rotate 1,2 --out " + out.file("x.exr"), "1,2");
+  expectFailure("relight " + transport_ + " --env sky --rotate 1,2 --out " + out.file("x.exr"),
+                "1,2");
   expectFailure("relight " + transport_ + " --env sky --out " + out.file("x.bmpx"), "format");
-  expectFailure("relight " + transport_ + " --env sky --out /nonexistent-dir/x.exr", "nonexistent-dir");
+  expectFailure("relight " + transport_ + " --env sky --out /nonexistent-dir/x.exr",
+                "nonexistent-dir");
   {  // An env map with a NaN texel.
     std::vector<float> pixels(3 * 8 * 4, 1.0f);
     pixels[5] = NAN;
@@ -139,8 +144,9 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
     o->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
     o->close();
   }
-  expectFailure("relight " + transport_ + " --env " + out.file("nan.exr") + " --out " + out.file("x.exr"),
-                "nan.exr");
+  expectFailure(
+      "relight " + transport_ + " --env " + out.file("nan.exr") + " --out " + out.file("x.exr"),
+      "nan.exr");
   // Only the inputs the test wrote itself are left: no outputs, no temporaries.
   EXPECT_EQ(filesIn(out.path()), 3u);
 

@@ -35,7 +35,8 @@ TEST_F(DenseRelight, EqualsAPlainLoopOverTheFile) {
   for (long long r = 0; r < t.rows(); ++r)
     for (int c = 0; c < 3; ++c) {
       double dot = 0;
-      for (int j = 0; j < t.latticeSize(); ++j) dot += double(rows[r * t.latticeSize() + j]) * L[3 * j + c];
+      for (int j = 0; j < t.latticeSize(); ++j)
+        dot += double(rows[r * t.latticeSize() + j]) * L[3 * j + c];
       const double expected = t.header().albedo[3 * r + c] * dot;
       ASSERT_NEAR(result[0][3 * r + c], expected, 1e-5 * (1 + std::abs(expected)));
     }

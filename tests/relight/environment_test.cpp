@@ -160,9 +160,8 @@ TEST(Rotation, SpecsAndConventions) {
   EXPECT_TRUE((rotationMatrix({90, 0, 0}) * Vec3(1, 0, 0)).isApprox(Vec3(0, 0, -1), 1e-12));
   EXPECT_TRUE(rotationMatrix({360, 0, 0}).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
   const Eigen::Matrix3d m = rotationMatrix({30, 40, 50});
-  EXPECT_TRUE(m.isApprox(rotationMatrix({0, 0, 50}) * rotationMatrix({0, 40, 0}) *
-                             rotationMatrix({30, 0, 0}),
-                         1e-12));
+  EXPECT_TRUE(m.isApprox(
+      rotationMatrix({0, 0, 50}) * rotationMatrix({0, 40, 0}) * rotationMatrix({30, 0, 0}), 1e-12));
 }
 
 TEST(EnvmapExport, CrossIsContinuousAndMatchesTheLatLong) {
@@ -178,15 +177,17 @@ TEST(EnvmapExport, CrossIsContinuousAndMatchesTheLatLong) {
       }
   for (int x = 0; x < 4 * face; ++x)
     for (int y = 0; y + 1 < 3 * face; ++y)
-      if (crossDirection(x, y, face, a) && crossDirection(x, y + 1, face, b))
+      if (crossDirection(x, y, face, a) && crossDirection(x, y + 1, face, b)) {
         EXPECT_LT(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)), 0.2);
+      }
   EXPECT_GT(pairs, 6 * face * face / 2);
   // The middle of the cross looks down -Z, as the centre of the lat-long does.
   ASSERT_TRUE(crossDirection(face + face / 2, face + face / 2, face, a));
   EXPECT_GT(a.normalized().dot(Vec3(0, 0, -1)), 0.99);
   // Same radiance in both pictures of a sun towards +X.
   const CubeLattice lattice(8);
-  const LatticeLighting L = computeLighting(*makeSunEnvironment(90, 90, 20, Rgb::Constant(3)), lattice, {});
+  const LatticeLighting L =
+      computeLighting(*makeSunEnvironment(90, 90, 20, Rgb::Constant(3)), lattice, {});
   const Image latlong = latticeToLatLong(L, lattice, 64, 32);
   const Image cross = latticeToCross(L, lattice, face);
   EXPECT_GT(latlong.at(48, 16)[0], 0);  // u = 0.75, the horizon

@@ -45,7 +45,9 @@ PrecomputeOptions options(int cubemap, Precision precision = Precision::F32) {
   return o;
 }
 
-Material grey(float a) { return {Material::Type::Diffuse, {a, a, a}}; }
+Material grey(float a) {
+  return {Material::Type::Diffuse, {a, a, a}};
+}
 
 /// A diffuse floor seen from straight above, filling the image.
 Scene floorScene(int size) {
@@ -192,7 +194,8 @@ TEST(Precompute, LightingConventionsLightTheRightSide) {
   const LatticeLighting rotated = computeLighting(*env, lattice, {90, 0, 0});
   Rgb towardsMinusZ = Rgb::Zero(), total = totalEnergy(rotated);
   for (int j = 0; j < lattice.size(); ++j)
-    if (lattice.direction(j).z() < -0.9) towardsMinusZ += Rgb(rotated[3 * j], rotated[3 * j + 1], rotated[3 * j + 2]);
+    if (lattice.direction(j).z() < -0.9)
+      towardsMinusZ += Rgb(rotated[3 * j], rotated[3 * j + 1], rotated[3 * j + 2]);
   EXPECT_NEAR(towardsMinusZ[0] / total[0], 1.0, 1e-9);
 }
 

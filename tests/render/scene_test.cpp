@@ -12,7 +12,8 @@ namespace {
 using test::TempDir;
 
 TEST(BuiltinScenes, AllExistAndAreValid) {
-  for (const char* name : {"sphere", "plant", "phong-sphere", "concave", "step", "grid1d", "grid2d"}) {
+  for (const char* name :
+       {"sphere", "plant", "phong-sphere", "concave", "step", "grid1d", "grid2d"}) {
     ASSERT_TRUE(isBuiltinScene(name)) << name;
     const Scene s = makeBuiltinScene(name);
     EXPECT_NO_THROW(s.validate()) << name;
@@ -25,7 +26,8 @@ TEST(BuiltinScenes, PlantIsDetailedAndTheSameEveryTime) {
   const Scene a = makePlantScene(), b = makePlantScene();
   EXPECT_GE(a.triangleCount(), 50000);
   ASSERT_EQ(a.meshes.size(), b.meshes.size());
-  for (size_t m = 0; m < a.meshes.size(); ++m) EXPECT_EQ(a.meshes[m].vertices, b.meshes[m].vertices);
+  for (size_t m = 0; m < a.meshes.size(); ++m)
+    EXPECT_EQ(a.meshes[m].vertices, b.meshes[m].vertices);
 }
 
 std::string writeFile(const TempDir& dir, const std::string& name, const std::string& text) {
@@ -33,7 +35,8 @@ std::string writeFile(const TempDir& dir, const std::string& name, const std::st
   return dir.file(name);
 }
 
-const char* kCamera = R"("camera": {"eye": [0, 2, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40})";
+const char* kCamera =
+    R"("camera": {"eye": [0, 2, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40})";
 
 TEST(SceneJson, ReadsPrimitivesMeshesAndTransforms) {
   TempDir dir;
@@ -75,38 +78,54 @@ TEST(SceneJson, ErrorsNameTheKey) {
   TempDir dir;
   const std::string sphere =
       R"({"shape": "sphere", "center": [0,0,0], "radius": 1, "material": {"type": "diffuse", "albedo": [1,1,1]}})";
-  expectError(writeFile(dir, "a.json", std::string("{") + kCamera + R"(, "objects": [], "extra": 1})"),
-              "'extra'");
+  expectError(
+      writeFile(dir, "a.json", std::string("{") + kCamera + R"(, "objects": [], "extra": 1})"),
+      "'extra'");
   expectError(writeFile(dir, "b.json", R"({"objects": [)" + sphere + "]}"), "'camera'");
-  expectError(writeFile(dir, "c.json", std::string("{") + kCamera +
-                                           R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
+  expectError(writeFile(dir, "c.json",
+                        std::string("{") + kCamera +
+                            R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
                "material": {"type": "diffuse", "albedo": [1,1,1], "shiny": 3}}]})"),
               "'shiny'");
-  expectError(writeFile(dir, "d.json", std::string("{") + kCamera +
-                                           R"(, "objects": [{"shape": "sphere", "center": [0,0], "radius": 1,
+  expectError(writeFile(dir, "d.json",
+                        std::string("{") + kCamera +
+                            R"(, "objects": [{"shape": "sphere", "center": [0,0], "radius": 1,
                "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
               "center");
-  expectError(writeFile(dir, "e.json", std::string("{") + kCamera +
-                                           R"(, "objects": [{"shape": "cone", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
-              "cone");
-  expectError(writeFile(dir, "f.json", std::string("{") + kCamera +
-                                           R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
+  expectError(
+      writeFile(
+          dir, "e.json",
+          std::string("{") + kCamera +
+              R"(, "objects": [{"shape": "cone", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
+      "cone");
+  expectError(writeFile(dir, "f.json",
+                        std::string("{") + kCamera +
+                            R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
                "material": {"type": "phong", "albedo": [1,1,1], "specular": 2, "exponent": 10}}]})"),
               "specular");
   expectError(writeFile(dir, "g.json", "{not json"), "not valid JSON");
-  expectError(writeFile(dir, "h.json", R"({"camera": {"eye": [0,0,0], "target": [0,0,0], "up": [0,1,0], "fov": 40}, "objects": [)" + sphere + "]}"),
-              "eye and target coincide");
-  expectError(writeFile(dir, "i.json", std::string("{") + kCamera +
-                                           R"(, "objects": [{"mesh": "missing.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
-              "missing.obj");
+  expectError(
+      writeFile(
+          dir, "h.json",
+          R"({"camera": {"eye": [0,0,0], "target": [0,0,0], "up": [0,1,0], "fov": 40}, "objects": [)" +
+              sphere + "]}"),
+      "eye and target coincide");
+  expectError(
+      writeFile(
+          dir, "i.json",
+          std::string("{") + kCamera +
+              R"(, "objects": [{"mesh": "missing.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})"),
+      "missing.obj");
   expectError(dir.file("nope.json"), "cannot open");
 }
 
 TEST(SceneJson, MeshWithNaNVerticesIsAnError) {
   TempDir dir;
   writeFile(dir, "bad.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-  const std::string path = writeFile(dir, "s.json", std::string("{") + kCamera +
-                                                        R"(, "objects": [{"mesh": "bad.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})");
+  const std::string path = writeFile(
+      dir, "s.json",
+      std::string("{") + kCamera +
+          R"(, "objects": [{"mesh": "bad.obj", "material": {"type": "diffuse", "albedo": [1,1,1]}}]})");
   expectError(path, "NaN");
 }
 

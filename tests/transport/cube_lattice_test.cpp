@@ -71,7 +71,8 @@ TEST(CubeLattice, SolidAnglesAreExactNotUniform) {
   std::normal_distribution<double> normal;
   const int samples = 2000000;
   std::vector<int> hits(lattice.size(), 0);
-  for (int i = 0; i < samples; ++i) ++hits[lattice.texelOf(Vec3(normal(rng), normal(rng), normal(rng)))];
+  for (int i = 0; i < samples; ++i)
+    ++hits[lattice.texelOf(Vec3(normal(rng), normal(rng), normal(rng)))];
   for (int j : {lattice.texelIndex({4, 0, 0}), lattice.texelIndex({4, 16, 16})}) {
     const double estimate = 4 * std::numbers::pi * hits[j] / samples;
     EXPECT_NEAR(estimate / lattice.solidAngle(j), 1.0, 0.12);

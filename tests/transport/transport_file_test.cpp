@@ -100,9 +100,7 @@ TEST(TransportFile, AnUnfinishedWriterLeavesNoFile) {
 TEST(TransportFile, RefusesMissingForeignAndTruncatedFiles) {
   TempDir dir;
   EXPECT_THROW(TransportReader(dir.file("missing.h5")), UserError);
-  {
-    std::ofstream(dir.file("foreign.h5")) << "this is not an HDF5 file";
-  }
+  { std::ofstream(dir.file("foreign.h5")) << "this is not an HDF5 file"; }
   EXPECT_THROW(TransportReader(dir.file("foreign.h5")), UserError);
 
   const std::string path = dir.file("t.h5");
