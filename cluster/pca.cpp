@@ -1,12 +1,12 @@
 #include "cluster/pca.h"
 
-#include <Eigen/Eigenvalues>
-
+#include "cluster/symmetric_eigen.h"
 #include "precompute/transport/error.h"
 
 namespace acpca {
 
-PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool subtractMean) {
+PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool subtractMean,
+                         bool wantBasis) {
   ACPCA_CHECK(tolerance >= 0 && tolerance <= 1, "tolerance ", tolerance);
   PcaResult result;
   const Eigen::Index p = input.rows(), n = input.cols();
@@ -19,29 +19,23 @@ PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool su
     result.eigenvalues = Eigen::VectorXd::Zero(std::min(p, n));
     return result;
   }
-  // Eigen-decompose the smaller Gram matrix; bases then follow from the rows.
+  // The non-zero eigenvalues of rows rows^T and rows^T rows agree: use the smaller.
   const bool viaRows = p < n;
-  const Eigen::MatrixXd gram =
-      viaRows ? Eigen::MatrixXd(rows * rows.transpose()) : Eigen::MatrixXd(rows.transpose() * rows);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gram);
-  ACPCA_CHECK(solver.info() == Eigen::Success, "eigensolver failed on a ", gram.rows(), "^2 Gram");
-  const Eigen::Index m = gram.rows();
-  result.eigenvalues = solver.eigenvalues().reverse().cwiseMax(0.0);  // clamp rounding below 0
-  const Eigen::MatrixXd vectors = solver.eigenvectors().rowwise().reverse();
-  // Eigenvalues below this are rounding noise of the Gram product, never kept.
-  const double noise = 1e-13 * result.eigenvalues[0];
-  const double keep = tolerance * result.totalEnergy;
-  double kept = 0;
-  int rank = 0;
-  while (rank < m && result.eigenvalues[rank] > noise && (tolerance >= 1 || kept < keep))
-    kept += result.eigenvalues[rank++];
-  result.rank = rank;
-  result.residualEnergy = std::max(0.0, result.eigenvalues.tail(m - rank).sum());
+  Eigen::MatrixXd gram;
+  if (viaRows)
+    gram.noalias() = rows * rows.transpose();
+  else
+    gram.noalias() = rows.transpose() * rows;
+  const SymmetricEigen eig = symmetricEigen(gram, wantBasis);
+  result.eigenvalues = eig.values;
+  result.rank = rankForEnergy(eig.values, result.totalEnergy, tolerance);
+  result.residualEnergy = std::max(0.0, result.totalEnergy - eig.values.head(result.rank).sum());
+  if (!wantBasis) return result;
   if (viaRows) {  // v_k = rows^T u_k / sigma_k
-    result.basis = rows.transpose() * vectors.leftCols(rank);
-    for (int k = 0; k < rank; ++k) result.basis.col(k) /= std::sqrt(result.eigenvalues[k]);
+    result.basis = rows.transpose() * eig.vectors.leftCols(result.rank);
+    for (int k = 0; k < result.rank; ++k) result.basis.col(k).normalize();
   } else {
-    result.basis = vectors.leftCols(rank);
+    result.basis = eig.vectors.leftCols(result.rank);
   }
   return result;
 }

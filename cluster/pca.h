@@ -1,22 +1,25 @@
 #pragma once
 // PCA of a set of rows to an energy tolerance: the building block of every
-// compression method (design.md section 5). Eigen, double precision.
+// compression method (design.md section 5). Double precision throughout.
 #include <Eigen/Core>
 
 namespace acpca {
 
 struct PcaResult {
-  Eigen::MatrixXd basis;        ///< columns: orthonormal principal directions (cols x n)
+  Eigen::MatrixXd basis;        ///< cols x n orthonormal principal directions (empty if not asked)
   Eigen::VectorXd eigenvalues;  ///< all of them, descending (squared singular values)
   Eigen::RowVectorXd mean;      ///< subtracted first when asked, else zero
   int rank = 0;                 ///< n: bases kept
-  double totalEnergy = 0;       ///< sum of squares of the (centred) rows
-  double residualEnergy = 0;    ///< what the kept bases miss: sum of dropped eigenvalues
+  double totalEnergy = 0;       ///< squared norm of the (centred) rows
+  double residualEnergy = 0;    ///< what the n bases miss: sum of the dropped eigenvalues
 };
 
 /// Keeps the fewest bases whose energy reaches `tolerance` of the total (1 keeps
-/// every non-zero direction). Uses the smaller of the row and column Gram
-/// matrices. All-zero input gives rank 0.
-PcaResult pcaToTolerance(const Eigen::MatrixXd& rows, double tolerance, bool subtractMean);
+/// every direction above rounding noise). Decomposes the smaller Gram matrix
+/// (rows x rows or cols x cols). All-zero input gives rank 0. With wantBasis
+/// false only the eigenvalues (and so rank and residual) are computed, which is
+/// much cheaper: the subdivision decisions need nothing more.
+PcaResult pcaToTolerance(const Eigen::MatrixXd& rows, double tolerance, bool subtractMean,
+                         bool wantBasis = true);
 
 }  // namespace acpca

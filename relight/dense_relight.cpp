@@ -1,11 +1,9 @@
 #include "relight/dense_relight.h"
 
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
-
 #include <Eigen/Core>
 
 #include "precompute/transport/error.h"
+#include "precompute/transport/row_stream.h"
 
 namespace acpca {
 
@@ -26,42 +24,16 @@ std::vector<std::vector<float>> denseRelight(const TransportReader& transport,
   std::vector<std::vector<float>> result(maps, std::vector<float>(3 * rows));
   if (rows == 0 || maps == 0) return result;
 
-  using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  struct Block {
-    long long first = 0, count = 0;
-    RowMatrix rows;
-  };
-  const long long blockRows = std::max<long long>(1, (8ll << 20) / (4ll * l));  // ~8 MiB of T
-  const int tokens = 2 * tbb::this_task_arena::max_concurrency();
-  std::vector<Block> blocks(tokens);
-  long long next = 0;
-  int slot = 0;
   const auto& albedo = transport.header().albedo;
-  tbb::parallel_pipeline(
-      tokens, tbb::make_filter<void, Block*>(tbb::filter_mode::serial_in_order,
-                                             [&](tbb::flow_control& fc) -> Block* {
-                                               if (next >= rows) {
-                                                 fc.stop();
-                                                 return nullptr;
-                                               }
-                                               Block* b = &blocks[slot++ % tokens];
-                                               b->first = next;
-                                               b->count = std::min(blockRows, rows - next);
-                                               b->rows.resize(b->count, l);
-                                               transport.readRows(b->first, b->count,
-                                                                  b->rows.data());
-                                               next += b->count;
-                                               return b;
-                                             }) &
-                  tbb::make_filter<Block*, void>(tbb::filter_mode::parallel, [&](Block* b) {
-                    const Eigen::MatrixXf product = b->rows * lighting;  // count x 3M
-                    for (long long r = 0; r < b->count; ++r) {
-                      const long long row = b->first + r;
-                      for (int m = 0; m < maps; ++m)
-                        for (int c = 0; c < 3; ++c)
-                          result[m][3 * row + c] = albedo[3 * row + c] * product(r, 3 * m + c);
-                    }
-                  }));
+  streamRowBlocks(
+      transport, rowsPerBlock(transport), [&](long long first, long long count, const float* rows) {
+        using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+        const Eigen::MatrixXf product = Eigen::Map<const RowMatrix>(rows, count, l) * lighting;
+        for (long long r = 0; r < count; ++r)
+          for (int m = 0; m < maps; ++m)
+            for (int c = 0; c < 3; ++c)
+              result[m][3 * (first + r) + c] = albedo[3 * (first + r) + c] * product(r, 3 * m + c);
+      });
   return result;
 }
 

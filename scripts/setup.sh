@@ -8,6 +8,7 @@ packages=(
   libembree-dev libtbb-dev libeigen3-dev
   libopenimageio-dev openimageio-tools libopencv-dev
   libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev
+  libopenblas-dev liblapacke-dev
   libgtest-dev libbenchmark-dev
   python3 python3-h5py python3-numpy python3-matplotlib
 )

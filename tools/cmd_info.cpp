@@ -1,4 +1,5 @@
 // `adaptive-cpca info`: what a transport (or model) file holds.
+#include <filesystem>
 #include <iostream>
 
 #include "precompute/transport/transport_file.h"
@@ -13,7 +14,46 @@ struct InfoArgs {
   std::string file, jsonPath;
 };
 
+void runModel(const InfoArgs& a) {
+  const Model m = readModel(a.file);
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(a.file, ec);
+  const nlohmann::json j = {{"kind", "model"},
+                            {"width", m.geometry.camera.size.width},
+                            {"height", m.geometry.camera.size.height},
+                            {"occupied_pixels", m.rows()},
+                            {"cubemap", m.geometry.cubemapResolution},
+                            {"global_bases", m.globalBases()},
+                            {"clusters", m.clusters()},
+                            {"cost_per_pixel", m.costPerPixel()},
+                            {"total_cost", m.totalCost()},
+                            {"bytes", ec ? -1 : static_cast<long long>(bytes)},
+                            {"bytes_per_frame", m.frameBytes()},
+                            {"method", m.method},
+                            {"coeffs", coeffPrecisionName(m.precision)},
+                            {"transport_error", m.transportError},
+                            {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
+  if (!a.jsonPath.empty()) {
+    writeJson(a.jsonPath, j);
+    if (a.jsonPath == "-") return;
+  }
+  std::cout << a.file << ": " << m.method << " model of scene '" << m.geometry.scene << "'\n"
+            << "  image        " << m.geometry.camera.size.width << "x"
+            << m.geometry.camera.size.height << ", " << m.rows() << " occupied pixels\n"
+            << "  lattice      6x" << m.geometry.cubemapResolution << "x"
+            << m.geometry.cubemapResolution << ", N = " << m.globalBases() << " global bases\n"
+            << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks"
+            << rankHistogramText(m) << "\n"
+            << "  cost         " << m.totalCost() << " multiply-adds per frame, "
+            << m.costPerPixel() << " per pixel\n"
+            << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "
+            << formatBytes(m.frameBytes()) << " read per frame, " << formatBytes(double(bytes))
+            << " on disk\n"
+            << "  error        " << m.transportError << " relative to T (Frobenius)\n";
+}
+
 void run(const InfoArgs& a) {
+  if (isModelFile(a.file)) return runModel(a);
   const TransportReader t(a.file);
   const auto& h = t.header();
   const long long storedValues = t.rows() * static_cast<long long>(t.latticeSize());

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "cluster/model.h"
 #include "precompute/transport/atomic_file.h"
 #include "precompute/transport/error.h"
 #include "relight/dense_relight.h"
@@ -91,6 +92,37 @@ std::string csvField(const std::string& s) {
   return quoted + "\"";
 }
 
+/// What is relit: a transport file (dense ground truth) or a model.
+struct RelightSource {
+  TransportHeader header;
+  std::string method;
+  long long bytesPerPass = 0;  ///< bytes of transport or model read per pass
+  std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&)> relight;
+};
+
+RelightSource openSource(const std::string& path) {
+  RelightSource s;
+  if (isModelFile(path)) {
+    auto model = std::make_shared<Model>(readModel(path));
+    s.header = model->geometry;
+    s.method = model->method;
+    s.bytesPerPass = model->frameBytes();
+    s.relight = [model](const std::vector<LatticeLighting>& l) {
+      return relightModelReference(*model, l);
+    };
+    return s;
+  }
+  auto transport = std::make_shared<TransportReader>(path);
+  s.header = transport->header();
+  s.method = "dense";
+  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
+                   (transport->header().precision == Precision::F16 ? 2 : 4);
+  s.relight = [transport](const std::vector<LatticeLighting>& l) {
+    return denseRelight(*transport, l);
+  };
+  return s;
+}
+
 void run(const RelightArgs& a) {
   // Validate everything cheap first.
   const Background background = parseBackground(a.background);
@@ -108,8 +140,8 @@ void run(const RelightArgs& a) {
   const RotationMode mode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
 
   ThreadLimit limit(a.common.threads);
-  const TransportReader transport(a.input);
-  const CubeLattice lattice(transport.header().cubemapResolution);
+  const RelightSource source = openSource(a.input);
+  const CubeLattice lattice(source.header.cubemapResolution);
   if (batch) {
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -140,8 +172,6 @@ void run(const RelightArgs& a) {
     if (in.env)
       for (const auto& r : rotations) frames.push_back({&in, r});
   constexpr size_t kGroup = 32;
-  const long long tBytes = transport.rows() * static_cast<long long>(transport.latticeSize()) *
-                           (transport.header().precision == Precision::F16 ? 2 : 4);
   std::vector<std::string> manifest;
   std::vector<double> msPerFrame;
   nlohmann::json outputs = nlohmann::json::array();
@@ -156,13 +186,13 @@ void run(const RelightArgs& a) {
     const int repeats = std::max(1, a.frames);
     for (int rep = 0; rep < repeats; ++rep) {
       const auto start = Clock::now();
-      results = denseRelight(transport, lightings);
+      results = source.relight(lightings);
       const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       msPerFrame.push_back(ms / count);
     }
     for (size_t k = 0; k < count; ++k) {
       const Frame& f = frames[g + k];
-      const Image image = composeImage(transport.header(), results[k], background, *f.input->env,
+      const Image image = composeImage(source.header, results[k], background, *f.input->env,
                                        rotationMatrix(f.rotation));
       std::vector<std::string> paths;
       for (ImageFormat format : formats) {
@@ -205,11 +235,16 @@ void run(const RelightArgs& a) {
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
   const double med = median(msPerFrame);
-  const double bytesPerFrame =
-      frames.empty() ? 0 : double(tBytes) / std::min(kGroup, frames.size());
+  // Dense passes share one read of T among the frames of a group; the model's
+  // reference relight reads the model once per frame.
+  const double bytesPerFrame = frames.empty() ? 0
+                               : source.method == "dense"
+                                   ? double(source.bytesPerPass) / std::min(kGroup, frames.size())
+                                   : double(source.bytesPerPass);
   if (!a.common.quiet)
-    std::cerr << "relit " << frames.size() << " frame(s) densely from " << a.input << ": median "
-              << med << " ms/frame (" << formatBytes(bytesPerFrame) << " of transport per frame)\n";
+    std::cerr << "relit " << frames.size() << " frame(s) from " << a.input << " (" << source.method
+              << "): median " << med << " ms/frame (" << formatBytes(bytesPerFrame)
+              << " read per frame)\n";
   nlohmann::json report = {
       {"input", a.input},
       {"method", "dense"},
@@ -237,8 +272,8 @@ void run(const RelightArgs& a) {
 void registerRelight(CLI::App& app) {
   auto args = std::make_shared<RelightArgs>();
   auto* sub = app.add_subcommand(
-      "relight", "Relight a transport file (dense ground truth) under environment maps");
-  sub->add_option("input", args->input, "Transport file (T_FILE)")->required();
+      "relight", "Relight a model, or a transport file (dense ground truth), under lightings");
+  sub->add_option("input", args->input, "Model (M_FILE) or transport file (T_FILE)")->required();
   sub->add_option("--env", args->envs,
                   "Lighting: image (.exr/.hdr lat-long), directory of them, constant:V, "
                   "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)")

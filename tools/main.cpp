@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "adaptive-cpca 0.1.0");
   acpca::cli::registerPrecompute(app);
+  acpca::cli::registerCompress(app);
   acpca::cli::registerRelight(app);
   acpca::cli::registerEnvmap(app);
   acpca::cli::registerInfo(app);

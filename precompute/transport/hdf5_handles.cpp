@@ -205,6 +205,14 @@ std::vector<hsize_t> datasetShape(hid_t file, const std::string& name, const std
   return dims;
 }
 
+void writeTyped(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
+                const void* data, const std::string& ctx) {
+  writeWhole(file, name, shape, type, data, ctx);
+}
+void readTyped(hid_t file, const std::string& name, hid_t type, void* data,
+               const std::string& ctx) {
+  readWhole(file, name, type, data, ctx);
+}
 void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
                   const float* data, const std::string& ctx) {
   writeWhole(file, name, shape, H5T_NATIVE_FLOAT, data, ctx);

@@ -64,6 +64,10 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
                   const std::int32_t* data, const std::string& ctx);
 void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t>& shape,
                   const double* data, const std::string& ctx);
+/// Writes / reads a whole dataset of any HDF5 type (memory and file type alike).
+void writeTyped(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
+                const void* data, const std::string& ctx);
+void readTyped(hid_t file, const std::string& name, hid_t type, void* data, const std::string& ctx);
 /// Reads a whole dataset whose shape the caller has already validated.
 void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx);
 void readDataset(hid_t file, const std::string& name, std::int32_t* data, const std::string& ctx);

@@ -160,8 +160,35 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
   EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "manifest.csv"));
 }
 
+TEST_F(Cli, CompressInfoAndRelightAModel) {
+  TempDir out;
+  const RunResult c = runCli("compress " + transport_ + " --method adaptive-quad --quiet --out " +
+                             out.file("m.h5") + " --json " + out.file("c.json"));
+  ASSERT_EQ(c.status, 0) << c.output;
+  const auto report = nlohmann::json::parse(std::ifstream(out.file("c.json")));
+  EXPECT_GT(report["cost_per_pixel"].get<double>(), 0);
+  EXPECT_LT(report["transport_error"].get<double>(), 0.1);
+  const RunResult info = runCli("info " + out.file("m.h5") + " --json -");
+  ASSERT_EQ(info.status, 0) << info.output;
+  const auto j = nlohmann::json::parse(info.output);
+  EXPECT_EQ(j["kind"], "model");
+  EXPECT_EQ(j["method"], "adaptive-quad");
+  EXPECT_GE(j["clusters"].get<int>(), 1);
+  const RunResult r =
+      runCli("relight " + out.file("m.h5") + " --env sky --quiet --out " + out.file("m.png"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(test::fs::exists(out.file("m.png")));
+  expectFailure("compress " + transport_ + " --method kmeans --out " + out.file("x.h5"), "kmeans");
+  expectFailure("compress " + transport_ + " --method cpca --tolerance 2 --out " + out.file("x.h5"),
+                "--tolerance");
+  expectFailure("compress " + out.file("m.h5") + " --method global --out " + out.file("x.h5"),
+                "not an adaptive-cpca transport");
+  EXPECT_FALSE(test::fs::exists(out.file("x.h5")));
+}
+
 TEST_F(Cli, EveryCommandHasHelp) {
-  for (const char* cmd : {"precompute", "relight", "envmap", "info", "scenes", "bench rays"}) {
+  for (const char* cmd :
+       {"precompute", "compress", "relight", "envmap", "info", "scenes", "bench rays"}) {
     const RunResult r = runCli(std::string(cmd) + " --help");
     EXPECT_EQ(r.status, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd;

@@ -1,0 +1,111 @@
+#include "cluster/compress.h"
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+Method parseMethod(const std::string& text) {
+  if (text == "global") return Method::Global;
+  if (text == "block") return Method::Block;
+  if (text == "cpca") return Method::Cpca;
+  if (text == "adaptive-quad") return Method::AdaptiveQuad;
+  if (text == "adaptive-binary") return Method::AdaptiveBinary;
+  throw UserError(concat("--method '", text,
+                         "' is not one of global, block, cpca, adaptive-quad, adaptive-binary"));
+}
+
+const char* methodName(Method m) {
+  switch (m) {
+    case Method::Global:
+      return "global";
+    case Method::Block:
+      return "block";
+    case Method::Cpca:
+      return "cpca";
+    case Method::AdaptiveQuad:
+      return "adaptive-quad";
+    default:
+      return "adaptive-binary";
+  }
+}
+
+Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
+  if (!(o.tolerance > 0 && o.tolerance <= 1))
+    throw UserError(concat("--tolerance ", o.tolerance, " is outside (0, 1]"));
+  if (!(o.globalEnergy > 0 && o.globalEnergy <= 1))
+    throw UserError(concat("--global-energy ", o.globalEnergy, " is outside (0, 1]"));
+  if (o.clusters < 1) throw UserError(concat("--clusters ", o.clusters, " must be >= 1"));
+  if (o.block < 1) throw UserError(concat("--block ", o.block, " must be >= 1"));
+  const auto start = std::chrono::steady_clock::now();
+  const auto log = [&](const std::string& s) {
+    if (o.log) o.log(s);
+  };
+
+  const GlobalBasis basis = computeGlobalBasis(transport, {o.globalEnergy, o.sampleRows, o.seed});
+  log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
+             " seen directions, ", basis.sampleEnergyKept, " of the sample's energy (",
+             basis.heldOutEnergyKept, " on held-out rows)"));
+  const GlobalProjection projection = projectOntoBasis(transport, basis.basis);
+  log("projected every row onto the global basis");
+
+  // CPCA-based methods keep a mean per cluster, as Sloan's CPCA does.
+  const bool mean = o.method == Method::Cpca || o.method == Method::AdaptiveBinary;
+  ClusterInput in{&projection.coefficients, &transport.header().pixels,
+                  transport.header().camera.size, o.tolerance, mean};
+  Partition partition;
+  CpcaOptions cpcaOptions;
+  cpcaOptions.clusters = o.clusters;
+  cpcaOptions.seed = o.seed;
+  switch (o.method) {
+    case Method::Global:
+      partition = singleCluster(in);
+      break;
+    case Method::Block:
+      partition = fixedBlocks(in, o.block);
+      break;
+    case Method::Cpca: {
+      std::vector<int> all(in.rows());
+      for (long long r = 0; r < in.rows(); ++r) all[r] = static_cast<int>(r);
+      partition = cpca(in, all, cpcaOptions);
+      break;
+    }
+    case Method::AdaptiveQuad: {
+      QuadTreeOptions q;
+      q.rootBlock = o.block;
+      q.exact = o.exactQuadTree;
+      partition = adaptiveQuadTree(in, q);
+      break;
+    }
+    case Method::AdaptiveBinary: {
+      BinaryOptions b;
+      b.initialClusters = o.clusters;
+      b.split = cpcaOptions;
+      partition = adaptiveBinary(in, b);
+      break;
+    }
+  }
+  log(concat(methodName(o.method), ": ", partition.size(), " clusters"));
+  Model model =
+      buildModel(transport.header(), basis, projection, partition, {o.tolerance, mean, o.coeffs});
+  model.method = methodName(o.method);
+  model.settings = nlohmann::json{{"method", model.method},
+                                  {"tolerance", o.tolerance},
+                                  {"global_energy", o.globalEnergy},
+                                  {"clusters", o.clusters},
+                                  {"block", o.block},
+                                  {"exact_quad_tree", o.exactQuadTree},
+                                  {"coeffs", coeffPrecisionName(o.coeffs)},
+                                  {"sample_rows", o.sampleRows},
+                                  {"seed", o.seed},
+                                  {"mean", mean},
+                                  {"source", transport.path()}}
+                       .dump();
+  model.compressSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return model;
+}
+
+}  // namespace acpca

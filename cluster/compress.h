@@ -1,0 +1,31 @@
+#pragma once
+// compress: transport file -> model, by one of the methods of design.md section 5.
+#include <functional>
+#include <string>
+
+#include "cluster/model.h"
+
+namespace acpca {
+
+enum class Method { Global, Block, Cpca, AdaptiveQuad, AdaptiveBinary };
+Method parseMethod(const std::string& text);
+const char* methodName(Method m);
+
+struct CompressOptions {
+  Method method = Method::AdaptiveQuad;
+  double tolerance = 0.999;     ///< fraction of each cluster's energy kept
+  double globalEnergy = 0.999;  ///< fraction of the sample's energy the global basis keeps
+  int clusters = 10;            ///< cpca; initial clusters of adaptive-binary
+  int block = 8;                ///< block: block side; adaptive-quad: root block side (default 64)
+  bool exactQuadTree = false;   ///< adaptive-quad: bottom-up optimum instead of greedy
+  CoeffPrecision coeffs = CoeffPrecision::F32;
+  int sampleRows = 16384;
+  std::uint64_t seed = 1;
+  /// Stage messages ("global basis: N = 812") for progress output.
+  std::function<void(const std::string&)> log;
+};
+
+/// Throws UserError on bad options (before any work) or a bad file.
+Model compressTransport(const TransportReader& transport, const CompressOptions& options);
+
+}  // namespace acpca

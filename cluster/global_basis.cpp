@@ -1,0 +1,140 @@
+#include "cluster/global_basis.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <mutex>
+#include <random>
+
+#include "cluster/symmetric_eigen.h"
+#include "precompute/transport/error.h"
+#include "precompute/transport/row_stream.h"
+
+namespace acpca {
+
+namespace {
+
+/// `count` distinct row indices out of `total`, sorted (Floyd's algorithm; the
+/// raw mt19937_64 stream is specified by the standard, so are the indices).
+std::vector<long long> sampleRows(long long total, long long count, std::mt19937_64& rng) {
+  count = std::min(count, total);
+  std::vector<long long> chosen;
+  std::vector<char> taken(static_cast<size_t>(total), 0);
+  for (long long j = total - count; j < total; ++j) {
+    const long long t = static_cast<long long>(rng() % static_cast<unsigned long long>(j + 1));
+    const long long pick = taken[t] ? j : t;
+    taken[pick] = 1;
+    chosen.push_back(pick);
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+/// Gram matrix A^T A of the rows in double, lower triangle filled, summed over a
+/// fixed number of row ranges in a fixed order (deterministic for any threads).
+Eigen::MatrixXd gramMatrix(const Eigen::MatrixXd& rows) {
+  constexpr int kParts = 4;
+  const Eigen::Index n = rows.cols(), p = rows.rows();
+  std::vector<Eigen::MatrixXd> parts(kParts, Eigen::MatrixXd::Zero(n, n));
+  tbb::parallel_for(0, kParts, [&](int k) {
+    const Eigen::Index begin = p * k / kParts, end = p * (k + 1) / kParts;
+    if (end > begin)
+      parts[k].selfadjointView<Eigen::Lower>().rankUpdate(
+          rows.middleRows(begin, end - begin).transpose());
+  });
+  Eigen::MatrixXd gram = parts[0];
+  for (int k = 1; k < kParts; ++k) gram += parts[k];
+  return gram;
+}
+
+}  // namespace
+
+GlobalBasis computeGlobalBasis(const TransportReader& transport,
+                               const GlobalBasisOptions& options) {
+  if (!(options.energy > 0 && options.energy <= 1))
+    throw UserError(concat("--global-energy ", options.energy, " is outside (0, 1]"));
+  if (options.sampleRows < 1) throw UserError("the global-basis sample needs at least one row");
+  const int l = transport.latticeSize();
+  const long long total = transport.rows();
+  GlobalBasis result;
+  result.basis = Eigen::MatrixXf::Zero(l, 0);
+  if (total == 0) return result;
+
+  // Two independent samples: one to build the basis, one to check it.
+  std::mt19937_64 rng(options.seed);
+  const std::vector<long long> sample = sampleRows(total, options.sampleRows, rng);
+  std::vector<long long> heldOut = sampleRows(total, std::min<long long>(4096, total), rng);
+  std::vector<int> slotOf(static_cast<size_t>(total), -1),
+      heldSlotOf(static_cast<size_t>(total), -1);
+  for (size_t i = 0; i < sample.size(); ++i) slotOf[sample[i]] = static_cast<int>(i);
+  for (size_t i = 0; i < heldOut.size(); ++i) heldSlotOf[heldOut[i]] = static_cast<int>(i);
+
+  Eigen::MatrixXd rows(sample.size(), l), held(heldOut.size(), l);
+  std::mutex mutex;
+  std::vector<char> seen(l, 0);
+  streamRowBlocks(transport, rowsPerBlock(transport),
+                  [&](long long first, long long count, const float* block) {
+                    std::vector<char> localSeen(l, 0);
+                    for (long long r = 0; r < count; ++r) {
+                      const float* row = block + r * l;
+                      for (int j = 0; j < l; ++j) localSeen[j] |= row[j] != 0;
+                      if (const int s = slotOf[first + r]; s >= 0)
+                        for (int j = 0; j < l; ++j) rows(s, j) = row[j];
+                      if (const int s = heldSlotOf[first + r]; s >= 0)
+                        for (int j = 0; j < l; ++j) held(s, j) = row[j];
+                    }
+                    std::lock_guard lock(mutex);  // an OR: the order of merging does not matter
+                    for (int j = 0; j < l; ++j) seen[j] |= localSeen[j];
+                  });
+
+  // Directions no pixel sees drop out: the basis lives on the seen ones only.
+  std::vector<int> active;
+  for (int j = 0; j < l; ++j)
+    if (seen[j]) active.push_back(j);
+  result.activeDirections = static_cast<int>(active.size());
+  result.sampledRows = static_cast<int>(sample.size());
+  if (active.empty()) return result;
+  Eigen::MatrixXd compact(rows.rows(), active.size());
+  for (size_t k = 0; k < active.size(); ++k) compact.col(k) = rows.col(active[k]);
+  rows.resize(0, 0);
+
+  const Eigen::MatrixXd gram = gramMatrix(compact);
+  const double energy = compact.squaredNorm();
+  const SymmetricEigen eig = symmetricEigen(gram, true);
+  const int n = rankForEnergy(eig.values, energy, options.energy);
+  result.basis = Eigen::MatrixXf::Zero(l, n);
+  for (size_t k = 0; k < active.size(); ++k)
+    result.basis.row(active[k]) = eig.vectors.row(k).head(n).cast<float>();
+  result.sampleEnergyKept = energy > 0 ? eig.values.head(n).sum() / energy : 1.0;
+  const Eigen::MatrixXd projected = held * result.basis.cast<double>();
+  const double heldEnergy = held.squaredNorm();
+  result.heldOutEnergyKept = heldEnergy > 0 ? projected.squaredNorm() / heldEnergy : 1.0;
+  return result;
+}
+
+GlobalProjection projectOntoBasis(const TransportReader& transport, const Eigen::MatrixXf& basis) {
+  const int l = transport.latticeSize();
+  ACPCA_CHECK(basis.rows() == l, "basis has ", basis.rows(), " rows for ", l, " directions");
+  const long long total = transport.rows();
+  GlobalProjection g;
+  g.coefficients.resize(total, basis.cols());
+  g.rowEnergy.resize(total);
+  g.residualEnergy.resize(total);
+  streamRowBlocks(transport, rowsPerBlock(transport),
+                  [&](long long first, long long count, const float* block) {
+                    const Eigen::Map<const RowMatrixF> t(block, count, l);
+                    auto coefficients = g.coefficients.middleRows(first, count);
+                    coefficients.noalias() = t * basis;
+                    // The residual t - V_g V_g^T t itself, not |t|^2 - |g|^2: that difference
+                    // cancels catastrophically in float when the basis keeps nearly everything.
+                    RowMatrixF residual = t;
+                    residual.noalias() -= coefficients * basis.transpose();
+                    for (long long r = 0; r < count; ++r) {
+                      g.rowEnergy[first + r] = t.row(r).cast<double>().squaredNorm();
+                      g.residualEnergy[first + r] = residual.row(r).cast<double>().squaredNorm();
+                    }
+                  });
+  return g;
+}
+
+}  // namespace acpca

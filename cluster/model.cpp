@@ -1,0 +1,376 @@
+#include "cluster/model.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "cluster/cost_model.h"
+#include "cluster/pca.h"
+#include "precompute/transport/atomic_file.h"
+#include "precompute/transport/error.h"
+#include "precompute/transport/half.h"
+#include "precompute/transport/hdf5_handles.h"
+
+namespace acpca {
+
+CoeffPrecision parseCoeffPrecision(const std::string& text) {
+  if (text == "f32") return CoeffPrecision::F32;
+  if (text == "f16") return CoeffPrecision::F16;
+  if (text == "i8") return CoeffPrecision::I8;
+  throw UserError(concat("--coeffs '", text, "' is not one of f32, f16, i8"));
+}
+
+const char* coeffPrecisionName(CoeffPrecision p) {
+  return p == CoeffPrecision::F32 ? "f32" : p == CoeffPrecision::F16 ? "f16" : "i8";
+}
+
+double Model::totalCost() const {
+  double cost = 0;
+  for (int c = 0; c < clusters(); ++c)
+    cost +=
+        clusterCost(ranks[c] + (hasMean ? 1 : 0), rowOffsets[c + 1] - rowOffsets[c], globalBases());
+  return cost;
+}
+
+float Model::coefficient(int c, long long r, int k) const {
+  const long long i = coefficientOffsets[c] + r * ranks[c] + k;
+  switch (precision) {
+    case CoeffPrecision::F32:
+      return coeffF32[i];
+    case CoeffPrecision::F16: {
+      float v;
+      halfToFloat(&coeffF16[i], &v, 1);
+      return v;
+    }
+    default:
+      return coeffI8[i] * coeffScale[c];
+  }
+}
+
+long long Model::frameBytes() const {
+  const long long coefficientBytes = precision == CoeffPrecision::F32   ? 4
+                                     : precision == CoeffPrecision::F16 ? 2
+                                                                        : 1;
+  return static_cast<long long>(bases.size()) * 4 +
+         (hasMean ? static_cast<long long>(means.size()) * 4 : 0) +
+         coefficientOffsets.back() * coefficientBytes +
+         static_cast<long long>(globalBasis.size()) * 4;
+}
+
+Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
+                 const GlobalProjection& projection, const Partition& partition,
+                 const ModelOptions& options) {
+  const int n = basis.globalBases();
+  Model m;
+  m.geometry = geometry;
+  m.globalBasis = basis.basis;
+  m.hasMean = options.mean;
+  m.precision = options.precision;
+  const int clusters = static_cast<int>(partition.size());
+
+  struct Fit {
+    PcaResult pca;
+    Eigen::MatrixXf coefficients;  // p x n
+  };
+  std::vector<Fit> fits(clusters);
+  tbb::parallel_for(0, clusters, [&](int c) {
+    Eigen::MatrixXd rows(partition[c].size(), n);
+    for (size_t i = 0; i < partition[c].size(); ++i)
+      rows.row(i) = projection.coefficients.row(partition[c][i]).cast<double>();
+    fits[c].pca = pcaToTolerance(rows, options.tolerance, options.mean, true);
+    fits[c].coefficients = ((rows.rowwise() - fits[c].pca.mean) * fits[c].pca.basis).cast<float>();
+  });
+
+  m.rowOffsets.push_back(0);
+  m.basisOffsets.push_back(0);
+  m.coefficientOffsets.push_back(0);
+  m.means.assign(static_cast<size_t>(clusters) * n, 0.0f);
+  double clusterResidual = 0, quantizationError = 0;
+  for (int c = 0; c < clusters; ++c) {
+    const Fit& f = fits[c];
+    const int rank = f.pca.rank;
+    m.clusterRows.insert(m.clusterRows.end(), partition[c].begin(), partition[c].end());
+    m.rowOffsets.push_back(m.clusterRows.size());
+    m.ranks.push_back(rank);
+    const Eigen::MatrixXf b = f.pca.basis.cast<float>();
+    m.bases.insert(m.bases.end(), b.data(), b.data() + b.size());
+    m.basisOffsets.push_back(m.bases.size());
+    for (int k = 0; k < n; ++k) m.means[static_cast<size_t>(c) * n + k] = float(f.pca.mean[k]);
+    clusterResidual += f.pca.residualEnergy;
+    // Row-major p x n coefficients, quantized as asked; the quantization error
+    // is measured exactly (orthonormal bases: coefficient error = row error).
+    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> u = f.coefficients;
+    const size_t count = u.size();
+    if (options.precision == CoeffPrecision::F32) {
+      m.coeffF32.insert(m.coeffF32.end(), u.data(), u.data() + count);
+      m.coeffScale.push_back(1.0f);
+    } else if (options.precision == CoeffPrecision::F16) {
+      std::vector<std::uint16_t> h(count);
+      std::vector<float> back(count);
+      floatToHalf(u.data(), h.data(), count);
+      halfToFloat(h.data(), back.data(), count);
+      for (size_t i = 0; i < count; ++i)
+        quantizationError += std::pow(double(back[i]) - u.data()[i], 2);
+      m.coeffF16.insert(m.coeffF16.end(), h.begin(), h.end());
+      m.coeffScale.push_back(1.0f);
+    } else {
+      const float maxAbs = count ? u.cwiseAbs().maxCoeff() : 0.0f;
+      const float scale = maxAbs > 0 ? maxAbs / 127.0f : 1.0f;
+      for (size_t i = 0; i < count; ++i) {
+        const float q = std::clamp(std::round(u.data()[i] / scale), -127.0f, 127.0f);
+        m.coeffI8.push_back(static_cast<std::int8_t>(q));
+        quantizationError += std::pow(double(q) * scale - u.data()[i], 2);
+      }
+      m.coeffScale.push_back(scale);
+    }
+    m.coefficientOffsets.push_back(m.coefficientOffsets.back() + static_cast<long long>(count));
+  }
+  const double total = projection.transportEnergy();
+  const double globalResidual = projection.residualEnergy.sum();
+  m.globalEnergyKept = total > 0 ? 1 - globalResidual / total : 1;
+  m.transportError =
+      total > 0
+          ? std::sqrt(std::max(0.0, globalResidual + clusterResidual + quantizationError) / total)
+          : 0;
+  return m;
+}
+
+namespace {
+
+constexpr const char* kCtx = "model";
+
+template <typename T>
+void writeVector(hid_t f, const std::string& name, const std::vector<T>& v, hid_t type,
+                 const std::string& ctx) {
+  h5::writeTyped(f, name, {static_cast<hsize_t>(v.size())}, type, v.data(), ctx);
+}
+
+template <typename T>
+std::vector<T> readVector(hid_t f, const std::string& name, hid_t type, hsize_t expected,
+                          const std::string& ctx) {
+  const auto shape = h5::datasetShape(f, name, ctx);
+  if (shape.size() != 1 || shape[0] != expected)
+    throw UserError(concat(ctx, ": dataset '", name, "' has the wrong size"));
+  std::vector<T> v(expected);
+  h5::readTyped(f, name, type, v.data(), ctx);
+  return v;
+}
+
+}  // namespace
+
+void writeModel(const Model& m, const std::string& path) {
+  AtomicOutput output(path);
+  {
+    h5::Handle file = h5::createFile(output.tempPath());
+    const hid_t f = file.get();
+    const auto& g = m.geometry;
+    const std::string& ctx = path;
+    h5::writeAttribute(f, "format", std::string(kModelFormat), ctx);
+    h5::writeAttribute(f, "version", static_cast<long long>(kModelVersion), ctx);
+    h5::writeAttribute(f, "method", m.method, ctx);
+    h5::writeAttribute(f, "settings", m.settings, ctx);
+    h5::writeAttribute(f, "width", static_cast<long long>(g.camera.size.width), ctx);
+    h5::writeAttribute(f, "height", static_cast<long long>(g.camera.size.height), ctx);
+    h5::writeAttribute(f, "cubemap", static_cast<long long>(g.cubemapResolution), ctx);
+    h5::writeAttribute(f, "scene", g.scene, ctx);
+    h5::writeAttribute(f, "camera_eye",
+                       std::vector<double>{g.camera.eye.x(), g.camera.eye.y(), g.camera.eye.z()},
+                       ctx);
+    h5::writeAttribute(
+        f, "camera_target",
+        std::vector<double>{g.camera.target.x(), g.camera.target.y(), g.camera.target.z()}, ctx);
+    h5::writeAttribute(f, "camera_up",
+                       std::vector<double>{g.camera.up.x(), g.camera.up.y(), g.camera.up.z()}, ctx);
+    h5::writeAttribute(f, "camera_fov_deg", g.camera.fovDegrees, ctx);
+    h5::writeAttribute(f, "occupied_pixels", g.rows(), ctx);
+    h5::writeAttribute(f, "global_bases", static_cast<long long>(m.globalBases()), ctx);
+    h5::writeAttribute(f, "clusters", static_cast<long long>(m.clusters()), ctx);
+    h5::writeAttribute(f, "has_mean", static_cast<long long>(m.hasMean), ctx);
+    h5::writeAttribute(f, "coeffs", std::string(coeffPrecisionName(m.precision)), ctx);
+    h5::writeAttribute(f, "total_cost", m.totalCost(), ctx);
+    h5::writeAttribute(f, "cost_per_pixel", m.costPerPixel(), ctx);
+    h5::writeAttribute(f, "transport_error", m.transportError, ctx);
+    h5::writeAttribute(f, "global_energy_kept", m.globalEnergyKept, ctx);
+    h5::writeAttribute(f, "compress_seconds", m.compressSeconds, ctx);
+    h5::writeAttribute(f, "peak_memory_bytes", m.peakMemoryBytes, ctx);
+    const hsize_t rows = g.rows();
+    h5::writeDataset(f, "pixels", {rows}, g.pixels.data(), ctx);
+    h5::writeDataset(f, "albedo", {rows, 3}, g.albedo.data(), ctx);
+    h5::writeDataset(f, "coverage", {rows}, g.coverage.data(), ctx);
+    // global_basis as [l, N] row-major, as numpy reads it.
+    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg = m.globalBasis;
+    h5::writeDataset(f, "global_basis",
+                     {static_cast<hsize_t>(vg.rows()), static_cast<hsize_t>(vg.cols())}, vg.data(),
+                     ctx);
+    writeVector(f, "cluster_rows", m.clusterRows, H5T_NATIVE_INT32, ctx);
+    writeVector(f, "cluster_row_offsets", m.rowOffsets, H5T_NATIVE_INT64, ctx);
+    writeVector(f, "cluster_rank", m.ranks, H5T_NATIVE_INT32, ctx);
+    writeVector(f, "cluster_basis_offsets", m.basisOffsets, H5T_NATIVE_INT64, ctx);
+    writeVector(f, "bases", m.bases, H5T_NATIVE_FLOAT, ctx);
+    writeVector(f, "means", m.means, H5T_NATIVE_FLOAT, ctx);
+    writeVector(f, "coefficient_offsets", m.coefficientOffsets, H5T_NATIVE_INT64, ctx);
+    writeVector(f, "coefficient_scale", m.coeffScale, H5T_NATIVE_FLOAT, ctx);
+    if (m.precision == CoeffPrecision::F32)
+      writeVector(f, "coefficients", m.coeffF32, H5T_NATIVE_FLOAT, ctx);
+    if (m.precision == CoeffPrecision::F16) {
+      const h5::Handle half = h5::halfType();
+      writeVector(f, "coefficients", m.coeffF16, half.get(), ctx);
+    }
+    if (m.precision == CoeffPrecision::I8)
+      writeVector(f, "coefficients", m.coeffI8, H5T_NATIVE_INT8, ctx);
+    h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
+  }
+  output.commit();
+}
+
+bool isModelFile(const std::string& path) {
+  h5::silenceLibraryErrors();
+  if (H5Fis_hdf5(path.c_str()) <= 0) return false;
+  try {
+    const h5::Handle file = h5::openFileReadOnly(path);
+    return h5::hasAttribute(file.get(), "format") &&
+           h5::readStringAttribute(file.get(), "format", path) == kModelFormat;
+  } catch (const UserError&) {
+    return false;
+  }
+}
+
+Model readModel(const std::string& path) {
+  const std::string& ctx = path;
+  const h5::Handle file = h5::openFileReadOnly(path);
+  const hid_t f = file.get();
+  if (!h5::hasAttribute(f, "format") || h5::readStringAttribute(f, "format", ctx) != kModelFormat)
+    throw UserError(concat(ctx, ": not an adaptive-cpca model file"));
+  if (h5::readIntAttribute(f, "version", ctx) != kModelVersion)
+    throw UserError(concat(ctx, ": unsupported model version"));
+  if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
+    throw UserError(concat(ctx, ": the model file is incomplete"));
+  Model m;
+  auto& g = m.geometry;
+  m.method = h5::readStringAttribute(f, "method", ctx);
+  m.settings = h5::readStringAttribute(f, "settings", ctx);
+  g.scene = h5::readStringAttribute(f, "scene", ctx);
+  const long long width = h5::readIntAttribute(f, "width", ctx),
+                  height = h5::readIntAttribute(f, "height", ctx);
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+    throw UserError(concat(ctx, ": image size out of range"));
+  g.camera.size = {static_cast<int>(width), static_cast<int>(height)};
+  const long long cubemap = h5::readIntAttribute(f, "cubemap", ctx);
+  if (cubemap < 1 || cubemap > 256)
+    throw UserError(concat(ctx, ": cube-map resolution out of range"));
+  g.cubemapResolution = static_cast<int>(cubemap);
+  const auto vec3 = [&](const char* name) {
+    const auto v = h5::readDoubleArrayAttribute(f, name, ctx);
+    if (v.size() != 3) throw UserError(concat(ctx, ": attribute ", name, " needs 3 numbers"));
+    return Vec3(v[0], v[1], v[2]);
+  };
+  g.camera.eye = vec3("camera_eye");
+  g.camera.target = vec3("camera_target");
+  g.camera.up = vec3("camera_up");
+  g.camera.fovDegrees = h5::readDoubleAttribute(f, "camera_fov_deg", ctx);
+  const long long rows = h5::readIntAttribute(f, "occupied_pixels", ctx);
+  const long long n = h5::readIntAttribute(f, "global_bases", ctx);
+  const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
+  const long long l = 6 * cubemap * cubemap;
+  if (rows < 0 || rows > g.camera.size.pixels() || n < 0 || n > l || clusters < 0 ||
+      clusters > std::max(rows, 1LL))
+    throw UserError(concat(ctx, ": sizes in the header do not add up"));
+  m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;
+  m.precision = parseCoeffPrecision(h5::readStringAttribute(f, "coeffs", ctx));
+  m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
+  m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
+  m.compressSeconds = h5::readDoubleAttribute(f, "compress_seconds", ctx);
+  m.peakMemoryBytes = h5::readIntAttribute(f, "peak_memory_bytes", ctx);
+
+  g.pixels = readVector<std::int32_t>(f, "pixels", H5T_NATIVE_INT32, rows, ctx);
+  if (h5::datasetShape(f, "albedo", ctx) != std::vector<hsize_t>{hsize_t(rows), 3})
+    throw UserError(concat(ctx, ": dataset 'albedo' has the wrong shape"));
+  g.albedo.resize(3 * rows);
+  h5::readDataset(f, "albedo", g.albedo.data(), ctx);
+  g.coverage = readVector<float>(f, "coverage", H5T_NATIVE_FLOAT, rows, ctx);
+  g.normals.assign(3 * rows, 0.0f);
+  if (h5::datasetShape(f, "global_basis", ctx) != std::vector<hsize_t>{hsize_t(l), hsize_t(n)})
+    throw UserError(concat(ctx, ": dataset 'global_basis' has the wrong shape"));
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg(l, n);
+  h5::readDataset(f, "global_basis", vg.data(), ctx);
+  m.globalBasis = vg;
+  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
+  m.rowOffsets =
+      readVector<std::int64_t>(f, "cluster_row_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  m.ranks = readVector<std::int32_t>(f, "cluster_rank", H5T_NATIVE_INT32, clusters, ctx);
+  m.basisOffsets =
+      readVector<std::int64_t>(f, "cluster_basis_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  m.coefficientOffsets =
+      readVector<std::int64_t>(f, "coefficient_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  // Every offset must agree with the ranks and sizes before the big arrays are read.
+  if (m.rowOffsets[0] != 0 || m.basisOffsets[0] != 0 || m.coefficientOffsets[0] != 0)
+    throw UserError(concat(ctx, ": cluster offsets do not start at 0"));
+  for (long long c = 0; c < clusters; ++c) {
+    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    if (p < 0 || m.ranks[c] < 0 || m.ranks[c] > n ||
+        m.basisOffsets[c + 1] - m.basisOffsets[c] != n * m.ranks[c] ||
+        m.coefficientOffsets[c + 1] - m.coefficientOffsets[c] != p * m.ranks[c])
+      throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
+  }
+  if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
+  std::vector<char> seen(rows, 0);
+  for (auto r : m.clusterRows) {
+    if (r < 0 || r >= rows || seen[r])
+      throw UserError(concat(ctx, ": cluster rows are not a partition"));
+    seen[r] = 1;
+  }
+  m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
+  m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
+  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT, clusters, ctx);
+  const long long coefficients = m.coefficientOffsets.back();
+  if (m.precision == CoeffPrecision::F32)
+    m.coeffF32 = readVector<float>(f, "coefficients", H5T_NATIVE_FLOAT, coefficients, ctx);
+  if (m.precision == CoeffPrecision::F16) {
+    const h5::Handle half = h5::halfType();
+    m.coeffF16 = readVector<std::uint16_t>(f, "coefficients", half.get(), coefficients, ctx);
+  }
+  if (m.precision == CoeffPrecision::I8)
+    m.coeffI8 = readVector<std::int8_t>(f, "coefficients", H5T_NATIVE_INT8, coefficients, ctx);
+  for (float v : m.bases)
+    if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite basis value"));
+  for (float v : m.coeffF32)
+    if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite coefficient"));
+  return m;
+}
+
+std::vector<std::vector<float>> relightModelReference(
+    const Model& m, const std::vector<std::vector<double>>& lightings) {
+  const int n = m.globalBases();
+  const long long l = m.globalBasis.rows();
+  std::vector<std::vector<float>> out;
+  for (const auto& lighting : lightings) {
+    ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3 * l, "lighting size ",
+                lighting.size());
+    // L_g = V_g^T L (N x 3), in double.
+    Eigen::MatrixXd lg = Eigen::MatrixXd::Zero(n, 3);
+    for (long long j = 0; j < l; ++j)
+      for (int k = 0; k < n; ++k)
+        for (int c = 0; c < 3; ++c) lg(k, c) += double(m.globalBasis(j, k)) * lighting[3 * j + c];
+    std::vector<float> rgb(3 * m.rows(), 0.0f);
+    for (int cl = 0; cl < m.clusters(); ++cl) {
+      const int rank = m.ranks[cl];
+      const Eigen::Map<const Eigen::MatrixXf> w(m.bases.data() + m.basisOffsets[cl], n, rank);
+      const Eigen::MatrixXd li = w.cast<double>().transpose() * lg;  // n_c x 3
+      Eigen::RowVector3d meanTerm = Eigen::RowVector3d::Zero();
+      if (m.hasMean)
+        for (int k = 0; k < n; ++k)
+          meanTerm += double(m.means[static_cast<size_t>(cl) * n + k]) * lg.row(k);
+      for (long long r = 0; r < m.rowOffsets[cl + 1] - m.rowOffsets[cl]; ++r) {
+        const int row = m.clusterRows[m.rowOffsets[cl] + r];
+        Eigen::RowVector3d b = meanTerm;
+        for (int k = 0; k < rank; ++k) b += double(m.coefficient(cl, r, k)) * li.row(k);
+        for (int c = 0; c < 3; ++c) rgb[3 * row + c] = float(m.geometry.albedo[3 * row + c] * b[c]);
+      }
+    }
+    out.push_back(std::move(rgb));
+  }
+  return out;
+}
+
+}  // namespace acpca

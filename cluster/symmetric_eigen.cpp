@@ -1,0 +1,36 @@
+#include "cluster/symmetric_eigen.h"
+
+#include <lapacke.h>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
+  ACPCA_CHECK(a.rows() == a.cols(), "not square: ", a.rows(), "x", a.cols());
+  const lapack_int n = static_cast<lapack_int>(a.rows());
+  SymmetricEigen result;
+  if (n == 0) return result;
+  ACPCA_CHECK(a.allFinite(), "non-finite entries in a ", n, "^2 symmetric matrix");
+  Eigen::MatrixXd work = a;
+  Eigen::VectorXd ascending(n);
+  const lapack_int info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, wantVectors ? 'V' : 'N', 'L', n,
+                                         work.data(), n, ascending.data());
+  ACPCA_CHECK(info == 0, "dsyevd failed (info ", info, ") on a ", n, "^2 matrix");
+  result.values = ascending.reverse().cwiseMax(0.0);
+  if (wantVectors) result.vectors = work.rowwise().reverse();
+  return result;
+}
+
+int rankForEnergy(const Eigen::VectorXd& values, double total, double fraction) {
+  if (values.size() == 0 || total <= 0 || values[0] <= 0) return 0;
+  const double noise = 1e-12 * values[0];
+  const double keep = fraction * total;
+  double kept = 0;
+  int rank = 0;
+  while (rank < values.size() && values[rank] > noise && (fraction >= 1 || kept < keep))
+    kept += values[rank++];
+  return rank;
+}
+
+}  // namespace acpca

@@ -1,0 +1,20 @@
+#pragma once
+// Eigen-decomposition of symmetric positive semi-definite matrices (Gram and
+// covariance matrices), through LAPACK's divide-and-conquer dsyevd.
+#include <Eigen/Core>
+
+namespace acpca {
+
+struct SymmetricEigen {
+  Eigen::VectorXd values;   ///< descending, clamped at 0 (rounding can make them negative)
+  Eigen::MatrixXd vectors;  ///< columns match values; empty when not asked for
+};
+
+/// a must be symmetric; only its lower triangle is read.
+SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors);
+
+/// Smallest n whose top-n eigenvalues hold `fraction` of `total` energy; with
+/// fraction >= 1, every eigenvalue above rounding noise (relative 1e-12).
+int rankForEnergy(const Eigen::VectorXd& descendingValues, double total, double fraction);
+
+}  // namespace acpca

@@ -1,0 +1,227 @@
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <random>
+
+#include "cluster/compress.h"
+#include "cluster/cost_model.h"
+#include "precompute/render/scene.h"
+#include "relight/dense_relight.h"
+#include "relight/lighting.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+TEST(CostModel, MatchesHandComputedValues) {
+  EXPECT_EQ(clusterCost(3, 10, 20), 90);  // 3 (10 + 20)
+  // d = (1 - mu) n p + (1 - r mu) n N with mu 0.6, r 2, n 10, p 100, N 50:
+  // 0.4 * 1000 + (1 - 1.2) * 500 = 400 - 100 = 300.
+  EXPECT_NEAR(subdivisionMetric(0.6, 2, 10, 100, 50), 300, 1e-9);
+  EXPECT_LT(subdivisionMetric(0.9, 4, 10, 10, 500), 0);  // small patches do not split
+  EXPECT_NEAR(optimalPatchSize(0.5, 4, 100), 100.0 * (2 - 1) / 0.5, 1e-9);  // eq. 27
+}
+
+/// Synthetic global coefficients on a w x h image, every pixel occupied.
+struct Synthetic {
+  RowMatrixF g;
+  std::vector<std::int32_t> pixels;
+  ImageSize size;
+  ClusterInput input(double tolerance = 0.999, bool mean = false) const {
+    return {&g, &pixels, size, tolerance, mean};
+  }
+};
+
+Synthetic synthetic(int w, int h, int n) {
+  Synthetic s;
+  s.size = {w, h};
+  s.g = RowMatrixF::Zero(w * h, n);
+  for (int p = 0; p < w * h; ++p) s.pixels.push_back(p);
+  return s;
+}
+
+TEST(AdaptiveQuad, SplitsOnlyTheRichHalf) {
+  const int w = 32, h = 16, n = 96;
+  Synthetic s = synthetic(w, h, n);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal;
+  Eigen::VectorXf common(n);
+  for (auto& v : common) v = normal(rng);
+  // Right half: every 4x4 tile has its own direction, so the half has rank 16
+  // while each tile is rank 1 (locally low-dimensional, as transport is).
+  std::vector<Eigen::VectorXf> tiles(16, Eigen::VectorXf(n));
+  for (auto& t : tiles)
+    for (auto& v : t) v = normal(rng);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      auto row = s.g.row(y * w + x);
+      if (x < w / 2)
+        row = (1 + 0.1f * x) * common.transpose();  // rank 1
+      else
+        row = (1 + 0.05f * y) * tiles[(y / 4) * 4 + (x - w / 2) / 4].transpose();
+    }
+  const Partition p = adaptiveQuadTree(s.input(0.99), {16, 2, false});
+  int leftClusters = 0, rightClusters = 0;
+  for (const auto& c : p) {
+    const bool left = c.front() % w < w / 2;
+    for (int r : c) ASSERT_EQ(r % w < w / 2, left) << "a cluster spans both halves";
+    (left ? leftClusters : rightClusters)++;
+  }
+  EXPECT_EQ(leftClusters, 1);
+  EXPECT_GT(rightClusters, 4);
+}
+
+TEST(Cpca, RecoversRowsDrawnFromKnownSubspaces) {
+  const int k = 4, perCluster = 150, n = 40, dim = 3;
+  Synthetic s = synthetic(k * perCluster, 1, n);
+  std::mt19937 rng(9);
+  std::normal_distribution<float> normal;
+  std::vector<int> truth;
+  for (int c = 0; c < k; ++c) {
+    Eigen::MatrixXf basis(dim, n), offset(1, n);
+    for (auto& v : basis.reshaped()) v = normal(rng);
+    for (auto& v : offset.reshaped()) v = 3 * normal(rng);
+    for (int i = 0; i < perCluster; ++i) {
+      Eigen::RowVectorXf coeffs(dim);
+      for (auto& v : coeffs) v = normal(rng);
+      s.g.row(c * perCluster + i) = offset + coeffs * basis;
+      truth.push_back(c);
+    }
+  }
+  std::vector<int> all(k * perCluster);
+  std::iota(all.begin(), all.end(), 0);
+  CpcaOptions o;
+  o.clusters = k;
+  o.iterationRank = dim;
+  const Partition p = cpca(s.input(0.999, true), all, o);
+  ASSERT_EQ(p.size(), size_t(k));
+  int agreeing = 0;
+  for (const auto& c : p) {
+    std::vector<int> votes(k, 0);
+    for (int r : c) ++votes[truth[r]];
+    agreeing += *std::max_element(votes.begin(), votes.end());
+  }
+  EXPECT_GE(agreeing, 0.95 * k * perCluster);
+}
+
+TEST(Partitions, DegenerateInputsGiveSensibleModels) {
+  Synthetic zero = synthetic(4, 4, 8);  // all-zero rows
+  EXPECT_EQ(rankOf(zero.input(), singleCluster(zero.input())[0]), 0);
+  Synthetic one = synthetic(1, 1, 8);  // a single pixel
+  one.g.row(0).setOnes();
+  EXPECT_EQ(adaptiveQuadTree(one.input(), {64, 2, false}).size(), 1u);
+  std::vector<int> single{0};
+  EXPECT_EQ(cpca(one.input(), single, {}).size(), 1u);
+  Synthetic dup = synthetic(8, 1, 8);  // duplicate rows: rank 1
+  for (int r = 0; r < 8; ++r) dup.g.row(r).setConstant(2);
+  EXPECT_EQ(rankOf(dup.input(1.0), singleCluster(dup.input())[0]), 1);
+  std::vector<int> all(8);
+  std::iota(all.begin(), all.end(), 0);
+  CpcaOptions many;
+  many.clusters = 20;  // more clusters than rows
+  const Partition p = cpca(dup.input(), all, many);
+  size_t covered = 0;
+  for (const auto& c : p) covered += c.size();
+  EXPECT_EQ(covered, 8u);
+}
+
+class CompressPlant : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    Scene scene = makePlantScene();
+    scene.camera.size = {40, 40};
+    PrecomputeOptions o;
+    o.cubemapResolution = 8;
+    o.precision = Precision::F32;
+    precomputeTransport(scene, dir_->file("t.h5"), o);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static std::string path() { return dir_->file("t.h5"); }
+  static test::TempDir* dir_;
+};
+test::TempDir* CompressPlant::dir_ = nullptr;
+
+double relativeL2(const std::vector<float>& a, const std::vector<float>& b) {
+  double d = 0, n = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    d += std::pow(double(a[i]) - b[i], 2), n += double(b[i]) * b[i];
+  return std::sqrt(d / n);
+}
+
+TEST_F(CompressPlant, KeepingEverythingMatchesTheDenseRelight) {
+  const TransportReader t(path());
+  const CubeLattice lattice(8);
+  std::vector<LatticeLighting> lightings;
+  for (const char* env : {"sky", "sun:50,30,4,1000"})
+    lightings.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
+  const auto dense = denseRelight(t, lightings);
+  for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad,
+                        Method::AdaptiveBinary}) {
+    CompressOptions o;
+    o.method = method;
+    o.globalEnergy = 1;
+    o.tolerance = 1;
+    o.clusters = 4;
+    const Model m = compressTransport(t, o);
+    EXPECT_LT(m.transportError, 1e-4) << methodName(method);
+    const auto relit = relightModelReference(m, lightings);
+    for (size_t k = 0; k < lightings.size(); ++k)
+      EXPECT_LT(relativeL2(relit[k], dense[k]), 1e-4) << methodName(method);
+  }
+}
+
+TEST_F(CompressPlant, ErrorFallsAsTheToleranceTightensAndQuantizationStaysBounded) {
+  const TransportReader t(path());
+  double previous = 1;
+  for (double tol : {0.9, 0.99, 0.999}) {
+    CompressOptions o;
+    o.tolerance = tol;
+    o.block = 8;
+    const Model m = compressTransport(t, o);
+    EXPECT_LT(m.transportError, previous + 1e-9);
+    previous = m.transportError;
+  }
+  CompressOptions o;
+  o.method = Method::Block;
+  const Model f32 = compressTransport(t, o);
+  o.coeffs = CoeffPrecision::F16;
+  const Model f16 = compressTransport(t, o);
+  o.coeffs = CoeffPrecision::I8;
+  const Model i8 = compressTransport(t, o);
+  // Half keeps 11 significant bits; 8 bits with a per-cluster scale at most
+  // half a step (max|u| / 254) per coefficient: both add little to the error.
+  EXPECT_LT(f16.transportError, f32.transportError * 1.001 + 1e-6);
+  EXPECT_LT(i8.transportError, f32.transportError + 0.05);
+  EXPECT_GE(i8.transportError, f32.transportError - 1e-12);
+}
+
+TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveBinary;
+  o.clusters = 3;
+  Model one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = compressTransport(t, o);
+  }
+  two = compressTransport(t, o);
+  EXPECT_EQ(one.clusterRows, two.clusterRows);
+  EXPECT_EQ(one.ranks, two.ranks);
+  EXPECT_EQ(one.bases, two.bases);
+  EXPECT_EQ(one.coeffF32, two.coeffF32);
+  one.method = "adaptive-binary";
+  writeModel(one, dir_->file("m.h5"));
+  EXPECT_TRUE(isModelFile(dir_->file("m.h5")));
+  EXPECT_FALSE(isModelFile(path()));
+  const Model back = readModel(dir_->file("m.h5"));
+  EXPECT_EQ(back.bases, one.bases);
+  EXPECT_EQ(back.coeffF32, one.coeffF32);
+  EXPECT_EQ(back.clusterRows, one.clusterRows);
+  EXPECT_NEAR(back.totalCost(), one.totalCost(), 1e-9);
+  EXPECT_THROW(readModel(path()), UserError);
+}
+
+}  // namespace
+}  // namespace acpca

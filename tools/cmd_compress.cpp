@@ -1,0 +1,100 @@
+// `adaptive-cpca compress`: transport file -> model.
+#include <iostream>
+#include <map>
+
+#include "cluster/compress.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct CompressArgs {
+  CommonOptions common;
+  std::string input, out, method, coeffs = "f32";
+  double tolerance = 0.999, globalEnergy = 0.999;
+  int clusters = 10, block = 0, sampleRows = 16384;
+  unsigned long long seed = 1;
+  bool exactQuadTree = false;
+};
+
+nlohmann::json histogram(const Model& m) {
+  std::map<int, int> counts;
+  for (int r : m.ranks) ++counts[r];
+  nlohmann::json h = nlohmann::json::object();
+  for (auto [rank, count] : counts) h[std::to_string(rank)] = count;
+  return h;
+}
+
+void run(const CompressArgs& a) {
+  CompressOptions o;
+  o.method = parseMethod(a.method);
+  o.tolerance = a.tolerance;
+  o.globalEnergy = a.globalEnergy;
+  o.clusters = a.clusters;
+  o.block = a.block > 0 ? a.block : (o.method == Method::AdaptiveQuad ? 64 : 8);
+  o.exactQuadTree = a.exactQuadTree;
+  o.coeffs = parseCoeffPrecision(a.coeffs);
+  o.sampleRows = a.sampleRows;
+  o.seed = a.seed;
+  if (!a.common.quiet) o.log = [](const std::string& s) { std::cerr << "compress: " << s << "\n"; };
+  ThreadLimit limit(a.common.threads);
+  const TransportReader transport(a.input);
+  Model model = compressTransport(transport, o);
+  model.peakMemoryBytes = peakMemoryBytes();
+  writeModel(model, a.out);
+  if (!a.common.quiet)
+    std::cerr << "wrote " << a.out << ": " << model.method << ", " << model.clusters()
+              << " clusters, N = " << model.globalBases() << ", cost " << model.totalCost() << " ("
+              << model.costPerPixel() << " per pixel), transport error " << model.transportError
+              << ", " << formatBytes(model.frameBytes()) << " read per frame, "
+              << model.compressSeconds << " s, peak memory " << formatBytes(model.peakMemoryBytes)
+              << "\n";
+  writeJson(a.common.jsonPath, {{"out", a.out},
+                                {"method", model.method},
+                                {"clusters", model.clusters()},
+                                {"global_bases", model.globalBases()},
+                                {"total_cost", model.totalCost()},
+                                {"cost_per_pixel", model.costPerPixel()},
+                                {"transport_error", model.transportError},
+                                {"global_energy_kept", model.globalEnergyKept},
+                                {"bytes_per_frame", model.frameBytes()},
+                                {"rank_histogram", histogram(model)},
+                                {"seconds", model.compressSeconds},
+                                {"peak_memory_bytes", model.peakMemoryBytes}});
+}
+
+}  // namespace
+
+void registerCompress(CLI::App& app) {
+  auto args = std::make_shared<CompressArgs>();
+  auto* sub =
+      app.add_subcommand("compress", "Compress a transport file into a clustered PCA model");
+  sub->add_option("input", args->input, "Transport file (T_FILE)")->required();
+  sub->add_option("--out", args->out, "Model file to write (HDF5)")->required();
+  sub->add_option("--method", args->method, "global, block, cpca, adaptive-quad or adaptive-binary")
+      ->required();
+  sub->add_option("--tolerance", args->tolerance, "Fraction of each cluster's energy kept");
+  sub->add_option("--global-energy", args->globalEnergy,
+                  "Fraction of energy the global basis keeps (1: every direction)");
+  sub->add_option("--clusters", args->clusters, "cpca: K; adaptive-binary: initial clusters");
+  sub->add_option("--block", args->block, "block: side (default 8); adaptive-quad: root side (64)");
+  sub->add_flag("--exact-tree", args->exactQuadTree,
+                "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
+  sub->add_option("--coeffs", args->coeffs, "Coefficient storage: f32, f16 or i8");
+  sub->add_option("--sample-rows", args->sampleRows, "Rows sampled for the global basis");
+  sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+std::string rankHistogramText(const Model& m) {
+  std::map<int, int> counts;
+  for (int r : m.ranks) ++counts[r];
+  std::string s;
+  for (auto [rank, count] : counts) s += " n=" + std::to_string(rank) + ":" + std::to_string(count);
+  return s;
+}
+
+}  // namespace acpca::cli
