@@ -1,6 +1,7 @@
 #include "cluster/compress.h"
 
 #include <chrono>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 
 #include "precompute/transport/error.h"
@@ -41,7 +42,8 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   if (o.block < 1) throw UserError(concat("--block ", o.block, " must be >= 1"));
   const auto start = std::chrono::steady_clock::now();
   const auto log = [&](const std::string& s) {
-    if (o.log) o.log(s);
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), t, " s] ", s));
   };
 
   const GlobalBasis basis = computeGlobalBasis(transport, {o.globalEnergy, o.sampleRows, o.seed});

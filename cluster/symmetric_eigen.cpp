@@ -1,12 +1,31 @@
 #include "cluster/symmetric_eigen.h"
 
+#include <dlfcn.h>
 #include <lapacke.h>
+
+#include <mutex>
 
 #include "precompute/transport/error.h"
 
 namespace acpca {
 
+namespace {
+
+/// OpenBLAS's own threads fight TBB's: keep it single-threaded. Found at run
+/// time, so a reference LAPACK (no such function) works as well.
+void setBlasThreads(int threads) {
+  using SetThreads = void (*)(int);
+  static const SetThreads set =
+      reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set) set(threads);
+}
+
+std::once_flag singleThreaded;
+
+}  // namespace
+
 SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
+  std::call_once(singleThreaded, [] { setBlasThreads(1); });
   ACPCA_CHECK(a.rows() == a.cols(), "not square: ", a.rows(), "x", a.cols());
   const lapack_int n = static_cast<lapack_int>(a.rows());
   SymmetricEigen result;

@@ -10,7 +10,10 @@ struct SymmetricEigen {
   Eigen::MatrixXd vectors;  ///< columns match values; empty when not asked for
 };
 
-/// a must be symmetric; only its lower triangle is read.
+/// a must be symmetric; only its lower triangle is read. LAPACK runs on one
+/// thread (set on first use): the callers parallelise over clusters with TBB,
+/// and OpenBLAS's own threads fighting TBB's measured slower, even for the
+/// single large solve of the global basis.
 SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors);
 
 /// Smallest n whose top-n eigenvalues hold `fraction` of `total` energy; with
