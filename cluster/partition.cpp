@@ -10,6 +10,9 @@
 
 #include "cluster/cost_model.h"
 #include "cluster/pca.h"
+#include "cluster/symmetric_eigen.h"
+
+#include <Eigen/QR>
 #include "precompute/transport/error.h"
 
 namespace acpca {
@@ -173,8 +176,22 @@ ClusterFit fitCluster(const Eigen::MatrixXd& rows, int rank) {
     f.basis.resize(rows.cols(), 0);
     return f;
   }
-  const PcaResult pca = pcaToTolerance(centred, 1.0, false, true);
-  f.basis = pca.basis.leftCols(std::min(r, pca.rank));
+  // The leading r directions by randomized subspace iteration (Halko et al.
+  // 2011): a few passes over the rows instead of a full N x N eigensolve, and
+  // assignment needs no more precision. Fixed seed: deterministic.
+  const Eigen::Index n = rows.cols(), q = std::min<Eigen::Index>(n, r + 8);
+  std::mt19937_64 rng(12345);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd y(n, q);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] = normal(rng);
+  for (int pass = 0; pass < 3; ++pass) {
+    const Eigen::MatrixXd z = centred.transpose() * (centred * y);
+    y = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, q);
+  }
+  const Eigen::MatrixXd b = centred * y;  // p x q
+  const SymmetricEigen small = symmetricEigen(b.transpose() * b, true);
+  const int kept = std::min<int>(r, rankForEnergy(small.values, small.values.sum(), 1.0));
+  f.basis = y * small.vectors.leftCols(kept);
   return f;
 }
 
@@ -185,12 +202,14 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
   const int n = static_cast<int>(rowsIn.size());
   const int k = std::min(o.clusters, n);
   if (k <= 1) return n ? Partition{rowsIn} : Partition{};
-  const Eigen::MatrixXd x = gatherRows(in, rowsIn);
+  // Row-major: assignment reads whole rows.
+  using RowMatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMatrixD x = gatherRows(in, rowsIn);
   const Eigen::VectorXd norms = x.rowwise().squaredNorm();
   // A few leading global coefficients carry most of the energy: good enough to
   // seed and to shortlist candidate clusters.
   const int reduced = std::min<int>(64, in.globalBases());
-  const Eigen::MatrixXd xr = x.leftCols(reduced);
+  const RowMatrixD xr = x.leftCols(reduced);
 
   // k-means++ seeding on the reduced rows.
   std::mt19937_64 rng(o.seed);
@@ -230,7 +249,7 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
     });
     // Shortlist by distance to the means on the reduced rows, then the exact
     // reconstruction error e = |x - mu|^2 - |P^T (x - mu)|^2 on the full rows.
-    Eigen::MatrixXd meansReduced = Eigen::MatrixXd::Zero(k, reduced);
+    RowMatrixD meansReduced = RowMatrixD::Zero(k, reduced);
     for (int c = 0; c < k; ++c)
       if (!members[c].empty()) meansReduced.row(c) = fits[c].mean.head(reduced);
     std::vector<int> next(n);
