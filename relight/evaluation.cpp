@@ -35,28 +35,23 @@ double aggregateError(const std::vector<double>& perMap) {
 }
 
 double costAtError(std::vector<ErrorCostPoint> points, double target) {
-  std::sort(points.begin(), points.end(),
-            [](const auto& a, const auto& b) { return a.error < b.error || (a.error == b.error && a.cost < b.cost); });
-  // Pareto front: walking from the largest error down, keep points that cost more
-  // than everything with a larger error (less error must be bought).
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    return a.error < b.error || (a.error == b.error && a.cost < b.cost);
+  });
+  // Pareto front: a setting counts only if it is cheaper than every setting that
+  // is more accurate. Along the front, error rises as cost falls.
   std::vector<ErrorCostPoint> front;
-  double cheapest = INFINITY;
-  for (auto it = points.rbegin(); it != points.rend(); ++it)
-    if (it->cost < cheapest || front.empty()) {
-      if (it->error > 0 && it->cost > 0) front.push_back(*it);
-      cheapest = std::min(cheapest, it->cost);
-    }
-  // front is ordered by decreasing error; keep it monotone in cost.
-  std::reverse(front.begin(), front.end());
+  for (const auto& p : points)
+    if (p.error > 0 && p.cost > 0 && (front.empty() || p.cost < front.back().cost)) front.push_back(p);
   for (size_t i = 0; i + 1 < front.size(); ++i) {
     const auto& lo = front[i];      // smaller error, larger cost
     const auto& hi = front[i + 1];  // larger error, smaller cost
     if (lo.error <= target && target <= hi.error) {
-      if (hi.error == lo.error) return std::min(lo.cost, hi.cost);
       const double t = (std::log(target) - std::log(lo.error)) / (std::log(hi.error) - std::log(lo.error));
       return std::exp(std::log(lo.cost) + t * (std::log(hi.cost) - std::log(lo.cost)));
     }
   }
+  if (front.size() == 1 && front[0].error == target) return front[0].cost;
   return -1;
 }
 

@@ -7,6 +7,7 @@
 #include "precompute/render/scene.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
+#include "tools/method_sweep.h"
 
 namespace acpca::cli {
 
@@ -65,6 +66,7 @@ void registerBench(CLI::App& app) {
   rays->add_option("--repeats", args->repeats, "Runs of each loop; the fastest counts");
   args->common.add(*rays);
   rays->callback([args] { runRays(*args); });
+  registerMethodSweep(*bench);
 }
 
 }  // namespace acpca::cli

@@ -125,6 +125,28 @@ TEST(Partitions, DegenerateInputsGiveSensibleModels) {
   EXPECT_EQ(covered, 8u);
 }
 
+TEST(Compress, AnImageThatIsAllBackgroundGivesAnEmptyModel) {
+  test::TempDir dir;
+  Scene scene = makeBuiltinScene("sphere");
+  scene.camera.target = {0, 10, 0};  // looking away from the sphere: no pixel hits
+  scene.camera.size = {8, 8};
+  PrecomputeOptions o;
+  o.cubemapResolution = 4;
+  precomputeTransport(scene, dir.file("t.h5"), o);
+  const TransportReader t(dir.file("t.h5"));
+  ASSERT_EQ(t.rows(), 0);
+  for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad, Method::AdaptiveBinary}) {
+    CompressOptions c;
+    c.method = method;
+    Model m = compressTransport(t, c);
+    EXPECT_EQ(m.clusters(), 0) << methodName(method);
+    EXPECT_EQ(m.totalCost(), 0);
+    EXPECT_EQ(m.transportError, 0);
+    writeModel(m, dir.file("m.h5"));
+    EXPECT_EQ(readModel(dir.file("m.h5")).clusters(), 0);
+  }
+}
+
 class CompressPlant : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
