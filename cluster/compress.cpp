@@ -42,7 +42,8 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   if (o.block < 1) throw UserError(concat("--block ", o.block, " must be >= 1"));
   const auto start = std::chrono::steady_clock::now();
   const auto log = [&](const std::string& s) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), t, " s] ", s));
   };
 

@@ -42,12 +42,14 @@ double costAtError(std::vector<ErrorCostPoint> points, double target) {
   // is more accurate. Along the front, error rises as cost falls.
   std::vector<ErrorCostPoint> front;
   for (const auto& p : points)
-    if (p.error > 0 && p.cost > 0 && (front.empty() || p.cost < front.back().cost)) front.push_back(p);
+    if (p.error > 0 && p.cost > 0 && (front.empty() || p.cost < front.back().cost))
+      front.push_back(p);
   for (size_t i = 0; i + 1 < front.size(); ++i) {
     const auto& lo = front[i];      // smaller error, larger cost
     const auto& hi = front[i + 1];  // larger error, smaller cost
     if (lo.error <= target && target <= hi.error) {
-      const double t = (std::log(target) - std::log(lo.error)) / (std::log(hi.error) - std::log(lo.error));
+      const double t =
+          (std::log(target) - std::log(lo.error)) / (std::log(hi.error) - std::log(lo.error));
       return std::exp(std::log(lo.cost) + t * (std::log(hi.cost) - std::log(lo.cost)));
     }
   }
@@ -62,7 +64,8 @@ std::vector<std::string> defaultEvaluationSet() {
   for (const char* root : {"/usr/share/blender"}) {
     if (!std::filesystem::is_directory(root, ec)) continue;
     for (const auto& e : std::filesystem::recursive_directory_iterator(root, ec))
-      if (e.path().extension() == ".exr" && e.path().string().find("studiolights/world") != std::string::npos)
+      if (e.path().extension() == ".exr" &&
+          e.path().string().find("studiolights/world") != std::string::npos)
         hdris.push_back(e.path().string());
   }
   std::sort(hdris.begin(), hdris.end());

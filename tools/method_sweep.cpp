@@ -37,7 +37,9 @@ struct Row {
   double costPerPixel = 0, transportError = 0, imageError = 0, seconds = 0;
 };
 
-double seconds(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 void run(const SweepArgs& a) {
   ThreadLimit limit(a.common.threads);
@@ -52,18 +54,28 @@ void run(const SweepArgs& a) {
   };
 
   std::vector<Row> rows;
-  const auto evaluate = [&](const std::string& method, const std::string& setting, double g, double tol,
-                            const GlobalBasis& basis, const GlobalProjection& projection,
-                            const Partition& partition, bool mean, double partitionSeconds) {
+  const auto evaluate = [&](const std::string& method, const std::string& setting, double g,
+                            double tol, const GlobalBasis& basis,
+                            const GlobalProjection& projection, const Partition& partition,
+                            bool mean, double partitionSeconds) {
     const auto start = Clock::now();
-    Model m = buildModel(transport.header(), basis, projection, partition, {tol, mean, CoeffPrecision::F32});
+    Model m = buildModel(transport.header(), basis, projection, partition,
+                         {tol, mean, CoeffPrecision::F32});
     const auto relit = relightModelReference(m, lightings);
     std::vector<double> errors;
     for (size_t k = 0; k < lightings.size(); ++k) errors.push_back(relativeL2(relit[k], truth[k]));
-    Row r{method, setting, g, tol, m.clusters(), m.costPerPixel(), m.transportError,
-          aggregateError(errors), partitionSeconds + seconds(start)};
-    log(concat(method, " ", setting, " g=", g, " tol=", tol, ": ", r.clusters, " clusters, cost/pixel ",
-               r.costPerPixel, ", image error ", r.imageError, ", transport error ", r.transportError));
+    Row r{method,
+          setting,
+          g,
+          tol,
+          m.clusters(),
+          m.costPerPixel(),
+          m.transportError,
+          aggregateError(errors),
+          partitionSeconds + seconds(start)};
+    log(concat(method, " ", setting, " g=", g, " tol=", tol, ": ", r.clusters,
+               " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
+               ", transport error ", r.transportError));
     rows.push_back(r);
     return m.clusters();
   };
@@ -72,7 +84,8 @@ void run(const SweepArgs& a) {
     const auto basisStart = Clock::now();
     const GlobalBasis basis = computeGlobalBasis(transport, {g, 16384, 1});
     const GlobalProjection projection = projectOntoBasis(transport, basis.basis);
-    log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", seconds(basisStart), " s)"));
+    log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", seconds(basisStart),
+               " s)"));
     for (double tol : a.tolerances) {
       for (bool mean : {false, true}) {
         ClusterInput in{&projection.coefficients, &transport.header().pixels,
@@ -84,11 +97,12 @@ void run(const SweepArgs& a) {
           evaluate("global", "N", g, tol, basis, projection, singleCluster(in), false, seconds(t));
           for (int b : {8, 16}) {
             t = Clock::now();
-            evaluate("block", concat("B=", b), g, tol, basis, projection, fixedBlocks(in, b), false, seconds(t));
+            evaluate("block", concat("B=", b), g, tol, basis, projection, fixedBlocks(in, b), false,
+                     seconds(t));
           }
           t = Clock::now();
-          evaluate("adaptive-quad", "greedy", g, tol, basis, projection, adaptiveQuadTree(in, {64, 2, false}),
-                   false, seconds(t));
+          evaluate("adaptive-quad", "greedy", g, tol, basis, projection,
+                   adaptiveQuadTree(in, {64, 2, false}), false, seconds(t));
           t = Clock::now();
           evaluate("adaptive-quad-exact", "bottom-up", g, tol, basis, projection,
                    adaptiveQuadTree(in, {64, 2, true}), false, seconds(t));
@@ -103,7 +117,8 @@ void run(const SweepArgs& a) {
             CpcaOptions o;
             o.clusters = k;
             t = Clock::now();
-            evaluate("cpca", concat("K=", k), g, tol, basis, projection, cpca(in, all, o), true, seconds(t));
+            evaluate("cpca", concat("K=", k), g, tol, basis, projection, cpca(in, all, o), true,
+                     seconds(t));
           }
         }
       }
@@ -118,16 +133,19 @@ void run(const SweepArgs& a) {
   std::filesystem::create_directories(a.out);
   {
     std::ofstream csv(std::filesystem::path(a.out) / "methods.csv");
-    csv << "method,setting,global_energy,tolerance,clusters,cost_per_pixel,image_error,transport_error,seconds\n";
+    csv << "method,setting,global_energy,tolerance,clusters,cost_per_pixel,image_error,transport_"
+           "error,seconds\n";
     for (const auto& r : rows)
-      csv << r.method << "," << r.setting << "," << r.globalEnergy << "," << r.tolerance << "," << r.clusters
-          << "," << r.costPerPixel << "," << r.imageError << "," << r.transportError << "," << r.seconds << "\n";
+      csv << r.method << "," << r.setting << "," << r.globalEnergy << "," << r.tolerance << ","
+          << r.clusters << "," << r.costPerPixel << "," << r.imageError << "," << r.transportError
+          << "," << r.seconds << "\n";
   }
   std::printf("\n%-26s %14s %14s\n", "method", "cost @ 1%", "cost @ 3%");
   std::map<std::string, std::pair<double, double>> atError;
   for (const auto& [method, points] : curves) {
     atError[method] = {costAtError(points, 0.01), costAtError(points, 0.03)};
-    std::printf("%-26s %14.1f %14.1f\n", method.c_str(), atError[method].first, atError[method].second);
+    std::printf("%-26s %14.1f %14.1f\n", method.c_str(), atError[method].first,
+                atError[method].second);
   }
   const auto ratio = [&](const std::string& a1, const std::string& b1, bool first) {
     const double x = first ? atError[a1].first : atError[a1].second;
@@ -136,23 +154,26 @@ void run(const SweepArgs& a) {
   };
   std::printf("\nratios at equal image error (negative or nan: target outside the sweep)\n");
   for (const char* adaptive : {"adaptive-quad", "adaptive-quad-exact", "adaptive-binary"})
-    std::printf("%-22s / global  : %.3f @1%%  %.3f @3%%\n", adaptive, ratio(adaptive, "global", true),
-                ratio(adaptive, "global", false));
+    std::printf("%-22s / global  : %.3f @1%%  %.3f @3%%\n", adaptive,
+                ratio(adaptive, "global", true), ratio(adaptive, "global", false));
   for (int k : a.cpcaClusters) {
     const std::string c = concat("cpca K=", k);
-    std::printf("%-22s / adaptive-binary: %.3f @1%%  %.3f @3%%\n", c.c_str(), ratio(c, "adaptive-binary", true),
-                ratio(c, "adaptive-binary", false));
+    std::printf("%-22s / adaptive-binary: %.3f @1%%  %.3f @3%%\n", c.c_str(),
+                ratio(c, "adaptive-binary", true), ratio(c, "adaptive-binary", false));
   }
   // adaptive-binary against CPCA with the same number of clusters, setting by setting.
   for (size_t i = 0; i < rows.size(); ++i)
     if (rows[i].method == "adaptive-binary")
       for (size_t j = i + 1; j < rows.size(); ++j)
         if (rows[j].method == "cpca" && rows[j].globalEnergy == rows[i].globalEnergy &&
-            rows[j].tolerance == rows[i].tolerance && rows[j].setting == concat("K=", rows[i].clusters))
-          std::printf("adaptive-binary / cpca K=%d (g=%g tol=%g): cost %.1f / %.1f = %.3f, image error %.4f vs %.4f\n",
-                      rows[i].clusters, rows[i].globalEnergy, rows[i].tolerance, rows[i].costPerPixel,
-                      rows[j].costPerPixel, rows[i].costPerPixel / rows[j].costPerPixel, rows[i].imageError,
-                      rows[j].imageError);
+            rows[j].tolerance == rows[i].tolerance &&
+            rows[j].setting == concat("K=", rows[i].clusters))
+          std::printf(
+              "adaptive-binary / cpca K=%d (g=%g tol=%g): cost %.1f / %.1f = %.3f, image error "
+              "%.4f vs %.4f\n",
+              rows[i].clusters, rows[i].globalEnergy, rows[i].tolerance, rows[i].costPerPixel,
+              rows[j].costPerPixel, rows[i].costPerPixel / rows[j].costPerPixel, rows[i].imageError,
+              rows[j].imageError);
   std::printf("\nall settings: %s\n", (std::filesystem::path(a.out) / "methods.csv").c_str());
 }
 
@@ -163,7 +184,8 @@ void registerMethodSweep(CLI::App& bench) {
   auto* sub = bench.add_subcommand("methods", "Cost of every method at equal image error");
   sub->add_option("input", args->input, "Transport file")->required();
   sub->add_option("--out", args->out, "Directory for methods.csv")->required();
-  sub->add_option("--global-energies", args->globalEnergies, "Global energies to sweep")->delimiter(',');
+  sub->add_option("--global-energies", args->globalEnergies, "Global energies to sweep")
+      ->delimiter(',');
   sub->add_option("--tolerances", args->tolerances, "Cluster tolerances to sweep")->delimiter(',');
   sub->add_option("--cpca-clusters", args->cpcaClusters, "CPCA cluster counts")->delimiter(',');
   sub->add_option("--env", args->envs, "Evaluation lightings (default: the evaluation set)");

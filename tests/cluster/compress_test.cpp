@@ -135,7 +135,8 @@ TEST(Compress, AnImageThatIsAllBackgroundGivesAnEmptyModel) {
   precomputeTransport(scene, dir.file("t.h5"), o);
   const TransportReader t(dir.file("t.h5"));
   ASSERT_EQ(t.rows(), 0);
-  for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad, Method::AdaptiveBinary}) {
+  for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad,
+                        Method::AdaptiveBinary}) {
     CompressOptions c;
     c.method = method;
     Model m = compressTransport(t, c);

@@ -20,8 +20,8 @@ TEST(Evaluation, CostAtErrorInterpolatesTheParetoFrontInLogLog) {
   std::vector<ErrorCostPoint> points{{0.001, 100000}, {0.01, 10000}, {0.1, 1000}, {0.02, 50000}};
   EXPECT_NEAR(costAtError(points, 0.01), 10000, 1e-6);
   EXPECT_NEAR(costAtError(points, 0.03), 100.0 / 0.03, 1e-6);  // on the line cost = 100 / error
-  EXPECT_LT(costAtError(points, 0.5), 0);     // beyond the sweep
-  EXPECT_LT(costAtError(points, 0.0001), 0);  // below the sweep
+  EXPECT_LT(costAtError(points, 0.5), 0);                      // beyond the sweep
+  EXPECT_LT(costAtError(points, 0.0001), 0);                   // below the sweep
 }
 
 }  // namespace
