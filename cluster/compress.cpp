@@ -91,8 +91,8 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
     }
   }
   log(concat(methodName(o.method), ": ", partition.size(), " clusters"));
-  Model model =
-      buildModel(transport.header(), basis, projection, partition, {o.tolerance, mean, o.coeffs});
+  Model model = buildModel(transport.header(), basis, projection, partition,
+                           {o.tolerance, mean, o.coeffs, o.allocateRanks});
   model.method = methodName(o.method);
   model.settings = nlohmann::json{{"method", model.method},
                                   {"tolerance", o.tolerance},
@@ -100,6 +100,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
                                   {"clusters", o.clusters},
                                   {"block", o.block},
                                   {"exact_quad_tree", o.exactQuadTree},
+                                  {"allocate_ranks", o.allocateRanks},
                                   {"coeffs", coeffPrecisionName(o.coeffs)},
                                   {"sample_rows", o.sampleRows},
                                   {"seed", o.seed},

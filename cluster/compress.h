@@ -18,6 +18,7 @@ struct CompressOptions {
   int clusters = 10;            ///< cpca; initial clusters of adaptive-binary
   int block = 8;                ///< block: block side; adaptive-quad: root block side (default 64)
   bool exactQuadTree = false;   ///< adaptive-quad: bottom-up optimum instead of greedy
+  bool allocateRanks = false;   ///< one error budget across clusters instead of per cluster
   CoeffPrecision coeffs = CoeffPrecision::F32;
   int sampleRows = 16384;
   std::uint64_t seed = 1;

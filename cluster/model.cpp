@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <queue>
 
 #include "cluster/cost_model.h"
 #include "cluster/pca.h"
@@ -78,9 +79,30 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
     Eigen::MatrixXd rows(partition[c].size(), n);
     for (size_t i = 0; i < partition[c].size(); ++i)
       rows.row(i) = projection.coefficients.row(partition[c][i]).cast<double>();
-    fits[c].pca = pcaToTolerance(rows, options.tolerance, options.mean, true);
+    fits[c].pca =
+        pcaToTolerance(rows, options.allocateRanks ? 1.0 : options.tolerance, options.mean, true);
     fits[c].coefficients = ((rows.rowwise() - fits[c].pca.mean) * fits[c].pca.basis).cast<float>();
   });
+  if (options.allocateRanks) {
+    std::vector<Eigen::VectorXd> spectra;
+    std::vector<long long> sizes;
+    double energy = 0;
+    for (const auto& f : fits) {
+      spectra.push_back(f.pca.eigenvalues);
+      sizes.push_back(f.coefficients.rows());
+      energy += f.pca.totalEnergy;
+    }
+    const std::vector<int> ranks =
+        allocateRanks(spectra, sizes, n, (1 - options.tolerance) * energy);
+    for (int c = 0; c < clusters; ++c) {  // keep the leading ranks[c] bases
+      Fit& f = fits[c];
+      const int r = std::min(ranks[c], f.pca.rank);
+      f.pca.residualEnergy = std::max(0.0, f.pca.totalEnergy - f.pca.eigenvalues.head(r).sum());
+      f.pca.rank = r;
+      f.pca.basis = f.pca.basis.leftCols(r).eval();
+      f.coefficients = f.coefficients.leftCols(r).eval();
+    }
+  }
 
   m.rowOffsets.push_back(0);
   m.basisOffsets.push_back(0);
@@ -136,9 +158,33 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   return m;
 }
 
-namespace {
+std::vector<int> allocateRanks(const std::vector<Eigen::VectorXd>& spectra,
+                               const std::vector<long long>& clusterSizes, int globalBases,
+                               double budget) {
+  const size_t c = spectra.size();
+  std::vector<int> ranks(c, 0);
+  double dropped = 0;
+  for (const auto& s : spectra) dropped += s.sum();
+  // Max-heap on the value of each cluster's next basis; ties broken by index
+  // so the result is deterministic.
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry> next;
+  const auto push = [&](int i) {
+    if (ranks[i] < spectra[i].size() && spectra[i][ranks[i]] > 0)
+      next.push({spectra[i][ranks[i]] / (double(clusterSizes[i]) + globalBases), -i});
+  };
+  for (size_t i = 0; i < c; ++i) push(static_cast<int>(i));
+  while (dropped > budget && !next.empty()) {
+    const int i = -next.top().second;
+    next.pop();
+    dropped -= spectra[i][ranks[i]];
+    ++ranks[i];
+    push(i);
+  }
+  return ranks;
+}
 
-constexpr const char* kCtx = "model";
+namespace {
 
 template <typename T>
 void writeVector(hid_t f, const std::string& name, const std::vector<T>& v, hid_t type,

@@ -67,7 +67,18 @@ struct ModelOptions {
   double tolerance = 0.999;
   bool mean = false;
   CoeffPrecision precision = CoeffPrecision::F32;
+  /// Instead of each cluster keeping `tolerance` of its own energy, spend one
+  /// error budget, (1 - tolerance) of all clusters' energy, where each basis
+  /// removes the most error per unit of cost (beyond the paper).
+  bool allocateRanks = false;
 };
+
+/// Ranks for an error budget: starting from none, repeatedly add to the cluster
+/// whose next eigenvalue per unit cost, lambda / (p + N), is largest, until the
+/// dropped energy is at most `budget`. Spectra must be descending.
+std::vector<int> allocateRanks(const std::vector<Eigen::VectorXd>& spectra,
+                               const std::vector<long long>& clusterSizes, int globalBases,
+                               double budget);
 
 /// Fits each cluster of the partition (PCA to the tolerance, on G) and stores
 /// its coefficients. Sets transportError from the global residual, the

@@ -16,7 +16,7 @@ struct CompressArgs {
   double tolerance = 0.999, globalEnergy = 0.999;
   int clusters = 10, block = 0, sampleRows = 16384;
   unsigned long long seed = 1;
-  bool exactQuadTree = false;
+  bool exactQuadTree = false, allocateRanks = false;
 };
 
 nlohmann::json histogram(const Model& m) {
@@ -35,6 +35,7 @@ void run(const CompressArgs& a) {
   o.clusters = a.clusters;
   o.block = a.block > 0 ? a.block : (o.method == Method::AdaptiveQuad ? 64 : 8);
   o.exactQuadTree = a.exactQuadTree;
+  o.allocateRanks = a.allocateRanks;
   o.coeffs = parseCoeffPrecision(a.coeffs);
   o.sampleRows = a.sampleRows;
   o.seed = a.seed;
@@ -82,6 +83,8 @@ void registerCompress(CLI::App& app) {
   sub->add_option("--block", args->block, "block: side (default 8); adaptive-quad: root side (64)");
   sub->add_flag("--exact-tree", args->exactQuadTree,
                 "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
+  sub->add_flag("--allocate-ranks", args->allocateRanks,
+                "Spend one error budget, (1 - tolerance) of all energy, where it buys the most");
   sub->add_option("--coeffs", args->coeffs, "Coefficient storage: f32, f16 or i8");
   sub->add_option("--sample-rows", args->sampleRows, "Rows sampled for the global basis");
   sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");

@@ -57,10 +57,10 @@ void run(const SweepArgs& a) {
   const auto evaluate = [&](const std::string& method, const std::string& setting, double g,
                             double tol, const GlobalBasis& basis,
                             const GlobalProjection& projection, const Partition& partition,
-                            bool mean, double partitionSeconds) {
+                            bool mean, double partitionSeconds, bool allocate = false) {
     const auto start = Clock::now();
     Model m = buildModel(transport.header(), basis, projection, partition,
-                         {tol, mean, CoeffPrecision::F32});
+                         {tol, mean, CoeffPrecision::F32, allocate});
     const auto relit = relightModelReference(m, lightings);
     std::vector<double> errors;
     for (size_t k = 0; k < lightings.size(); ++k) errors.push_back(relativeL2(relit[k], truth[k]));
@@ -153,7 +153,8 @@ void run(const SweepArgs& a) {
     return (x > 0 && y > 0) ? x / y : NAN;
   };
   std::printf("\nratios at equal image error (negative or nan: target outside the sweep)\n");
-  for (const char* adaptive : {"adaptive-quad", "adaptive-quad-exact", "adaptive-binary"})
+  for (const char* adaptive :
+       {"adaptive-quad", "adaptive-quad-exact", "adaptive-quad+alloc", "adaptive-binary"})
     std::printf("%-22s / global  : %.3f @1%%  %.3f @3%%\n", adaptive,
                 ratio(adaptive, "global", true), ratio(adaptive, "global", false));
   for (int k : a.cpcaClusters) {

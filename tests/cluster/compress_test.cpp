@@ -148,6 +148,19 @@ TEST(Compress, AnImageThatIsAllBackgroundGivesAnEmptyModel) {
   }
 }
 
+TEST(RankAllocation, SpendsTheBudgetWhereItBuysTheMost) {
+  const std::vector<Eigen::VectorXd> spectra{Eigen::Vector2d(10, 1), Eigen::Vector2d(5, 4)};
+  const std::vector<long long> sizes{10, 10};
+  // Per unit cost: 1.0, 0.1 and 0.5, 0.4: take 10, then 5, then 4.
+  EXPECT_EQ(allocateRanks(spectra, sizes, 0, 20), (std::vector<int>{0, 0}));
+  EXPECT_EQ(allocateRanks(spectra, sizes, 0, 6), (std::vector<int>{1, 1}));
+  EXPECT_EQ(allocateRanks(spectra, sizes, 0, 1.5), (std::vector<int>{1, 2}));
+  EXPECT_EQ(allocateRanks(spectra, sizes, 0, 0), (std::vector<int>{2, 2}));
+  // A large cluster pays more per basis: the small one gets the basis first.
+  EXPECT_EQ(allocateRanks({Eigen::Vector2d(6, 0), Eigen::Vector2d(5, 0)}, {100, 1}, 0, 6),
+            (std::vector<int>{0, 1}));
+}
+
 class CompressPlant : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -217,6 +230,24 @@ TEST_F(CompressPlant, ErrorFallsAsTheToleranceTightensAndQuantizationStaysBounde
   EXPECT_LT(f16.transportError, f32.transportError * 1.001 + 1e-6);
   EXPECT_LT(i8.transportError, f32.transportError + 0.05);
   EXPECT_GE(i8.transportError, f32.transportError - 1e-12);
+}
+
+TEST_F(CompressPlant, RankAllocationHonoursTheOverallBudget) {
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveQuad;
+  o.block = 16;
+  o.tolerance = 0.99;
+  const Model perCluster = compressTransport(t, o);
+  o.allocateRanks = true;
+  const Model allocated = compressTransport(t, o);
+  // Global residual (1 - kept) plus at most 1% of the clusters' energy, which is
+  // at most 1% of the whole.
+  const double bound =
+      std::sqrt((1 - allocated.globalEnergyKept) + 0.01 * allocated.globalEnergyKept);
+  EXPECT_LE(allocated.transportError, bound * (1 + 1e-9));
+  EXPECT_LE(perCluster.transportError, bound * (1 + 1e-9));
+  EXPECT_GT(allocated.totalCost(), 0);
 }
 
 TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
