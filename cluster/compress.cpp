@@ -51,7 +51,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
              " seen directions, ", basis.sampleEnergyKept, " of the sample's energy (",
              basis.heldOutEnergyKept, " on held-out rows)"));
-  const GlobalProjection projection = projectOntoBasis(transport, basis.basis);
+  const GlobalProjection projection = projectOntoBasis(transport, basis);
   log("projected every row onto the global basis");
 
   // CPCA-based methods keep a mean per cluster, as Sloan's CPCA does.

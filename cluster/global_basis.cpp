@@ -92,6 +92,7 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
   for (int j = 0; j < l; ++j)
     if (seen[j]) active.push_back(j);
   result.activeDirections = static_cast<int>(active.size());
+  result.active = active;
   result.sampledRows = static_cast<int>(sample.size());
   if (active.empty()) return result;
   Eigen::MatrixXd compact(rows.rows(), active.size());
@@ -112,9 +113,15 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
   return result;
 }
 
-GlobalProjection projectOntoBasis(const TransportReader& transport, const Eigen::MatrixXf& basis) {
+GlobalProjection projectOntoBasis(const TransportReader& transport,
+                                  const GlobalBasis& globalBasis) {
   const int l = transport.latticeSize();
-  ACPCA_CHECK(basis.rows() == l, "basis has ", basis.rows(), " rows for ", l, " directions");
+  ACPCA_CHECK(globalBasis.basis.rows() == l, "basis has ", globalBasis.basis.rows(), " rows for ",
+              l, " directions");
+  const std::vector<int>& active = globalBasis.active;
+  const int a = static_cast<int>(active.size());
+  Eigen::MatrixXf basis(a, globalBasis.globalBases());
+  for (int k = 0; k < a; ++k) basis.row(k) = globalBasis.basis.row(active[k]);
   const long long total = transport.rows();
   GlobalProjection g;
   g.coefficients.resize(total, basis.cols());
@@ -122,7 +129,9 @@ GlobalProjection projectOntoBasis(const TransportReader& transport, const Eigen:
   g.residualEnergy.resize(total);
   streamRowBlocks(transport, rowsPerBlock(transport),
                   [&](long long first, long long count, const float* block) {
-                    const Eigen::Map<const RowMatrixF> t(block, count, l);
+                    RowMatrixF t(count, a);  // the seen directions of the block's rows
+                    for (long long r = 0; r < count; ++r)
+                      for (int k = 0; k < a; ++k) t(r, k) = block[r * l + active[k]];
                     auto coefficients = g.coefficients.middleRows(first, count);
                     coefficients.noalias() = t * basis;
                     // The residual t - V_g V_g^T t itself, not |t|^2 - |g|^2: that difference

@@ -4,6 +4,7 @@
 // onto it, G = T V_g, streamed from the file (the whole T never sits in memory).
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "precompute/transport/transport_file.h"
 
@@ -20,6 +21,7 @@ struct GlobalBasisOptions {
 struct GlobalBasis {
   Eigen::MatrixXf basis;     ///< l x N, orthonormal columns; zero on unseen directions
   int activeDirections = 0;  ///< lattice directions some pixel sees (non-zero columns)
+  std::vector<int> active;   ///< their indices, increasing
   int sampledRows = 0;
   double sampleEnergyKept = 0;   ///< fraction of the sample's energy in the basis
   double heldOutEnergyKept = 0;  ///< the same on an independent sample of rows
@@ -37,6 +39,7 @@ struct GlobalProjection {
 };
 
 /// G = T V_g for every row, with per-row energies (parallel, deterministic).
-GlobalProjection projectOntoBasis(const TransportReader& transport, const Eigen::MatrixXf& basis);
+/// Only the seen directions enter the products: the others are zero in every row.
+GlobalProjection projectOntoBasis(const TransportReader& transport, const GlobalBasis& basis);
 
 }  // namespace acpca

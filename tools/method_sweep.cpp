@@ -83,7 +83,7 @@ void run(const SweepArgs& a) {
   for (double g : a.globalEnergies) {
     const auto basisStart = Clock::now();
     const GlobalBasis basis = computeGlobalBasis(transport, {g, 16384, 1});
-    const GlobalProjection projection = projectOntoBasis(transport, basis.basis);
+    const GlobalProjection projection = projectOntoBasis(transport, basis);
     log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", seconds(basisStart),
                " s)"));
     for (double tol : a.tolerances) {
