@@ -46,9 +46,8 @@ std::vector<std::string> split(const std::string& text, char separator) {
 }  // namespace
 
 std::string EnvRotation::label() const {
-  std::string s = "y" + formatAngle(yaw);
-  if (pitch != 0 || roll != 0) s += "_p" + formatAngle(pitch) + "_r" + formatAngle(roll);
-  return s;
+  if (pitch == 0 && roll == 0) return concat("y", formatAngle(yaw));
+  return concat("y", formatAngle(yaw), "_p", formatAngle(pitch), "_r", formatAngle(roll));
 }
 
 Eigen::Matrix3d rotationMatrix(const EnvRotation& r) {
