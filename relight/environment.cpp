@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "precompute/transport/error.h"
+#include "relight/spec_parsing.h"
 
 namespace acpca {
 
@@ -42,18 +43,8 @@ std::vector<double> parseNumbers(const std::string& list, const std::string& spe
   std::vector<double> values;
   std::stringstream in(list);
   std::string part;
-  while (std::getline(in, part, ',')) {
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != part.size() || !std::isfinite(v))
-      throw UserError(concat("--env '", spec, "': '", part, "' is not a finite number"));
-    values.push_back(v);
-  }
+  while (std::getline(in, part, ','))
+    values.push_back(parseFiniteNumber(part, concat("--env '", spec, "'")));
   return values;
 }
 

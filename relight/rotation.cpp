@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "precompute/transport/error.h"
+#include "relight/spec_parsing.h"
 
 namespace acpca {
 
@@ -22,16 +23,7 @@ std::string formatAngle(double degrees) {
 }
 
 double parseNumber(const std::string& text, const std::string& spec) {
-  size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(value))
-    throw UserError(concat("--rotate '", spec, "': '", text, "' is not a number"));
-  return value;
+  return parseFiniteNumber(text, concat("--rotate '", spec, "'"));
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {

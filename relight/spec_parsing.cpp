@@ -1,0 +1,22 @@
+#include "relight/spec_parsing.h"
+
+#include <cmath>
+
+#include "precompute/transport/error.h"
+
+namespace acpca {
+
+double parseFiniteNumber(const std::string& text, const std::string& context) {
+  size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw UserError(concat(context, ": '", text, "' is not a finite number"));
+  return value;
+}
+
+}  // namespace acpca
