@@ -276,6 +276,21 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
   return stats;
 }
 
+/// Everything a transport pass over a scene needs, built once inside the arena.
+struct TransportPass {
+  TransportPass(const Scene& scene, const PrecomputeOptions& options)
+      : lattice(options.cubemapResolution),
+        embree(scene),
+        gbuffer(renderGBuffer(embree, scene.camera, options.samplesPerPixel)),
+        dirs(makeTexelDirections(lattice, options.texelRays)),
+        renderer(embree, gbuffer, dirs, lattice) {}
+  const CubeLattice lattice;
+  const EmbreeScene embree;
+  const GBuffer gbuffer;
+  const TexelDirections dirs;
+  const BandRenderer renderer;
+};
+
 }  // namespace
 
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
@@ -285,9 +300,10 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);
   return arena.execute([&] {
-    const CubeLattice lattice(options.cubemapResolution);
-    const EmbreeScene embree(scene);
-    const GBuffer gbuffer = renderGBuffer(embree, scene.camera, options.samplesPerPixel);
+    const TransportPass pass(scene, options);
+    const CubeLattice& lattice = pass.lattice;
+    const EmbreeScene& embree = pass.embree;
+    const GBuffer& gbuffer = pass.gbuffer;
 
     // Per-pixel data of the occupied pixels, in row-major order.
     TransportHeader header;
@@ -318,8 +334,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
       }
 
     TransportWriter writer(outPath, header);
-    const TexelDirections dirs = makeTexelDirections(lattice, options.texelRays);
-    const BandRenderer renderer(embree, gbuffer, dirs, lattice);
+    const BandRenderer& renderer = pass.renderer;
     long long written = 0;
     const int bands = (size.height + kBandRows - 1) / kBandRows;
     PrecomputeStats stats =
@@ -344,11 +359,9 @@ PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOption
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);
   return arena.execute([&] {
-    const CubeLattice lattice(options.cubemapResolution);
-    const EmbreeScene embree(scene);
-    const GBuffer gbuffer = renderGBuffer(embree, scene.camera, options.samplesPerPixel);
-    const TexelDirections dirs = makeTexelDirections(lattice, options.texelRays);
-    const BandRenderer renderer(embree, gbuffer, dirs, lattice);
+    const TransportPass pass(scene, options);
+    const CubeLattice& lattice = pass.lattice;
+    const BandRenderer& renderer = pass.renderer;
     // The middle rows of the image, where the scene's detail usually is (the same
     // rows as the raw loops of ray_benchmark.cpp trace).
     const int bands = (scene.camera.size.height + kBandRows - 1) / kBandRows;
