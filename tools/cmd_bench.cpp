@@ -8,6 +8,7 @@
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "tools/method_sweep.h"
+#include "tools/relight_benchmark.h"
 
 namespace acpca::cli {
 
@@ -67,6 +68,7 @@ void registerBench(CLI::App& app) {
   args->common.add(*rays);
   rays->callback([args] { runRays(*args); });
   registerMethodSweep(*bench);
+  registerRelightBenchmark(*bench);
 }
 
 }  // namespace acpca::cli

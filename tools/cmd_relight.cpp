@@ -1,6 +1,7 @@
 // `adaptive-cpca relight`: transport (dense ground truth) + lightings -> images.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,6 +12,8 @@
 #include "relight/dense_relight.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/model_relighter.h"
+#include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -23,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 struct RelightArgs {
   CommonOptions common;
-  std::string input, out, format, background = "env";
+  std::string input, out, format, background = "env", maxRank;
   std::vector<std::string> envs, rotations;
   double exposure = 0;
   int frames = 0;
@@ -92,33 +95,80 @@ std::string csvField(const std::string& s) {
   return quoted + "\"";
 }
 
+/// Applies --max-rank: an integer K keeps each cluster's first K bases; a
+/// fraction in (0, 1) or a percentage ("50%") keeps that share of each.
+void applyMaxRank(const std::string& text, ModelRelighter& relighter) {
+  if (text.empty()) return;
+  const std::string what = concat("--max-rank '", text, "'");
+  const bool percent = text.back() == '%';
+  const double value = parseFiniteNumber(percent ? text.substr(0, text.size() - 1) : text, what);
+  if (percent) {
+    if (value < 0 || value > 100) throw UserError(concat(what, ": a percentage is 0..100"));
+    relighter.setRankFraction(value / 100);
+  } else if (value == std::floor(value)) {
+    if (value < 0) throw UserError(concat(what, ": a rank is >= 0"));
+    relighter.setMaxRank(static_cast<int>(std::min(value, 1e9)));
+  } else {
+    if (value < 0 || value > 1) throw UserError(concat(what, ": a fraction is in (0, 1)"));
+    relighter.setRankFraction(value);
+  }
+}
+
 /// What is relit: a transport file (dense ground truth) or a model.
 struct RelightSource {
   TransportHeader header;
   std::string method;
-  long long bytesPerPass = 0;  ///< bytes of transport or model read per pass
-  std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&)> relight;
+  /// Bytes of model read per frame; for a transport, per pass over T (a pass
+  /// relights a whole group of frames).
+  long long bytesPerPass = 0;
+  bool dense = false;
+  /// Relights the group; ms[k] is the time spent on frame k.
+  std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
+                                                std::vector<double>& ms)>
+      relight;
 };
 
-RelightSource openSource(const std::string& path) {
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+RelightSource openSource(const std::string& path, const std::string& maxRank) {
   RelightSource s;
   if (isModelFile(path)) {
-    auto model = std::make_shared<Model>(readModel(path));
-    s.header = model->geometry;
-    s.method = model->method;
-    s.bytesPerPass = model->frameBytes();
-    s.relight = [model](const std::vector<LatticeLighting>& l) {
-      return relightModelReference(*model, l);
+    std::shared_ptr<ModelRelighter> relighter;
+    {
+      const Model model = readModel(path);
+      s.method = model.method;
+      relighter = std::make_shared<ModelRelighter>(model);
+    }  // the relighter keeps its own packed copy
+    applyMaxRank(maxRank, *relighter);
+    s.header = relighter->geometry();
+    s.bytesPerPass = relighter->bytesPerFrame();
+    s.relight = [relighter](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
+      std::vector<std::vector<float>> out;
+      ms.clear();
+      for (const auto& lighting : l) {
+        const auto start = Clock::now();
+        out.push_back(relighter->relight(lighting));
+        ms.push_back(millisecondsSince(start));
+      }
+      return out;
     };
     return s;
   }
+  if (!maxRank.empty())
+    throw UserError(concat("--max-rank: '", path, "' is a transport file, which has no ranks"));
   auto transport = std::make_shared<TransportReader>(path);
   s.header = transport->header();
   s.method = "dense";
+  s.dense = true;
   s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
                    (transport->header().precision == Precision::F16 ? 2 : 4);
-  s.relight = [transport](const std::vector<LatticeLighting>& l) {
-    return denseRelight(*transport, l);
+  s.relight = [transport](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
+    const auto start = Clock::now();
+    auto out = denseRelight(*transport, l);
+    ms.assign(l.size(), millisecondsSince(start) / std::max<size_t>(1, l.size()));
+    return out;
   };
   return s;
 }
@@ -140,7 +190,7 @@ void run(const RelightArgs& a) {
   const RotationMode mode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
 
   ThreadLimit limit(a.common.threads);
-  const RelightSource source = openSource(a.input);
+  const RelightSource source = openSource(a.input, a.maxRank);
   const CubeLattice lattice(source.header.cubemapResolution);
   if (batch) {
     std::error_code ec;
@@ -182,13 +232,21 @@ void run(const RelightArgs& a) {
     for (size_t k = 0; k < count; ++k)
       lightings.push_back(
           computeLighting(*frames[g + k].input->env, lattice, frames[g + k].rotation, mode));
-    std::vector<std::vector<float>> results;
-    const int repeats = std::max(1, a.frames);
-    for (int rep = 0; rep < repeats; ++rep) {
-      const auto start = Clock::now();
-      results = source.relight(lightings);
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-      msPerFrame.push_back(ms / count);
+    // Timing mode: one untimed warm-up, then --frames timed repeats.
+    std::vector<double> ms;
+    std::vector<std::vector<float>> results = source.relight(lightings, ms);
+    std::vector<double> frameMs = ms;
+    if (a.frames > 0) {
+      frameMs.assign(count, 0.0);
+      std::vector<std::vector<double>> repeats(count);
+      for (int rep = 0; rep < a.frames; ++rep) {
+        results = source.relight(lightings, ms);
+        for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
+        msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+      }
+      for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
+    } else {
+      msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
     }
     for (size_t k = 0; k < count; ++k) {
       const Frame& f = frames[g + k];
@@ -204,7 +262,7 @@ void run(const RelightArgs& a) {
         writeImage(image, path.string(), format, a.exposure, a.exrFloat);
         paths.push_back(path.string());
       }
-      const double ms = msPerFrame.back();
+      const double ms = frameMs[k];
       std::string joined;
       for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
       manifest.push_back(concat(csvField(a.input), ",", csvField(f.input->spec), ",",
@@ -235,29 +293,32 @@ void run(const RelightArgs& a) {
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
   const double med = median(msPerFrame);
-  // Dense passes share one read of T among the frames of a group; the model's
-  // reference relight reads the model once per frame.
+  const auto [lowest, highest] = std::minmax_element(msPerFrame.begin(), msPerFrame.end());
+  const double fastest = msPerFrame.empty() ? 0 : *lowest,
+               slowest = msPerFrame.empty() ? 0 : *highest;
+  // Dense passes share one read of T among the frames of a group; the model is
+  // read once per frame.
   const double bytesPerFrame = frames.empty() ? 0
-                               : source.method == "dense"
+                               : source.dense
                                    ? double(source.bytesPerPass) / std::min(kGroup, frames.size())
                                    : double(source.bytesPerPass);
+  const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
   if (!a.common.quiet)
     std::cerr << "relit " << frames.size() << " frame(s) from " << a.input << " (" << source.method
-              << "): median " << med << " ms/frame (" << formatBytes(bytesPerFrame)
-              << " read per frame)\n";
-  nlohmann::json report = {
-      {"input", a.input},
-      {"method", "dense"},
-      {"frames", frames.size()},
-      {"ms_per_frame_median", med},
-      {"ms_per_frame_min",
-       msPerFrame.empty() ? 0 : *std::min_element(msPerFrame.begin(), msPerFrame.end())},
-      {"ms_per_frame_max",
-       msPerFrame.empty() ? 0 : *std::max_element(msPerFrame.begin(), msPerFrame.end())},
-      {"bytes_per_frame", bytesPerFrame},
-      {"gb_per_s", med > 0 ? bytesPerFrame / (med * 1e6) : 0},
-      {"outputs", outputs},
-      {"failed", failed}};
+              << "): " << msPerFrame.size() << " timed, median " << med << " ms/frame (min "
+              << fastest << ", max " << slowest << "), " << formatBytes(bytesPerFrame)
+              << " read per frame, " << gbPerSecond << " GB/s\n";
+  nlohmann::json report = {{"input", a.input},
+                           {"method", source.method},
+                           {"frames", frames.size()},
+                           {"timed_frames", msPerFrame.size()},
+                           {"ms_per_frame_median", med},
+                           {"ms_per_frame_min", fastest},
+                           {"ms_per_frame_max", slowest},
+                           {"bytes_per_frame", bytesPerFrame},
+                           {"gb_per_s", gbPerSecond},
+                           {"outputs", outputs},
+                           {"failed", failed}};
   writeJson(a.common.jsonPath, report);
   if (!failed.empty()) {
     std::string list;
@@ -284,7 +345,10 @@ void registerRelight(CLI::App& app) {
   sub->add_option("--exposure", args->exposure, "Exposure in stops applied to the outputs");
   sub->add_option("--format", args->format, "exr, png or both (default: from --out, exr in batch)");
   sub->add_option("--background", args->background, "env, black or alpha");
-  sub->add_option("--frames", args->frames, "Repeat the relight K times and report ms/frame");
+  sub->add_option("--frames", args->frames,
+                  "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
+  sub->add_option("--max-rank", args->maxRank,
+                  "Models: use each cluster's first K bases, or a fraction (0.5 or 50%)");
   sub->add_flag("--fast-rotation", args->fastRotation,
                 "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
   sub->add_flag("--exr-float", args->exrFloat, "Write 32-bit float EXR instead of half");

@@ -1,0 +1,233 @@
+#include "relight/model_relighter.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "precompute/transport/error.h"
+#include "relight/relight_kernels.h"
+
+namespace acpca {
+
+using kernels::kChunkRows;
+
+namespace {
+
+/// Copies cluster c's row-major p x n coefficients into k-major chunks of 16
+/// rows (padding lanes stay zero).
+template <typename T>
+void packCluster(const T* rowMajor, long long rows, int rank, T* chunks) {
+  for (long long r = 0; r < rows; ++r)
+    for (int k = 0; k < rank; ++k)
+      chunks[(r / kChunkRows) * rank * kChunkRows + k * kChunkRows + r % kChunkRows] =
+          rowMajor[r * rank + k];
+}
+
+template <typename T>
+std::vector<T> packCoefficients(const Model& m, const std::vector<T>& source,
+                                const std::vector<long long>& chunkedOffsets) {
+  std::vector<T> packed(chunkedOffsets.back(), T(0));
+  tbb::parallel_for(0, m.clusters(), [&](int c) {
+    packCluster(source.data() + m.coefficientOffsets[c], m.rowOffsets[c + 1] - m.rowOffsets[c],
+                m.ranks[c], packed.data() + chunkedOffsets[c]);
+  });
+  return packed;
+}
+
+}  // namespace
+
+ModelRelighter::ModelRelighter(const Model& m)
+    : geometry_(m.geometry),
+      precision_(m.precision),
+      globalBases_(m.globalBases()),
+      hasMean_(m.hasMean),
+      bases_(m.bases),
+      ranks_(m.ranks),
+      scale_(m.coeffScale) {
+  const int n = globalBases_;
+  const long long l = m.globalBasis.rows();
+  // Directions no pixel sees have zero rows in V_g: leave them out.
+  for (long long j = 0; j < l; ++j)
+    if (n > 0 && m.globalBasis.row(j).cwiseAbs().maxCoeff() > 0)
+      seenTexels_.push_back(static_cast<int>(j));
+  const long long seen = static_cast<long long>(seenTexels_.size());
+  globalBasis_.resize(seen * n);
+  for (int k = 0; k < n; ++k)
+    for (long long i = 0; i < seen; ++i)
+      globalBasis_[k * seen + i] = m.globalBasis(seenTexels_[i], k);
+  if (hasMean_) means_ = m.means;
+  basisOffset_.assign(m.basisOffsets.begin(), m.basisOffsets.end() - 1);
+  if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
+
+  // Chunks: each cluster's rows in groups of 16, coefficients k-major within.
+  const int clusters = m.clusters();
+  std::vector<long long> chunkedOffsets{0};
+  lightingOffset_.push_back(0);
+  for (int c = 0; c < clusters; ++c) {
+    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    const long long chunkCount = (p + kChunkRows - 1) / kChunkRows;
+    for (long long j = 0; j < chunkCount; ++j) {
+      chunks_.push_back({c, chunkedOffsets.back() + j * ranks_[c] * kChunkRows});
+      for (int lane = 0; lane < kChunkRows; ++lane) {
+        const long long r = j * kChunkRows + lane;
+        const int row = r < p ? m.clusterRows[m.rowOffsets[c] + r] : -1;
+        chunkRows_.push_back(row);
+      }
+    }
+    chunkedOffsets.push_back(chunkedOffsets.back() + chunkCount * ranks_[c] * kChunkRows);
+    lightingOffset_.push_back(lightingOffset_.back() + ranks_[c]);
+  }
+  const long long totalRank = lightingOffset_.back();
+  lightingOffset_.pop_back();
+  chunkAlbedo_.assign(chunks_.size() * 3 * kChunkRows, 0.0f);
+  for (size_t j = 0; j < chunks_.size(); ++j)
+    for (int lane = 0; lane < kChunkRows; ++lane)
+      if (const int row = chunkRows_[j * kChunkRows + lane]; row >= 0)
+        for (int c = 0; c < 3; ++c)
+          chunkAlbedo_[(j * 3 + c) * kChunkRows + lane] = m.geometry.albedo[3 * row + c];
+  switch (precision_) {
+    case CoeffPrecision::F32:
+      coeffF32_ = packCoefficients(m, m.coeffF32, chunkedOffsets);
+      break;
+    case CoeffPrecision::F16:
+      coeffF16_ = packCoefficients(m, m.coeffF16, chunkedOffsets);
+      break;
+    case CoeffPrecision::I8:
+      coeffI8_ = packCoefficients(m, m.coeffI8, chunkedOffsets);
+      break;
+  }
+
+  light_.assign(3 * seen, 0.0f);
+  globalLighting_.assign(3 * static_cast<size_t>(n), 0.0f);
+  clusterLighting_.assign(3 * totalRank, 0.0f);
+  meanTerm_.assign(3 * static_cast<size_t>(clusters), 0.0f);
+  activeRanks_ = ranks_;
+}
+
+void ModelRelighter::setMaxRank(int k) {
+  std::vector<int> active = ranks_;
+  if (k >= 0)
+    for (int& r : active) r = std::min(r, k);
+  activeRanks_ = std::move(active);
+}
+
+void ModelRelighter::setRankFraction(double fraction) {
+  if (!(fraction >= 0 && fraction <= 1))
+    throw UserError(concat("rank fraction ", fraction, " is not in [0, 1]"));
+  std::vector<int> active = ranks_;
+  for (int& r : active) r = std::min(r, static_cast<int>(std::ceil(fraction * r - 1e-9)));
+  activeRanks_ = std::move(active);
+}
+
+long long ModelRelighter::bytesPerFrame() const {
+  const long long elementBytes = precision_ == CoeffPrecision::F32   ? 4
+                                 : precision_ == CoeffPrecision::F16 ? 2
+                                                                     : 1;
+  long long bytes = static_cast<long long>(globalBasis_.size()) * 4;
+  for (size_t c = 0; c < activeRanks_.size(); ++c)
+    bytes += (activeRanks_[c] + (hasMean_ ? 1 : 0)) * static_cast<long long>(globalBases_) * 4;
+  for (const Chunk& chunk : chunks_)
+    bytes += activeRanks_[chunk.cluster] * kChunkRows * elementBytes;
+  // Row indices and albedo of every chunk.
+  bytes += static_cast<long long>(chunks_.size()) * kChunkRows * (4 + 12);
+  return bytes;
+}
+
+double ModelRelighter::costPerPixel() const {
+  double cost = static_cast<double>(globalBasis_.size());  // V_g^T L
+  std::vector<long long> rowsOf(activeRanks_.size(), 0);
+  for (const Chunk& chunk : chunks_) rowsOf[chunk.cluster] += kChunkRows;
+  for (size_t c = 0; c < activeRanks_.size(); ++c)
+    cost += (activeRanks_[c] + (hasMean_ ? 1 : 0)) * double(globalBases_) +
+            activeRanks_[c] * double(std::min<long long>(rowsOf[c], rows()));
+  return rows() ? cost / rows() : 0;
+}
+
+template <typename T>
+void ModelRelighter::shadeChunks(const std::vector<T>& coefficients, float* rgb) const {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_.size(), 32),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      float shaded[3][kChunkRows];
+                      for (size_t j = range.begin(); j != range.end(); ++j) {
+                        const Chunk& chunk = chunks_[j];
+                        const int c = chunk.cluster;
+                        kernels::shadeChunk(coefficients.data() + chunk.coefficientOffset,
+                                            clusterLighting_.data() + 3 * lightingOffset_[c],
+                                            activeRanks_[c], meanTerm_.data() + 3 * c, shaded);
+                        const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
+                        const float* albedo = chunkAlbedo_.data() + j * 3 * kChunkRows;
+                        for (int lane = 0; lane < kChunkRows; ++lane) {
+                          if (rows[lane] < 0) continue;
+                          for (int ch = 0; ch < 3; ++ch)
+                            rgb[3 * rows[lane] + ch] =
+                                albedo[ch * kChunkRows + lane] * shaded[ch][lane];
+                        }
+                      }
+                    });
+}
+
+void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
+  const long long l = 6LL * geometry_.cubemapResolution * geometry_.cubemapResolution;
+  ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3 * l, "lighting has ", lighting.size(),
+              " values for a lattice of ", l);
+  const int n = globalBases_;
+  const int seen = static_cast<int>(seenTexels_.size());
+  for (int i = 0; i < seen; ++i)
+    for (int c = 0; c < 3; ++c)
+      light_[c * seen + i] = static_cast<float>(lighting[3 * seenTexels_[i] + c]);
+
+  // Phase 1: L_g = V_g^T L (as n x 3 interleaved, then split by channel).
+  const float* light[3] = {light_.data(), light_.data() + seen, light_.data() + 2 * seen};
+  // Fixed blocks of 16 columns, so each column's summation order never
+  // depends on how TBB splits the work.
+  constexpr int kBlock = 16;
+  tbb::parallel_for(0, (n + kBlock - 1) / kBlock, [&](int block) {
+    const int first = block * kBlock, count = std::min(kBlock, n - first);
+    float out[3 * kBlock];
+    kernels::dotRgbColumns(globalBasis_.data() + static_cast<size_t>(first) * seen, count, light,
+                           seen, out);
+    for (int k = 0; k < count; ++k)
+      for (int c = 0; c < 3; ++c) globalLighting_[c * n + first + k] = out[3 * k + c];
+  });
+
+  // Phase 2: L_i = W_i^T L_g (the i8 step folded in), and the mean term.
+  const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
+                        globalLighting_.data() + 2 * n};
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int c = range.begin(); c != range.end(); ++c) {
+                        float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
+                        kernels::dotRgbColumns(bases_.data() + basisOffset_[c], activeRanks_[c], lg,
+                                               n, li);
+                        for (int k = 0; k < 3 * activeRanks_[c]; ++k) li[k] *= scale_[c];
+                        float* mean = meanTerm_.data() + 3 * c;
+                        if (hasMean_)
+                          kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
+                        else
+                          mean[0] = mean[1] = mean[2] = 0;
+                      }
+                    });
+
+  // Phase 3: every chunk of 16 rows, u_p . L_i times albedo.
+  switch (precision_) {
+    case CoeffPrecision::F32:
+      shadeChunks(coeffF32_, rgb);
+      break;
+    case CoeffPrecision::F16:
+      shadeChunks(coeffF16_, rgb);
+      break;
+    case CoeffPrecision::I8:
+      shadeChunks(coeffI8_, rgb);
+      break;
+  }
+}
+
+std::vector<float> ModelRelighter::relight(const LatticeLighting& lighting) {
+  std::vector<float> rgb(3 * rows());
+  relight(lighting, rgb.data());
+  return rgb;
+}
+
+}  // namespace acpca

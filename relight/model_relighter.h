@@ -1,0 +1,78 @@
+#pragma once
+// The run-time hot path (design.md section 6, paper 003 eq. 17): per frame,
+//   L_g = V_g^T L            (N x 3, over the directions some pixel sees)
+//   L_i = W_i^T L_g          (n_i x 3 per cluster, plus mu_i . L_g with a mean)
+//   b_p = albedo_p (u_p . L_i)
+// in three TBB phases. Each value is computed by one task in a fixed order, so
+// the image is the same for any thread count. All memory is allocated when the
+// relighter is built; a frame allocates nothing.
+#include <cstdint>
+#include <vector>
+
+#include "cluster/model.h"
+#include "relight/environment.h"
+
+namespace acpca {
+
+class ModelRelighter {
+ public:
+  /// Repacks the model's coefficients for the SIMD loop (k-major chunks of 16
+  /// rows per cluster); the model may be released afterwards.
+  explicit ModelRelighter(const Model& model);
+
+  /// Uses only each cluster's first min(n_i, k) bases (paper 002's quality/speed
+  /// trade: PCA bases come in order of importance). k < 0: all of them.
+  void setMaxRank(int k);
+  /// Uses the first ceil(fraction * n_i) bases of each cluster, fraction in [0, 1].
+  void setRankFraction(double fraction);
+
+  /// Relights one lighting (3 l values, RGB per texel) into rgb: 3 floats per
+  /// occupied row, albedo applied, in the model's row order.
+  void relight(const LatticeLighting& lighting, float* rgb);
+  std::vector<float> relight(const LatticeLighting& lighting);
+
+  const TransportHeader& geometry() const { return geometry_; }
+  long long rows() const { return geometry_.rows(); }
+  /// Bytes of model data one frame reads at the current rank limit: bases,
+  /// coefficients (with chunk padding), row indices and albedo.
+  long long bytesPerFrame() const;
+  /// Multiply-adds per pixel at the current rank limit (eq. 18, per channel).
+  double costPerPixel() const;
+
+ private:
+  struct Chunk {
+    int cluster;
+    long long coefficientOffset;  ///< element index of the chunk's k-major block
+  };
+  template <typename T>
+  void shadeChunks(const std::vector<T>& coefficients, float* rgb) const;
+
+  TransportHeader geometry_;
+  CoeffPrecision precision_;
+  int globalBases_ = 0;
+  bool hasMean_ = false;
+
+  std::vector<int> seenTexels_;         ///< lattice texels with a non-zero row of V_g
+  std::vector<float> globalBasis_;      ///< N columns of |seen| values (V_g^T, row by row)
+  std::vector<float> bases_;            ///< W_i, column-major N x n_i, cluster after cluster
+  std::vector<long long> basisOffset_;  ///< per cluster
+  std::vector<float> means_;            ///< C x N when the model has means
+  std::vector<int> ranks_, activeRanks_;
+  std::vector<long long> lightingOffset_;  ///< per cluster, into clusterLighting_ (x3)
+  std::vector<float> scale_;               ///< per cluster: i8 step, else 1
+
+  std::vector<Chunk> chunks_;
+  std::vector<std::int32_t> chunkRows_;  ///< 16 per chunk, -1 for padding
+  std::vector<float> chunkAlbedo_;       ///< 48 per chunk: R x16, G x16, B x16
+  std::vector<float> coeffF32_;
+  std::vector<std::uint16_t> coeffF16_;
+  std::vector<std::int8_t> coeffI8_;
+
+  // Per-frame scratch, sized once.
+  std::vector<float> light_;            ///< 3 x |seen|, channel-major
+  std::vector<float> globalLighting_;   ///< 3 x N, channel-major
+  std::vector<float> clusterLighting_;  ///< per cluster n_i x 3, interleaved
+  std::vector<float> meanTerm_;         ///< 3 per cluster
+};
+
+}  // namespace acpca

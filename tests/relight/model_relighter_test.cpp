@@ -1,0 +1,296 @@
+// The fast relighter against the plain reference loops and the dense ground
+// truth; quantization bounds; rank limits; thread-count independence.
+#include "relight/model_relighter.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <random>
+
+#include "cluster/compress.h"
+#include "precompute/render/scene.h"
+#include "precompute/transport/half.h"
+#include "relight/dense_relight.h"
+#include "relight/lighting.h"
+#include "relight/sparse_transport.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+/// Largest |a - b| over the image, relative to the largest |b|.
+double maxRelativeDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  double diff = 0, scale = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    diff = std::max(diff, std::abs(double(a[i]) - b[i]));
+    scale = std::max(scale, std::abs(double(b[i])));
+  }
+  return scale > 0 ? diff / scale : diff;
+}
+
+double relativeL2(const std::vector<float>& a, const std::vector<float>& b) {
+  double d = 0, n = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    d += std::pow(double(a[i]) - b[i], 2), n += double(b[i]) * b[i];
+  return std::sqrt(d / n);
+}
+
+/// A model with every awkward shape, filled with random numbers: clusters of
+/// 1, 15, 16, 17 and 40 rows, a rank-0 cluster, a cluster richer than its rows,
+/// means, and a lattice with directions no basis touches.
+Model randomModel(CoeffPrecision precision, bool mean, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> gauss;
+  Model m;
+  auto& g = m.geometry;
+  g.camera.size = {10, 10};
+  g.cubemapResolution = 2;  // l = 24
+  const std::vector<int> sizes{1, 15, 16, 17, 40, 3, 5};
+  const std::vector<int> ranks{1, 4, 0, 6, 9, 5, 2};
+  long long rows = 0;
+  for (int s : sizes) rows += s;
+  for (long long r = 0; r < rows; ++r) {
+    g.pixels.push_back(static_cast<int>(r));
+    g.coverage.push_back(1);
+    for (int c = 0; c < 3; ++c) g.albedo.push_back(0.2f + 0.1f * c + 0.001f * r);
+  }
+  const int n = 9;
+  m.globalBasis = Eigen::MatrixXf::NullaryExpr(24, n, [&] { return gauss(rng); });
+  m.globalBasis.row(5).setZero();  // a direction no pixel sees
+  m.hasMean = mean;
+  m.precision = precision;
+  std::vector<std::int32_t> order(rows);
+  for (long long r = 0; r < rows; ++r) order[r] = static_cast<int>((r * 37) % rows);  // shuffled
+  m.clusterRows = order;
+  m.rowOffsets = {0};
+  m.basisOffsets = {0};
+  m.coefficientOffsets = {0};
+  for (size_t c = 0; c < sizes.size(); ++c) {
+    m.rowOffsets.push_back(m.rowOffsets.back() + sizes[c]);
+    m.ranks.push_back(ranks[c]);
+    for (int i = 0; i < n * ranks[c]; ++i) m.bases.push_back(gauss(rng));
+    m.basisOffsets.push_back(m.bases.size());
+    for (int i = 0; i < n; ++i) m.means.push_back(mean ? gauss(rng) : 0.0f);
+    const long long count = static_cast<long long>(sizes[c]) * ranks[c];
+    std::vector<float> u(count);
+    for (auto& v : u) v = gauss(rng);
+    if (precision == CoeffPrecision::F32) m.coeffF32.insert(m.coeffF32.end(), u.begin(), u.end());
+    if (precision == CoeffPrecision::F16) {
+      std::vector<std::uint16_t> h(count);
+      floatToHalf(u.data(), h.data(), count);
+      m.coeffF16.insert(m.coeffF16.end(), h.begin(), h.end());
+    }
+    for (float v : u)
+      if (precision == CoeffPrecision::I8)
+        m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
+    m.coeffScale.push_back(precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
+    m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
+  }
+  return m;
+}
+
+LatticeLighting randomLighting(int l, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 2);
+  LatticeLighting lighting(3 * l);
+  for (auto& v : lighting) v = u(rng);
+  return lighting;
+}
+
+TEST(ModelRelighter, MatchesThePlainReferenceOnEveryShapeAndPrecision) {
+  for (CoeffPrecision p : {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8})
+    for (bool mean : {false, true}) {
+      const Model m = randomModel(p, mean, 7);
+      const LatticeLighting lighting = randomLighting(24, 3);
+      const auto reference = relightModelReference(m, {lighting})[0];
+      ModelRelighter relighter(m);
+      const auto fast = relighter.relight(lighting);
+      // Float sums of a few dozen terms against the double reference.
+      EXPECT_LT(maxRelativeDifference(fast, reference), 1e-5)
+          << coeffPrecisionName(p) << (mean ? " with mean" : "");
+    }
+}
+
+/// The model truncated to its clusters' first k bases, as a model of its own.
+Model truncated(const Model& m, int k) {
+  Model t = m;
+  t.bases.clear();
+  t.coeffF32.clear();
+  t.basisOffsets = {0};
+  t.coefficientOffsets = {0};
+  const int n = m.globalBases();
+  for (int c = 0; c < m.clusters(); ++c) {
+    const int r = std::min(k, m.ranks[c]);
+    t.ranks[c] = r;
+    t.bases.insert(t.bases.end(), m.bases.begin() + m.basisOffsets[c],
+                   m.bases.begin() + m.basisOffsets[c] + static_cast<long long>(r) * n);
+    t.basisOffsets.push_back(t.bases.size());
+    const long long rows = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    for (long long row = 0; row < rows; ++row)
+      for (int j = 0; j < r; ++j) t.coeffF32.push_back(m.coefficient(c, row, j));
+    t.coefficientOffsets.push_back(t.coeffF32.size());
+  }
+  return t;
+}
+
+TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
+  const Model m = randomModel(CoeffPrecision::F32, true, 11);
+  const LatticeLighting lighting = randomLighting(24, 5);
+  ModelRelighter relighter(m);
+  for (int k : {0, 1, 3, 100}) {
+    relighter.setMaxRank(k);
+    const auto reference = relightModelReference(truncated(m, k), {lighting})[0];
+    EXPECT_LT(maxRelativeDifference(relighter.relight(lighting), reference), 1e-5) << k;
+  }
+  // A fraction: ceil(0.5 n_i) of ranks {1, 4, 0, 6, 9, 5, 2} is {1, 2, 0, 3, 5, 3, 1}.
+  relighter.setRankFraction(0.5);
+  const long long full = ModelRelighter(m).bytesPerFrame();
+  EXPECT_LT(relighter.bytesPerFrame(), full);
+  relighter.setMaxRank(-1);
+  EXPECT_EQ(relighter.bytesPerFrame(), full);
+  EXPECT_THROW(relighter.setRankFraction(1.5), UserError);
+}
+
+class RelightPlant : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    Scene scene = makePlantScene();
+    scene.camera.size = {40, 40};
+    PrecomputeOptions o;
+    o.cubemapResolution = 8;
+    o.precision = Precision::F32;
+    precomputeTransport(scene, dir_->file("t.h5"), o);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static std::string path() { return dir_->file("t.h5"); }
+  static std::vector<LatticeLighting> lightings() {
+    const CubeLattice lattice(8);
+    std::vector<LatticeLighting> out;
+    for (const char* env : {"sky", "sun:50,30,4,1000", "constant:1"})
+      out.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
+    return out;
+  }
+  static test::TempDir* dir_;
+};
+test::TempDir* RelightPlant::dir_ = nullptr;
+
+TEST_F(RelightPlant, KeepingEverythingEqualsTheDenseRelight) {
+  const TransportReader t(path());
+  const auto all = lightings();
+  const auto dense = denseRelight(t, all);
+  for (Method method : {Method::Global, Method::Cpca, Method::AdaptiveQuad}) {
+    CompressOptions o;
+    o.method = method;
+    o.globalEnergy = 1;
+    o.tolerance = 1;
+    o.clusters = 4;
+    ModelRelighter relighter(compressTransport(t, o));
+    for (size_t k = 0; k < all.size(); ++k)
+      EXPECT_LT(relativeL2(relighter.relight(all[k]), dense[k]), 1e-4) << methodName(method);
+  }
+}
+
+TEST_F(RelightPlant, CompressedModelsMatchTheReferenceWithOneOrTwoThreads) {
+  const TransportReader t(path());
+  const auto all = lightings();
+  for (Method method : {Method::Block, Method::AdaptiveBinary}) {
+    CompressOptions o;
+    o.method = method;
+    o.clusters = 3;
+    o.coeffs = CoeffPrecision::F16;
+    const Model m = compressTransport(t, o);
+    ModelRelighter relighter(m);
+    const auto reference = relightModelReference(m, all);
+    for (size_t k = 0; k < all.size(); ++k) {
+      const auto two = relighter.relight(all[k]);
+      std::vector<float> one;
+      {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = relighter.relight(all[k]);
+      }
+      EXPECT_EQ(one, two) << methodName(method);
+      EXPECT_LT(maxRelativeDifference(two, reference[k]), 1e-5) << methodName(method);
+    }
+  }
+}
+
+TEST_F(RelightPlant, QuantizedCoefficientsStayWithinTheirStepBound) {
+  // b_p = albedo_p sum_k u_pk L_ik, so a coefficient error |du_pk| moves the
+  // pixel by at most albedo_p sum_k |du_pk| |L_ik|. Per coefficient, half keeps
+  // 11 significant bits: |du| <= 2^-11 |u| (+ 2^-25 for subnormals); i8 rounds
+  // to the nearest step s_i = max|u| / 127: |du| <= s_i / 2.
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveQuad;
+  o.block = 16;
+  const Model f32 = compressTransport(t, o);
+  o.coeffs = CoeffPrecision::F16;
+  const Model f16 = compressTransport(t, o);
+  o.coeffs = CoeffPrecision::I8;
+  const Model i8 = compressTransport(t, o);
+  ASSERT_EQ(f16.bases, f32.bases);
+  ASSERT_EQ(i8.bases, f32.bases);
+  const int n = f32.globalBases();
+  ModelRelighter exact(f32), half(f16), byte(i8);
+  for (const auto& lighting : lightings()) {
+    const auto b32 = exact.relight(lighting), b16 = half.relight(lighting),
+               b8 = byte.relight(lighting);
+    // L_i in double, from the model's own arrays.
+    Eigen::MatrixXd lg = Eigen::MatrixXd::Zero(n, 3);
+    for (long long j = 0; j < f32.globalBasis.rows(); ++j)
+      for (int c = 0; c < 3; ++c)
+        lg.col(c) += f32.globalBasis.row(j).transpose().cast<double>() * lighting[3 * j + c];
+    double scale = 0;
+    for (float v : b32) scale = std::max(scale, double(std::abs(v)));
+    const double rounding = 1e-5 * scale;  // float evaluation of both images
+    int checked = 0;
+    for (int c = 0; c < f32.clusters(); ++c) {
+      const Eigen::Map<const Eigen::MatrixXf> w(f32.bases.data() + f32.basisOffsets[c], n,
+                                                f32.ranks[c]);
+      const Eigen::MatrixXd li = w.cast<double>().transpose() * lg;
+      for (long long r = 0; r < f32.rowOffsets[c + 1] - f32.rowOffsets[c]; ++r) {
+        const int row = f32.clusterRows[f32.rowOffsets[c] + r];
+        for (int ch = 0; ch < 3; ++ch) {
+          double halfBound = 0, byteBound = 0;
+          for (int k = 0; k < f32.ranks[c]; ++k) {
+            const double u = std::abs(f32.coefficient(c, r, k)), l = std::abs(li(k, ch));
+            halfBound += (u * std::ldexp(1.0, -11) + std::ldexp(1.0, -25)) * l;
+            byteBound += 0.5 * i8.coeffScale[c] * l;
+          }
+          const double a = f32.geometry.albedo[3 * row + ch];
+          EXPECT_LE(std::abs(b16[3 * row + ch] - b32[3 * row + ch]), a * halfBound + rounding);
+          EXPECT_LE(std::abs(b8[3 * row + ch] - b32[3 * row + ch]), a * byteBound + rounding);
+          ++checked;
+        }
+      }
+    }
+    EXPECT_EQ(checked, 3 * f32.rows());
+  }
+}
+
+TEST_F(RelightPlant, SparseDenseRelightSkipsZerosAndMatchesTheFile) {
+  const TransportReader t(path());
+  const auto all = lightings();
+  const auto dense = denseRelight(t, all);
+  SparseTransport sparse(t);
+  // Every row is zero below its horizon, so at most about half plus the
+  // segments that straddle it are kept.
+  EXPECT_GT(sparse.keptFraction(), 0.05);
+  EXPECT_LT(sparse.keptFraction(), 0.75);
+  for (size_t k = 0; k < all.size(); ++k) {
+    std::vector<float> one, two = sparse.relight(all[k]);
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = sparse.relight(all[k]);
+    }
+    EXPECT_EQ(one, two);
+    // The file is f32; the sparse copy rounds T to half: 2^-11 relative per entry.
+    EXPECT_LT(relativeL2(two, dense[k]), std::ldexp(1.0, -11));
+  }
+}
+
+}  // namespace
+}  // namespace acpca

@@ -1,0 +1,173 @@
+#include "tools/relight_benchmark.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+
+#include "cluster/model.h"
+#include "precompute/transport/error.h"
+#include "relight/evaluation.h"
+#include "relight/lighting.h"
+#include "relight/memory_bandwidth.h"
+#include "relight/model_relighter.h"
+#include "relight/sparse_transport.h"
+#include "tools/cli_common.h"
+
+namespace acpca::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct RelightBenchArgs {
+  CommonOptions common;
+  std::string model, transport, env = "sky";
+  std::vector<std::string> baselines;
+  int frames = 50, denseFrames = 5;
+  double streamGiB = 1.0;
+};
+
+struct FrameTimes {
+  double median = 0, p10 = 0, p90 = 0;
+};
+
+/// Times `frames` calls after two warm-up calls.
+FrameTimes timeFrames(int frames, const std::function<void()>& frame) {
+  for (int i = 0; i < 2; ++i) frame();
+  std::vector<double> ms;
+  for (int i = 0; i < frames; ++i) {
+    const auto start = Clock::now();
+    frame();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[static_cast<size_t>(q * (ms.size() - 1) + 0.5)]; };
+  return {at(0.5), at(0.1), at(0.9)};
+}
+
+struct Measured {
+  std::string name, file, coeffs;
+  FrameTimes times;
+  double bytes = 0, costPerPixel = 0, error = -1;
+  std::vector<float> image;
+  double gbPerSecond() const { return times.median > 0 ? bytes / (times.median * 1e6) : 0; }
+};
+
+Measured measureModel(const std::string& path, const LatticeLighting& lighting, int frames) {
+  const Model model = readModel(path);
+  ModelRelighter relighter(model);
+  Measured m;
+  m.name = model.method;
+  m.file = path;
+  m.coeffs = coeffPrecisionName(model.precision);
+  m.image.resize(3 * relighter.rows());
+  m.times = timeFrames(frames, [&] { relighter.relight(lighting, m.image.data()); });
+  m.bytes = double(relighter.bytesPerFrame());
+  m.costPerPixel = relighter.costPerPixel();
+  return m;
+}
+
+void run(const RelightBenchArgs& a) {
+  if (a.frames < 1 || a.denseFrames < 1)
+    throw UserError("--frames and --dense-frames must be >= 1");
+  if (!(a.streamGiB > 0 && a.streamGiB <= 64)) throw UserError("--stream-gib must be in (0, 64]");
+  ThreadLimit limit(a.common.threads);
+  const auto env = loadEnvironment(a.env);
+
+  const BandwidthMeasurement stream = measureStreamingRead(a.streamGiB * (1 << 30), 7);
+  std::printf("streaming read, %s array, %d threads: median %.1f GB/s (best %.1f)\n",
+              formatBytes(stream.bytes).c_str(), limit.threads(), stream.gbPerSecondMedian,
+              stream.gbPerSecondBest);
+
+  std::vector<Measured> models;
+  Measured main;
+  {
+    const Model header = readModel(a.model);
+    const LatticeLighting lighting =
+        computeLighting(*env, CubeLattice(header.geometry.cubemapResolution), {});
+    main = measureModel(a.model, lighting, a.frames);
+    for (const auto& path : a.baselines) models.push_back(measureModel(path, lighting, a.frames));
+    models.insert(models.begin(), main);
+
+    if (!a.transport.empty()) {
+      const TransportReader reader(a.transport);
+      if (reader.rows() != static_cast<long long>(main.image.size() / 3))
+        throw UserError(concat("--transport '", a.transport, "' has ", reader.rows(),
+                               " rows; the model has ", main.image.size() / 3));
+      const auto loadStart = Clock::now();
+      SparseTransport sparse(reader);
+      const double loadSeconds = std::chrono::duration<double>(Clock::now() - loadStart).count();
+      Measured dense;
+      dense.name = "dense (f16, zero segments skipped)";
+      dense.file = a.transport;
+      dense.coeffs = "f16";
+      dense.image.resize(3 * sparse.rows());
+      dense.times =
+          timeFrames(a.denseFrames, [&] { sparse.relight(lighting, dense.image.data()); });
+      dense.bytes = double(sparse.bytesPerFrame());
+      dense.costPerPixel = sparse.keptFraction() * reader.latticeSize();
+      std::printf("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n", loadSeconds,
+                  100 * sparse.keptFraction());
+      for (auto& m : models) m.error = relativeL2(m.image, dense.image);
+      models.push_back(std::move(dense));
+    }
+  }
+
+  std::printf("%-36s %6s %10s %9s %9s %10s %8s %7s %9s %8s\n", "relighter", "coeffs", "ms median",
+              "p10", "p90", "MB/frame", "GB/s", "stream", "cost/px", "error");
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& m : models) {
+    char error[32] = "-";
+    if (m.error >= 0) std::snprintf(error, sizeof error, "%.3f%%", 100 * m.error);
+    std::printf("%-36s %6s %10.3f %9.3f %9.3f %10.1f %8.1f %6.0f%% %9.1f %8s\n", m.name.c_str(),
+                m.coeffs.c_str(), m.times.median, m.times.p10, m.times.p90, m.bytes / 1e6,
+                m.gbPerSecond(), 100 * m.gbPerSecond() / stream.gbPerSecondMedian, m.costPerPixel,
+                error);
+    rows.push_back(
+        {{"name", m.name},
+         {"file", m.file},
+         {"coeffs", m.coeffs},
+         {"ms_per_frame_median", m.times.median},
+         {"ms_per_frame_p10", m.times.p10},
+         {"ms_per_frame_p90", m.times.p90},
+         {"bytes_per_frame", m.bytes},
+         {"gb_per_s", m.gbPerSecond()},
+         {"fraction_of_stream", m.gbPerSecond() / stream.gbPerSecondMedian},
+         {"cost_per_pixel", m.costPerPixel},
+         {"relative_l2_vs_dense", m.error < 0 ? nlohmann::json() : nlohmann::json(m.error)}});
+  }
+  nlohmann::json speedups = nlohmann::json::object();
+  for (size_t i = 1; i < models.size(); ++i) {
+    const double ratio = models[i].times.median / models[0].times.median;
+    std::printf("speed-up of %s over %s: %.2fx\n", a.model.c_str(), models[i].name.c_str(), ratio);
+    speedups[models[i].file] = ratio;
+  }
+  writeJson(a.common.jsonPath, {{"threads", limit.threads()},
+                                {"env", a.env},
+                                {"frames", a.frames},
+                                {"stream_bytes", stream.bytes},
+                                {"stream_gb_per_s", stream.gbPerSecondMedian},
+                                {"relighters", rows},
+                                {"speedup_over", speedups}});
+}
+
+}  // namespace
+
+void registerRelightBenchmark(CLI::App& bench) {
+  auto args = std::make_shared<RelightBenchArgs>();
+  auto* sub = bench.add_subcommand(
+      "relight", "Relighter ms/frame and GB/s vs streaming read, dense and baseline models");
+  sub->add_option("model", args->model, "Model to measure (M_FILE)")->required();
+  sub->add_option("--transport", args->transport,
+                  "Its transport file: time a dense relight from memory and measure errors");
+  sub->add_option("--baseline", args->baselines, "Other models to time (repeatable)");
+  sub->add_option("--env", args->env, "Lighting (default sky)");
+  sub->add_option("--frames", args->frames, "Timed frames per model (after 2 warm-ups)");
+  sub->add_option("--dense-frames", args->denseFrames, "Timed frames of the dense relight");
+  sub->add_option("--stream-gib", args->streamGiB, "Array size of the streaming-read loop (GiB)");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli
