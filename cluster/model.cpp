@@ -8,6 +8,7 @@
 
 #include "cluster/cost_model.h"
 #include "cluster/pca.h"
+#include "cluster/symmetric_eigen.h"
 #include "precompute/transport/atomic_file.h"
 #include "precompute/transport/error.h"
 #include "precompute/transport/half.h"
@@ -59,6 +60,64 @@ long long Model::frameBytes() const {
          static_cast<long long>(globalBasis.size()) * 4;
 }
 
+namespace {
+
+struct ClusterFit {
+  PcaResult pca;
+  Eigen::MatrixXf coefficients;  // p x n
+};
+
+/// PCA of a cluster too large to copy in double (global PCA at 1024x1024 has
+/// 716k rows of N ~ 2000): the N x N Gram matrix is summed over a fixed split
+/// of the rows (so the sum does not depend on the thread count), each block
+/// widened to double, and the coefficients are computed block by block.
+ClusterFit fitLargeCluster(const RowMatrixF& g, const std::vector<int>& rows, double tolerance,
+                           bool subtractMean) {
+  const int n = static_cast<int>(g.cols());
+  const long long p = static_cast<long long>(rows.size());
+  constexpr int kParts = 8;
+  constexpr long long kBlock = 2048;
+  std::vector<Eigen::MatrixXd> grams(kParts, Eigen::MatrixXd::Zero(n, n));
+  std::vector<Eigen::RowVectorXd> sums(kParts, Eigen::RowVectorXd::Zero(n));
+  tbb::parallel_for(0, kParts, [&](int part) {
+    const long long first = p * part / kParts, last = p * (part + 1) / kParts;
+    Eigen::MatrixXd block;
+    for (long long b = first; b < last; b += kBlock) {
+      const long long count = std::min(kBlock, last - b);
+      block.resize(count, n);
+      for (long long i = 0; i < count; ++i) block.row(i) = g.row(rows[b + i]).cast<double>();
+      grams[part].selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
+      sums[part] += block.colwise().sum();
+    }
+  });
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(n, n);
+  Eigen::RowVectorXd sum = Eigen::RowVectorXd::Zero(n);
+  for (int part = 0; part < kParts; ++part) gram += grams[part], sum += sums[part];
+  gram = gram.selfadjointView<Eigen::Lower>();
+  ClusterFit fit;
+  PcaResult& pca = fit.pca;
+  pca.mean = subtractMean ? Eigen::RowVectorXd(sum / double(p)) : Eigen::RowVectorXd::Zero(n);
+  gram -= double(p) * pca.mean.transpose() * pca.mean;  // centre: sum (g - mu)(g - mu)^T
+  pca.totalEnergy = std::max(0.0, gram.trace());
+  const SymmetricEigen eig = symmetricEigen(gram, true);
+  pca.eigenvalues = eig.values;
+  pca.rank = pca.totalEnergy > 0 ? rankForEnergy(eig.values, pca.totalEnergy, tolerance) : 0;
+  pca.residualEnergy = std::max(0.0, pca.totalEnergy - eig.values.head(pca.rank).sum());
+  pca.basis = eig.vectors.leftCols(pca.rank);
+  const Eigen::MatrixXf basis = pca.basis.cast<float>();
+  const Eigen::RowVectorXf mean = pca.mean.cast<float>();
+  fit.coefficients.resize(p, pca.rank);
+  tbb::parallel_for(0LL, (p + kBlock - 1) / kBlock, [&](long long b) {
+    const long long first = b * kBlock, count = std::min(kBlock, p - first);
+    Eigen::MatrixXf block(count, n);
+    for (long long i = 0; i < count; ++i) block.row(i) = g.row(rows[first + i]) - mean;
+    fit.coefficients.middleRows(first, count).noalias() = block * basis;
+  });
+  return fit;
+}
+
+}  // namespace
+
 Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
                  const GlobalProjection& projection, const Partition& partition,
                  const ModelOptions& options) {
@@ -70,17 +129,20 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   m.precision = options.precision;
   const int clusters = static_cast<int>(partition.size());
 
-  struct Fit {
-    PcaResult pca;
-    Eigen::MatrixXf coefficients;  // p x n
+  std::vector<ClusterFit> fits(clusters);
+  const double tolerance = options.allocateRanks ? 1.0 : options.tolerance;
+  const auto large = [&](int c) {
+    return static_cast<long long>(partition[c].size()) * n > options.largeClusterValues;
   };
-  std::vector<Fit> fits(clusters);
+  for (int c = 0; c < clusters; ++c)  // one at a time: each is parallel inside
+    if (large(c))
+      fits[c] = fitLargeCluster(projection.coefficients, partition[c], tolerance, options.mean);
   tbb::parallel_for(0, clusters, [&](int c) {
+    if (large(c)) return;
     Eigen::MatrixXd rows(partition[c].size(), n);
     for (size_t i = 0; i < partition[c].size(); ++i)
       rows.row(i) = projection.coefficients.row(partition[c][i]).cast<double>();
-    fits[c].pca =
-        pcaToTolerance(rows, options.allocateRanks ? 1.0 : options.tolerance, options.mean, true);
+    fits[c].pca = pcaToTolerance(rows, tolerance, options.mean, true);
     fits[c].coefficients = ((rows.rowwise() - fits[c].pca.mean) * fits[c].pca.basis).cast<float>();
   });
   if (options.allocateRanks) {
@@ -95,7 +157,7 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
     const std::vector<int> ranks =
         allocateRanks(spectra, sizes, n, (1 - options.tolerance) * energy);
     for (int c = 0; c < clusters; ++c) {  // keep the leading ranks[c] bases
-      Fit& f = fits[c];
+      ClusterFit& f = fits[c];
       const int r = std::min(ranks[c], f.pca.rank);
       f.pca.residualEnergy = std::max(0.0, f.pca.totalEnergy - f.pca.eigenvalues.head(r).sum());
       f.pca.rank = r;
@@ -110,7 +172,7 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   m.means.assign(static_cast<size_t>(clusters) * n, 0.0f);
   double clusterResidual = 0, quantizationError = 0;
   for (int c = 0; c < clusters; ++c) {
-    const Fit& f = fits[c];
+    ClusterFit& f = fits[c];
     const int rank = f.pca.rank;
     m.clusterRows.insert(m.clusterRows.end(), partition[c].begin(), partition[c].end());
     m.rowOffsets.push_back(m.clusterRows.size());
@@ -147,6 +209,7 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
       m.coeffScale.push_back(scale);
     }
     m.coefficientOffsets.push_back(m.coefficientOffsets.back() + static_cast<long long>(count));
+    f = ClusterFit();  // release as we go: one cluster may hold most of the model
   }
   const double total = projection.transportEnergy();
   const double globalResidual = projection.residualEnergy.sum();

@@ -71,6 +71,9 @@ struct ModelOptions {
   /// error budget, (1 - tolerance) of all clusters' energy, where each basis
   /// removes the most error per unit of cost (beyond the paper).
   bool allocateRanks = false;
+  /// Clusters with more values (rows x N) than this are fitted from a blocked
+  /// Gram matrix instead of a double copy of their rows (memory, not results).
+  long long largeClusterValues = 1LL << 24;
 };
 
 /// Ranks for an error budget: starting from none, repeatedly add to the cluster

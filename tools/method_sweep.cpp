@@ -1,6 +1,8 @@
 #include "tools/method_sweep.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +15,7 @@
 #include "relight/dense_relight.h"
 #include "relight/evaluation.h"
 #include "relight/lighting.h"
+#include "relight/model_relighter.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -28,6 +31,8 @@ struct SweepArgs {
   std::vector<double> globalEnergies{0.99, 0.999}, tolerances{0.99, 0.999};
   std::vector<int> cpcaClusters{10, 5000};
   std::vector<std::string> envs;
+  std::vector<std::string> methods{"global",          "block", "adaptive-quad", "adaptive-quad-exact",
+                                   "adaptive-binary", "cpca"};
 };
 
 struct Row {
@@ -53,31 +58,62 @@ void run(const SweepArgs& a) {
     if (!a.common.quiet) std::cerr << "bench methods: " << s << std::endl;
   };
 
+  for (const auto& method : a.methods)
+    if (method != "global" && method != "block" && method != "adaptive-quad" &&
+        method != "adaptive-quad-exact" && method != "adaptive-binary" && method != "cpca")
+      throw UserError(concat("--methods: unknown method '", method, "'"));
+  const auto wanted = [&](const std::string& method) {
+    return std::find(a.methods.begin(), a.methods.end(), method) != a.methods.end();
+  };
+
   std::vector<Row> rows;
+  const auto record = [&](Row r, const std::vector<double>& errors) {
+    r.imageError = aggregateError(errors);
+    log(concat(r.method, " ", r.setting, " g=", r.globalEnergy, " tol=", r.tolerance, ": ",
+               r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ",
+               r.imageError, ", transport error ", r.transportError));
+    rows.push_back(r);
+  };
   const auto evaluate = [&](const std::string& method, const std::string& setting, double g,
                             double tol, const GlobalBasis& basis,
                             const GlobalProjection& projection, const Partition& partition,
                             bool mean, double partitionSeconds, bool allocate = false) {
     const auto start = Clock::now();
-    Model m = buildModel(transport.header(), basis, projection, partition,
-                         {tol, mean, CoeffPrecision::F32, allocate});
-    const auto relit = relightModelReference(m, lightings);
+    std::unique_ptr<ModelRelighter> relighter;
+    Row r{method, setting, g, tol};
+    std::vector<int> ranks;
+    {
+      const Model m = buildModel(transport.header(), basis, projection, partition,
+                                 {tol, mean, CoeffPrecision::F32, allocate});
+      relighter = std::make_unique<ModelRelighter>(m);
+      r.clusters = m.clusters();
+      r.costPerPixel = m.costPerPixel();
+      r.transportError = m.transportError;
+      ranks = m.ranks;
+    }  // the relighter holds its own copy
     std::vector<double> errors;
-    for (size_t k = 0; k < lightings.size(); ++k) errors.push_back(relativeL2(relit[k], truth[k]));
-    Row r{method,
-          setting,
-          g,
-          tol,
-          m.clusters(),
-          m.costPerPixel(),
-          m.transportError,
-          aggregateError(errors),
-          partitionSeconds + seconds(start)};
-    log(concat(method, " ", setting, " g=", g, " tol=", tol, ": ", r.clusters,
-               " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
-               ", transport error ", r.transportError));
-    rows.push_back(r);
-    return m.clusters();
+    for (size_t k = 0; k < lightings.size(); ++k)
+      errors.push_back(relativeL2(relighter->relight(lightings[k]), truth[k]));
+    r.seconds = partitionSeconds + seconds(start);
+    record(r, errors);
+    // One PCA basis set is nested: its first k bases are the best rank-k fit, so
+    // global PCA at lower ranks comes from the same model (--max-rank).
+    if (method == "global" && !ranks.empty() && ranks[0] > 8) {
+      const long long pixels = transport.rows();
+      for (int divisor : {8, 4, 2}) {
+        const int k = ranks[0] / divisor;
+        relighter->setMaxRank(k);
+        std::vector<double> truncated;
+        for (size_t j = 0; j < lightings.size(); ++j)
+          truncated.push_back(relativeL2(relighter->relight(lightings[j]), truth[j]));
+        Row t = r;
+        t.setting = concat("N, first ", k, " bases");
+        t.costPerPixel = double(k) * (pixels + basis.globalBases()) / pixels;
+        t.transportError = NAN;  // not measured for truncations
+        record(t, truncated);
+      }
+    }
+    return r.clusters;
   };
 
   for (double g : a.globalEnergies) {
@@ -94,25 +130,31 @@ void run(const SweepArgs& a) {
         std::iota(all.begin(), all.end(), 0);
         auto t = Clock::now();
         if (!mean) {
-          evaluate("global", "N", g, tol, basis, projection, singleCluster(in), false, seconds(t));
+          if (wanted("global"))
+            evaluate("global", "N", g, tol, basis, projection, singleCluster(in), false,
+                     seconds(t));
           for (int b : {8, 16}) {
+            if (!wanted("block")) break;
             t = Clock::now();
             evaluate("block", concat("B=", b), g, tol, basis, projection, fixedBlocks(in, b), false,
                      seconds(t));
           }
           t = Clock::now();
-          evaluate("adaptive-quad", "greedy", g, tol, basis, projection,
-                   adaptiveQuadTree(in, {64, 2, false}), false, seconds(t));
+          if (wanted("adaptive-quad"))
+            evaluate("adaptive-quad", "greedy", g, tol, basis, projection,
+                     adaptiveQuadTree(in, {64, 2, false}), false, seconds(t));
           t = Clock::now();
-          evaluate("adaptive-quad-exact", "bottom-up", g, tol, basis, projection,
-                   adaptiveQuadTree(in, {64, 2, true}), false, seconds(t));
-        } else {
+          if (wanted("adaptive-quad-exact"))
+            evaluate("adaptive-quad-exact", "bottom-up", g, tol, basis, projection,
+                     adaptiveQuadTree(in, {64, 2, true}), false, seconds(t));
+        } else if (wanted("adaptive-binary") || wanted("cpca")) {
           BinaryOptions b;
           b.initialClusters = 8;
-          const int binaryClusters = evaluate("adaptive-binary", "K0=8", g, tol, basis, projection,
-                                              adaptiveBinary(in, b), true, seconds(t));
           std::vector<int> ks = a.cpcaClusters;
-          ks.push_back(binaryClusters);  // CPCA with as many clusters as the adaptive result
+          if (wanted("adaptive-binary"))  // and CPCA with as many clusters as it found
+            ks.push_back(evaluate("adaptive-binary", "K0=8", g, tol, basis, projection,
+                                  adaptiveBinary(in, b), true, seconds(t)));
+          if (!wanted("cpca")) ks.clear();
           for (int k : ks) {
             CpcaOptions o;
             o.clusters = k;
@@ -190,6 +232,10 @@ void registerMethodSweep(CLI::App& bench) {
   sub->add_option("--tolerances", args->tolerances, "Cluster tolerances to sweep")->delimiter(',');
   sub->add_option("--cpca-clusters", args->cpcaClusters, "CPCA cluster counts")->delimiter(',');
   sub->add_option("--env", args->envs, "Evaluation lightings (default: the evaluation set)");
+  sub->add_option("--methods", args->methods,
+                  "Methods to run: global, block, adaptive-quad, adaptive-quad-exact, "
+                  "adaptive-binary, cpca (default all)")
+      ->delimiter(',');
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
 }

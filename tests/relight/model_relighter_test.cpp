@@ -10,6 +10,8 @@
 #include <random>
 
 #include "cluster/compress.h"
+#include "cluster/global_basis.h"
+#include "cluster/partition.h"
 #include "precompute/render/scene.h"
 #include "precompute/transport/half.h"
 #include "relight/dense_relight.h"
@@ -268,6 +270,30 @@ TEST_F(RelightPlant, QuantizedCoefficientsStayWithinTheirStepBound) {
       }
     }
     EXPECT_EQ(checked, 3 * f32.rows());
+  }
+}
+
+TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
+  // The blocked Gram path (for clusters too big to copy in double) against the
+  // direct one, on the same global projection.
+  const TransportReader t(path());
+  const GlobalBasis basis = computeGlobalBasis(t, {0.999, 16384, 1});
+  const GlobalProjection projection = projectOntoBasis(t, basis);
+  ClusterInput in{&projection.coefficients, &t.header().pixels, t.header().camera.size, 0.99,
+                  true};
+  for (const Partition& partition : {singleCluster(in), fixedBlocks(in, 8)}) {
+    ModelOptions o;
+    o.tolerance = 0.99;
+    o.mean = true;
+    const Model direct = buildModel(t.header(), basis, projection, partition, o);
+    o.largeClusterValues = 0;
+    const Model blocked = buildModel(t.header(), basis, projection, partition, o);
+    EXPECT_EQ(direct.ranks, blocked.ranks);
+    EXPECT_NEAR(direct.transportError, blocked.transportError, 1e-6);
+    for (const auto& lighting : lightings())
+      EXPECT_LT(maxRelativeDifference(ModelRelighter(blocked).relight(lighting),
+                                      ModelRelighter(direct).relight(lighting)),
+                1e-4);
   }
 }
 
