@@ -91,8 +91,13 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
     }
   }
   log(concat(methodName(o.method), ": ", partition.size(), " clusters"));
-  Model model = buildModel(transport.header(), basis, projection, partition,
-                           {o.tolerance, mean, o.coeffs, o.allocateRanks});
+  ModelOptions modelOptions;
+  modelOptions.tolerance = o.tolerance;
+  modelOptions.mean = mean;
+  modelOptions.precision = o.coeffs;
+  modelOptions.basisPrecision = o.bases;
+  modelOptions.allocateRanks = o.allocateRanks;
+  Model model = buildModel(transport.header(), basis, projection, partition, modelOptions);
   model.method = methodName(o.method);
   model.settings = nlohmann::json{{"method", model.method},
                                   {"tolerance", o.tolerance},
@@ -102,6 +107,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
                                   {"exact_quad_tree", o.exactQuadTree},
                                   {"allocate_ranks", o.allocateRanks},
                                   {"coeffs", coeffPrecisionName(o.coeffs)},
+                                  {"bases", coeffPrecisionName(o.bases)},
                                   {"sample_rows", o.sampleRows},
                                   {"seed", o.seed},
                                   {"mean", mean},

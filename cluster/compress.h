@@ -20,6 +20,7 @@ struct CompressOptions {
   bool exactQuadTree = false;   ///< adaptive-quad: bottom-up optimum instead of greedy
   bool allocateRanks = false;   ///< one error budget across clusters instead of per cluster
   CoeffPrecision coeffs = CoeffPrecision::F32;
+  CoeffPrecision bases = CoeffPrecision::F32;  ///< F32 or F16
   int sampleRows = 16384;
   std::uint64_t seed = 1;
   /// Stage messages ("global basis: N = 812") for progress output.

@@ -16,6 +16,12 @@
 
 namespace acpca {
 
+CoeffPrecision parseBasisPrecision(const std::string& text) {
+  if (text == "f32") return CoeffPrecision::F32;
+  if (text == "f16") return CoeffPrecision::F16;
+  throw UserError(concat("--bases '", text, "' is not one of f32, f16"));
+}
+
 CoeffPrecision parseCoeffPrecision(const std::string& text) {
   if (text == "f32") return CoeffPrecision::F32;
   if (text == "f16") return CoeffPrecision::F16;
@@ -54,8 +60,9 @@ long long Model::frameBytes() const {
   const long long coefficientBytes = precision == CoeffPrecision::F32   ? 4
                                      : precision == CoeffPrecision::F16 ? 2
                                                                         : 1;
-  return static_cast<long long>(bases.size()) * 4 +
-         (hasMean ? static_cast<long long>(means.size()) * 4 : 0) +
+  const long long basisBytes = basisPrecision == CoeffPrecision::F16 ? 2 : 4;
+  return static_cast<long long>(bases.size()) * basisBytes +
+         (hasMean ? static_cast<long long>(means.size()) * basisBytes : 0) +
          coefficientOffsets.back() * coefficientBytes +
          static_cast<long long>(globalBasis.size()) * 4;
 }
@@ -116,6 +123,42 @@ ClusterFit fitLargeCluster(const RowMatrixF& g, const std::vector<int>& rows, do
   return fit;
 }
 
+/// Rounds every value to the nearest half (kept as float).
+void roundToHalf(std::vector<float>& values) {
+  std::vector<std::uint16_t> h(values.size());
+  floatToHalf(values.data(), h.data(), values.size());
+  halfToFloat(h.data(), values.data(), values.size());
+}
+
+/// sum over rows of |g_p - mu_c - W_c u_p|^2 with the stored (quantized)
+/// values: the cluster part of the transport error, exact for any precision.
+double reconstructionError(const Model& m, const RowMatrixF& g) {
+  const int n = m.globalBases();
+  std::vector<double> perCluster(m.clusters(), 0.0);
+  tbb::parallel_for(0, m.clusters(), [&](int c) {
+    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    const int rank = m.ranks[c];
+    const Eigen::Map<const Eigen::MatrixXf> w(m.bases.data() + m.basisOffsets[c], n, rank);
+    const Eigen::Map<const Eigen::RowVectorXf> mean(m.means.data() + static_cast<size_t>(c) * n, n);
+    constexpr long long kBlock = 1024;
+    Eigen::MatrixXf rows, u;
+    for (long long first = 0; first < p; first += kBlock) {
+      const long long count = std::min(kBlock, p - first);
+      rows.resize(count, n);
+      u.resize(count, rank);
+      for (long long i = 0; i < count; ++i) {
+        rows.row(i) = g.row(m.clusterRows[m.rowOffsets[c] + first + i]) - mean;
+        for (int k = 0; k < rank; ++k) u(i, k) = m.coefficient(c, first + i, k);
+      }
+      rows.noalias() -= u * w.transpose();
+      perCluster[c] += rows.cast<double>().squaredNorm();
+    }
+  });
+  double sum = 0;
+  for (double e : perCluster) sum += e;  // fixed order
+  return sum;
+}
+
 }  // namespace
 
 Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
@@ -127,6 +170,8 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   m.globalBasis = basis.basis;
   m.hasMean = options.mean;
   m.precision = options.precision;
+  ACPCA_CHECK(options.basisPrecision != CoeffPrecision::I8, "bases are f32 or f16");
+  m.basisPrecision = options.basisPrecision;
   const int clusters = static_cast<int>(partition.size());
 
   std::vector<ClusterFit> fits(clusters);
@@ -210,6 +255,12 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
     }
     m.coefficientOffsets.push_back(m.coefficientOffsets.back() + static_cast<long long>(count));
     f = ClusterFit();  // release as we go: one cluster may hold most of the model
+  }
+  if (m.basisPrecision == CoeffPrecision::F16) {
+    roundToHalf(m.bases);
+    roundToHalf(m.means);
+    clusterResidual = reconstructionError(m, projection.coefficients);
+    quantizationError = 0;  // included
   }
   const double total = projection.transportEnergy();
   const double globalResidual = projection.residualEnergy.sum();
@@ -297,6 +348,7 @@ void writeModel(const Model& m, const std::string& path) {
     h5::writeAttribute(f, "clusters", static_cast<long long>(m.clusters()), ctx);
     h5::writeAttribute(f, "has_mean", static_cast<long long>(m.hasMean), ctx);
     h5::writeAttribute(f, "coeffs", std::string(coeffPrecisionName(m.precision)), ctx);
+    h5::writeAttribute(f, "bases", std::string(coeffPrecisionName(m.basisPrecision)), ctx);
     h5::writeAttribute(f, "total_cost", m.totalCost(), ctx);
     h5::writeAttribute(f, "cost_per_pixel", m.costPerPixel(), ctx);
     h5::writeAttribute(f, "transport_error", m.transportError, ctx);
@@ -316,8 +368,18 @@ void writeModel(const Model& m, const std::string& path) {
     writeVector(f, "cluster_row_offsets", m.rowOffsets, H5T_NATIVE_INT64, ctx);
     writeVector(f, "cluster_rank", m.ranks, H5T_NATIVE_INT32, ctx);
     writeVector(f, "cluster_basis_offsets", m.basisOffsets, H5T_NATIVE_INT64, ctx);
-    writeVector(f, "bases", m.bases, H5T_NATIVE_FLOAT, ctx);
-    writeVector(f, "means", m.means, H5T_NATIVE_FLOAT, ctx);
+    if (m.basisPrecision == CoeffPrecision::F16) {
+      // The values are half-representable: the conversion is exact.
+      const h5::Handle half = h5::halfType();
+      for (const auto* values : {&m.bases, &m.means}) {
+        std::vector<std::uint16_t> h(values->size());
+        floatToHalf(values->data(), h.data(), h.size());
+        writeVector(f, values == &m.bases ? "bases" : "means", h, half.get(), ctx);
+      }
+    } else {
+      writeVector(f, "bases", m.bases, H5T_NATIVE_FLOAT, ctx);
+      writeVector(f, "means", m.means, H5T_NATIVE_FLOAT, ctx);
+    }
     writeVector(f, "coefficient_offsets", m.coefficientOffsets, H5T_NATIVE_INT64, ctx);
     writeVector(f, "coefficient_scale", m.coeffScale, H5T_NATIVE_FLOAT, ctx);
     if (m.precision == CoeffPrecision::F32)
@@ -387,6 +449,9 @@ Model readModel(const std::string& path) {
     throw UserError(concat(ctx, ": sizes in the header do not add up"));
   m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;
   m.precision = parseCoeffPrecision(h5::readStringAttribute(f, "coeffs", ctx));
+  m.basisPrecision = h5::hasAttribute(f, "bases")
+                         ? parseBasisPrecision(h5::readStringAttribute(f, "bases", ctx))
+                         : CoeffPrecision::F32;
   m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
   m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
   m.compressSeconds = h5::readDoubleAttribute(f, "compress_seconds", ctx);
@@ -429,6 +494,7 @@ Model readModel(const std::string& path) {
       throw UserError(concat(ctx, ": cluster rows are not a partition"));
     seen[r] = 1;
   }
+  // HDF5 converts half datasets to float on read.
   m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
   m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
   m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT, clusters, ctx);

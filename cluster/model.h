@@ -16,6 +16,7 @@ namespace acpca {
 
 enum class CoeffPrecision { F32, F16, I8 };
 CoeffPrecision parseCoeffPrecision(const std::string& text);  // f32 | f16 | i8
+CoeffPrecision parseBasisPrecision(const std::string& text);  // f32 | f16
 const char* coeffPrecisionName(CoeffPrecision p);
 
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
@@ -28,6 +29,9 @@ struct Model {
   Eigen::MatrixXf globalBasis;  ///< l x N
   bool hasMean = false;
   CoeffPrecision precision = CoeffPrecision::F32;
+  /// F32 or F16: with F16 the cluster bases and means hold half-representable
+  /// values (stored as half in the file and in the relighter).
+  CoeffPrecision basisPrecision = CoeffPrecision::F32;
 
   // Clusters, in order; rows of cluster c are clusterRows[rowOffsets[c] .. rowOffsets[c+1]).
   std::vector<std::int32_t> clusterRows;
@@ -67,6 +71,7 @@ struct ModelOptions {
   double tolerance = 0.999;
   bool mean = false;
   CoeffPrecision precision = CoeffPrecision::F32;
+  CoeffPrecision basisPrecision = CoeffPrecision::F32;  ///< F32 or F16
   /// Instead of each cluster keeping `tolerance` of its own energy, spend one
   /// error budget, (1 - tolerance) of all clusters' energy, where each basis
   /// removes the most error per unit of cost (beyond the paper).
@@ -85,7 +90,8 @@ std::vector<int> allocateRanks(const std::vector<Eigen::VectorXd>& spectra,
 
 /// Fits each cluster of the partition (PCA to the tolerance, on G) and stores
 /// its coefficients. Sets transportError from the global residual, the
-/// clusters' residuals and the quantization error, all exact.
+/// clusters' residuals and the quantization error, all exact (with half bases,
+/// by reconstructing every row from the stored values).
 Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
                  const GlobalProjection& projection, const Partition& partition,
                  const ModelOptions& options);

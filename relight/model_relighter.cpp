@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "precompute/transport/error.h"
+#include "precompute/transport/half.h"
 #include "relight/relight_kernels.h"
 
 namespace acpca {
@@ -43,7 +44,7 @@ ModelRelighter::ModelRelighter(const Model& m)
       precision_(m.precision),
       globalBases_(m.globalBases()),
       hasMean_(m.hasMean),
-      bases_(m.bases),
+      basisPrecision_(m.basisPrecision),
       ranks_(m.ranks),
       scale_(m.coeffScale) {
   const int n = globalBases_;
@@ -57,6 +58,12 @@ ModelRelighter::ModelRelighter(const Model& m)
   for (int k = 0; k < n; ++k)
     for (long long i = 0; i < seen; ++i)
       globalBasis_[k * seen + i] = m.globalBasis(seenTexels_[i], k);
+  if (basisPrecision_ == CoeffPrecision::F16) {
+    basesF16_.resize(m.bases.size());
+    floatToHalf(m.bases.data(), basesF16_.data(), m.bases.size());  // exact: half values
+  } else {
+    bases_ = m.bases;
+  }
   if (hasMean_) means_ = m.means;
   basisOffset_.assign(m.basisOffsets.begin(), m.basisOffsets.end() - 1);
   if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
@@ -125,9 +132,11 @@ long long ModelRelighter::bytesPerFrame() const {
   const long long elementBytes = precision_ == CoeffPrecision::F32   ? 4
                                  : precision_ == CoeffPrecision::F16 ? 2
                                                                      : 1;
+  const long long basisBytes = basisPrecision_ == CoeffPrecision::F16 ? 2 : 4;
   long long bytes = static_cast<long long>(globalBasis_.size()) * 4;
   for (size_t c = 0; c < activeRanks_.size(); ++c)
-    bytes += (activeRanks_[c] + (hasMean_ ? 1 : 0)) * static_cast<long long>(globalBases_) * 4;
+    bytes += activeRanks_[c] * static_cast<long long>(globalBases_) * basisBytes +
+             (hasMean_ ? globalBases_ * 4LL : 0);
   for (const Chunk& chunk : chunks_)
     bytes += activeRanks_[chunk.cluster] * kChunkRows * elementBytes;
   // Row indices and albedo of every chunk.
@@ -168,6 +177,27 @@ void ModelRelighter::shadeChunks(const std::vector<T>& coefficients, float* rgb)
                     });
 }
 
+template <typename T>
+void ModelRelighter::clusterLighting(const std::vector<T>& bases) {
+  const int n = globalBases_;
+  const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
+                        globalLighting_.data() + 2 * n};
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int c = range.begin(); c != range.end(); ++c) {
+                        float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
+                        kernels::dotRgbColumns(bases.data() + basisOffset_[c], activeRanks_[c], lg,
+                                               n, li);
+                        for (int k = 0; k < 3 * activeRanks_[c]; ++k) li[k] *= scale_[c];
+                        float* mean = meanTerm_.data() + 3 * c;
+                        if (hasMean_)
+                          kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
+                        else
+                          mean[0] = mean[1] = mean[2] = 0;
+                      }
+                    });
+}
+
 void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
   const long long l = 6LL * geometry_.cubemapResolution * geometry_.cubemapResolution;
   ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3 * l, "lighting has ", lighting.size(),
@@ -193,22 +223,10 @@ void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
   });
 
   // Phase 2: L_i = W_i^T L_g (the i8 step folded in), and the mean term.
-  const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
-                        globalLighting_.data() + 2 * n};
-  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int c = range.begin(); c != range.end(); ++c) {
-                        float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
-                        kernels::dotRgbColumns(bases_.data() + basisOffset_[c], activeRanks_[c], lg,
-                                               n, li);
-                        for (int k = 0; k < 3 * activeRanks_[c]; ++k) li[k] *= scale_[c];
-                        float* mean = meanTerm_.data() + 3 * c;
-                        if (hasMean_)
-                          kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
-                        else
-                          mean[0] = mean[1] = mean[2] = 0;
-                      }
-                    });
+  if (basisPrecision_ == CoeffPrecision::F16)
+    clusterLighting(basesF16_);
+  else
+    clusterLighting(bases_);
 
   // Phase 3: every chunk of 16 rows, u_p . L_i times albedo.
   switch (precision_) {

@@ -45,6 +45,8 @@ class ModelRelighter {
     long long coefficientOffset;  ///< element index of the chunk's k-major block
   };
   template <typename T>
+  void clusterLighting(const std::vector<T>& bases);
+  template <typename T>
   void shadeChunks(const std::vector<T>& coefficients, float* rgb) const;
 
   TransportHeader geometry_;
@@ -52,11 +54,13 @@ class ModelRelighter {
   int globalBases_ = 0;
   bool hasMean_ = false;
 
-  std::vector<int> seenTexels_;         ///< lattice texels with a non-zero row of V_g
-  std::vector<float> globalBasis_;      ///< N columns of |seen| values (V_g^T, row by row)
-  std::vector<float> bases_;            ///< W_i, column-major N x n_i, cluster after cluster
-  std::vector<long long> basisOffset_;  ///< per cluster
-  std::vector<float> means_;            ///< C x N when the model has means
+  std::vector<int> seenTexels_;     ///< lattice texels with a non-zero row of V_g
+  std::vector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
+  CoeffPrecision basisPrecision_;
+  std::vector<float> bases_;             ///< W_i, column-major N x n_i, cluster after cluster
+  std::vector<std::uint16_t> basesF16_;  ///< the same in half, for f16-basis models
+  std::vector<long long> basisOffset_;   ///< per cluster
+  std::vector<float> means_;             ///< C x N when the model has means
   std::vector<int> ranks_, activeRanks_;
   std::vector<long long> lightingOffset_;  ///< per cluster, into clusterLighting_ (x3)
   std::vector<float> scale_;               ///< per cluster: i8 step, else 1

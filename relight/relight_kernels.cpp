@@ -88,14 +88,15 @@ void dotSegmentsAvx2(const std::uint16_t* values, const std::uint16_t* segments,
   for (int c = 0; c < 3; ++c) out[c] = horizontalSum(_mm256_add_ps(a[0][c], a[1][c]));
 }
 
-void dotRgbFourAvx2(const float* columns, const float* const light[3], int length, float* out) {
+template <typename T>
+void dotRgbFourAvx2(const T* columns, const float* const light[3], int length, float* out) {
   __m256 a[4][3] = {};
   int j = 0;
   for (; j + 8 <= length; j += 8) {
     const __m256 l[3] = {_mm256_loadu_ps(light[0] + j), _mm256_loadu_ps(light[1] + j),
                          _mm256_loadu_ps(light[2] + j)};
     for (int i = 0; i < 4; ++i) {
-      const __m256 v = _mm256_loadu_ps(columns + static_cast<size_t>(i) * length + j);
+      const __m256 v = load8(columns + static_cast<size_t>(i) * length + j);
       for (int c = 0; c < 3; ++c) a[i][c] = _mm256_fmadd_ps(v, l[c], a[i][c]);
     }
   }
@@ -177,10 +178,9 @@ void dotSegmentsBest(const std::uint16_t* values, const std::uint16_t* segments,
 #endif
 }
 
-}  // namespace
-
-void dotRgbColumns(const float* columns, int count, const float* const light[3], int length,
-                   float* out) {
+template <typename T>
+void dotRgbColumnsBest(const T* columns, int count, const float* const light[3], int length,
+                       float* out) {
   int i = 0;
 #ifdef ACPCA_RELIGHT_AVX2
   for (; i + 4 <= count; i += 4)
@@ -188,6 +188,17 @@ void dotRgbColumns(const float* columns, int count, const float* const light[3],
 #endif
   for (; i < count; ++i)
     dotRgbBest(columns + static_cast<size_t>(i) * length, light, length, out + 3 * i);
+}
+
+}  // namespace
+
+void dotRgbColumns(const float* columns, int count, const float* const light[3], int length,
+                   float* out) {
+  dotRgbColumnsBest(columns, count, light, length, out);
+}
+void dotRgbColumns(const std::uint16_t* columns, int count, const float* const light[3], int length,
+                   float* out) {
+  dotRgbColumnsBest(columns, count, light, length, out);
 }
 
 void dotSegmentsRgb(const std::uint16_t* values, const std::uint16_t* segments, int count,

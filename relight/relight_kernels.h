@@ -20,6 +20,8 @@ void dotRgb(const std::uint16_t* column, const float* const light[3], int length
 /// out[3 i + c] for column i. Four columns at a time share the loads of light.
 void dotRgbColumns(const float* columns, int count, const float* const light[3], int length,
                    float* out);
+void dotRgbColumns(const std::uint16_t* columns, int count, const float* const light[3], int length,
+                   float* out);
 
 /// out[c] = sum over the listed 16-texel segments s of sum_lane
 /// values[16 i + lane] * light[c][16 s_i + lane]: one row of a transport kept

@@ -12,7 +12,7 @@ namespace {
 
 struct CompressArgs {
   CommonOptions common;
-  std::string input, out, method, coeffs = "f32";
+  std::string input, out, method, coeffs = "f32", bases = "f32";
   double tolerance = 0.999, globalEnergy = 0.999;
   int clusters = 10, block = 0, sampleRows = 16384;
   unsigned long long seed = 1;
@@ -37,6 +37,7 @@ void run(const CompressArgs& a) {
   o.exactQuadTree = a.exactQuadTree;
   o.allocateRanks = a.allocateRanks;
   o.coeffs = parseCoeffPrecision(a.coeffs);
+  o.bases = parseBasisPrecision(a.bases);
   o.sampleRows = a.sampleRows;
   o.seed = a.seed;
   if (!a.common.quiet) o.log = [](const std::string& s) { std::cerr << "compress: " << s << "\n"; };
@@ -86,6 +87,8 @@ void registerCompress(CLI::App& app) {
   sub->add_flag("--allocate-ranks", args->allocateRanks,
                 "Spend one error budget, (1 - tolerance) of all energy, where it buys the most");
   sub->add_option("--coeffs", args->coeffs, "Coefficient storage: f32, f16 or i8");
+  sub->add_option("--bases", args->bases,
+                  "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
   sub->add_option("--sample-rows", args->sampleRows, "Rows sampled for the global basis");
   sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");
   args->common.add(*sub);

@@ -31,6 +31,7 @@ void runModel(const InfoArgs& a) {
                             {"bytes_per_frame", m.frameBytes()},
                             {"method", m.method},
                             {"coeffs", coeffPrecisionName(m.precision)},
+                            {"bases", coeffPrecisionName(m.basisPrecision)},
                             {"transport_error", m.transportError},
                             {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
   if (!a.jsonPath.empty()) {
@@ -47,8 +48,8 @@ void runModel(const InfoArgs& a) {
             << "  cost         " << m.totalCost() << " multiply-adds per frame, "
             << m.costPerPixel() << " per pixel\n"
             << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "
-            << formatBytes(m.frameBytes()) << " read per frame, " << formatBytes(double(bytes))
-            << " on disk\n"
+            << coeffPrecisionName(m.basisPrecision) << " bases, " << formatBytes(m.frameBytes())
+            << " read per frame, " << formatBytes(double(bytes)) << " on disk\n"
             << "  error        " << m.transportError << " relative to T (Frobenius)\n";
 }
 

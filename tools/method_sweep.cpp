@@ -31,8 +31,8 @@ struct SweepArgs {
   std::vector<double> globalEnergies{0.99, 0.999}, tolerances{0.99, 0.999};
   std::vector<int> cpcaClusters{10, 5000};
   std::vector<std::string> envs;
-  std::vector<std::string> methods{"global",          "block", "adaptive-quad", "adaptive-quad-exact",
-                                   "adaptive-binary", "cpca"};
+  std::vector<std::string> methods{
+      "global", "block", "adaptive-quad", "adaptive-quad-exact", "adaptive-binary", "cpca"};
 };
 
 struct Row {
@@ -70,8 +70,8 @@ void run(const SweepArgs& a) {
   const auto record = [&](Row r, const std::vector<double>& errors) {
     r.imageError = aggregateError(errors);
     log(concat(r.method, " ", r.setting, " g=", r.globalEnergy, " tol=", r.tolerance, ": ",
-               r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ",
-               r.imageError, ", transport error ", r.transportError));
+               r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
+               ", transport error ", r.transportError));
     rows.push_back(r);
   };
   const auto evaluate = [&](const std::string& method, const std::string& setting, double g,
@@ -83,8 +83,11 @@ void run(const SweepArgs& a) {
     Row r{method, setting, g, tol};
     std::vector<int> ranks;
     {
-      const Model m = buildModel(transport.header(), basis, projection, partition,
-                                 {tol, mean, CoeffPrecision::F32, allocate});
+      ModelOptions options;
+      options.tolerance = tol;
+      options.mean = mean;
+      options.allocateRanks = allocate;
+      const Model m = buildModel(transport.header(), basis, projection, partition, options);
       relighter = std::make_unique<ModelRelighter>(m);
       r.clusters = m.clusters();
       r.costPerPixel = m.costPerPixel();

@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -186,9 +187,91 @@ TEST_F(Cli, CompressInfoAndRelightAModel) {
   EXPECT_FALSE(test::fs::exists(out.file("x.h5")));
 }
 
+/// The pixels of an image file as floats (empty if it cannot be read).
+std::vector<float> readPixels(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+  in->read_image(0, 0, 0, -1, OIIO::TypeDesc::FLOAT, pixels.data());
+  return pixels;
+}
+
+double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size() || a.empty()) return INFINITY;
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(double(a[i]) - b[i]));
+  return d;
+}
+
+TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
+  TempDir out;
+  const std::string model = out.file("m.h5");
+  ASSERT_EQ(runCli("compress " + transport_ + " --method adaptive-quad --coeffs f16 --bases f16 " +
+                   "--quiet --out " + model)
+                .status,
+            0);
+  const std::string relight = "relight " + model + " --quiet --exr-float ";
+  // A batch of 2 maps x 3 rotations equals the same frames one at a time.
+  const RunResult batch =
+      runCli(relight + "--env sky --env constant:1 --rotate 0:360:120 --out " + out.file("batch"));
+  ASSERT_EQ(batch.status, 0) << batch.output;
+  std::ifstream manifest(out.file("batch/manifest.csv"));
+  int lines = 0;
+  for (std::string line; std::getline(manifest, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 6);
+  ASSERT_EQ(runCli(relight + "--env sky --rotate 120 --out " + out.file("one.exr")).status, 0);
+  EXPECT_EQ(
+      maxDifference(readPixels(out.file("one.exr")), readPixels(out.file("batch/sky_y120.exr"))),
+      0.0);
+  // One thread gives the same image; a full turn gives the unrotated one.
+  ASSERT_EQ(
+      runCli(relight + "--env sky --rotate 120 --threads 1 --out " + out.file("t1.exr")).status, 0);
+  EXPECT_EQ(maxDifference(readPixels(out.file("t1.exr")), readPixels(out.file("one.exr"))), 0.0);
+  ASSERT_EQ(runCli(relight + "--env sky --rotate 360 --out " + out.file("turn.exr")).status, 0);
+  const auto unrotated = readPixels(out.file("batch/sky_y0.exr"));
+  double peak = 0;
+  for (float v : unrotated) peak = std::max(peak, double(v));
+  EXPECT_LT(maxDifference(readPixels(out.file("turn.exr")), unrotated), 1e-5 * peak);
+
+  // Timing mode reports what cli.md promises.
+  const RunResult timed = runCli(relight + "--env sky --frames 3 --out " + out.file("t.exr") +
+                                 " --json " + out.file("t.json"));
+  ASSERT_EQ(timed.status, 0) << timed.output;
+  const auto t = nlohmann::json::parse(std::ifstream(out.file("t.json")));
+  EXPECT_EQ(t["timed_frames"].get<int>(), 3);
+  for (const char* key : {"ms_per_frame_median", "ms_per_frame_min", "ms_per_frame_max",
+                          "bytes_per_frame", "gb_per_s"})
+    EXPECT_GT(t[key].get<double>(), 0) << key;
+  EXPECT_EQ(t["method"], "adaptive-quad");
+
+  // No bases (and no means in this model): every object pixel is black, while
+  // the background still shows the environment.
+  ASSERT_EQ(runCli(relight + "--env constant:1 --background black --max-rank 0 --out " +
+                   out.file("r0.exr"))
+                .status,
+            0);
+  for (float v : readPixels(out.file("r0.exr"))) EXPECT_EQ(v, 0.0f);
+  EXPECT_EQ(runCli(relight + "--env sky --max-rank 50% --out " + out.file("r50.exr")).status, 0);
+  expectFailure(relight + "--env sky --max-rank -1 --out " + out.file("x.exr"), "--max-rank");
+  expectFailure(relight + "--env sky --max-rank many --out " + out.file("x.exr"), "many");
+  expectFailure("relight " + transport_ + " --env sky --max-rank 3 --out " + out.file("x.exr"),
+                "transport file");
+
+  // A truncated model file is named, and nothing is written.
+  {
+    std::ifstream in(model, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(out.file("cut.h5"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  expectFailure("relight " + out.file("cut.h5") + " --env sky --out " + out.file("x.exr"),
+                "cut.h5");
+  EXPECT_FALSE(test::fs::exists(out.file("x.exr")));
+}
+
 TEST_F(Cli, EveryCommandHasHelp) {
-  for (const char* cmd :
-       {"precompute", "compress", "relight", "envmap", "info", "scenes", "bench rays"}) {
+  for (const char* cmd : {"precompute", "compress", "relight", "envmap", "info", "scenes",
+                          "bench rays", "bench methods", "bench relight"}) {
     const RunResult r = runCli(std::string(cmd) + " --help");
     EXPECT_EQ(r.status, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd;

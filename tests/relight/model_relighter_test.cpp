@@ -273,14 +273,41 @@ TEST_F(RelightPlant, QuantizedCoefficientsStayWithinTheirStepBound) {
   }
 }
 
+TEST_F(RelightPlant, HalfBasesRelightExactlyAndCostLittleError) {
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveQuad;
+  o.block = 16;
+  const Model full = compressTransport(t, o);
+  o.bases = CoeffPrecision::F16;
+  o.coeffs = CoeffPrecision::F16;
+  const Model half = compressTransport(t, o);
+  ASSERT_EQ(half.ranks, full.ranks);
+  // The error is recomputed from the stored values: never below the exact
+  // fit's, and half rounding (2^-11 relative) adds well under 1% to it.
+  EXPECT_GE(half.transportError, full.transportError * (1 - 1e-6));
+  EXPECT_LT(half.transportError, full.transportError * 1.01);
+  test::TempDir dir;
+  writeModel(half, dir.file("m.h5"));
+  const Model back = readModel(dir.file("m.h5"));
+  EXPECT_EQ(back.basisPrecision, CoeffPrecision::F16);
+  EXPECT_EQ(back.bases, half.bases);
+  EXPECT_EQ(back.means, half.means);
+  ModelRelighter relighter(back);
+  EXPECT_LT(relighter.bytesPerFrame(), ModelRelighter(full).bytesPerFrame());
+  for (const auto& lighting : lightings())
+    EXPECT_LT(maxRelativeDifference(relighter.relight(lighting),
+                                    relightModelReference(half, {lighting})[0]),
+              1e-5);
+}
+
 TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
   // The blocked Gram path (for clusters too big to copy in double) against the
   // direct one, on the same global projection.
   const TransportReader t(path());
   const GlobalBasis basis = computeGlobalBasis(t, {0.999, 16384, 1});
   const GlobalProjection projection = projectOntoBasis(t, basis);
-  ClusterInput in{&projection.coefficients, &t.header().pixels, t.header().camera.size, 0.99,
-                  true};
+  ClusterInput in{&projection.coefficients, &t.header().pixels, t.header().camera.size, 0.99, true};
   for (const Partition& partition : {singleCluster(in), fixedBlocks(in, 8)}) {
     ModelOptions o;
     o.tolerance = 0.99;
