@@ -77,7 +77,7 @@ std::unique_ptr<Environment> loadEnvironment(const std::string& spec) {
   if (!std::filesystem::exists(spec))
     throw UserError(concat("--env '", spec,
                            "': no such file, and not constant:V, sun:THETA,PHI,SIZE,I or sky"));
-  return loadLatLongFile(spec);
+  return loadEnvironmentImage(spec);
 }
 
 }  // namespace acpca

@@ -35,8 +35,9 @@ class Environment {
 /// `sun:THETA,PHI,SIZE_DEG,INTENSITY`, `sky`, or a lat-long image file (.exr, .hdr,
 /// anything OpenImageIO reads). Throws UserError naming the argument.
 std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
-/// Loads a lat-long image (OpenImageIO): RGB, finite, non-negative.
-std::unique_ptr<Environment> loadLatLongFile(const std::string& path);
+/// Loads an environment image (OpenImageIO): RGB, finite, non-negative; a
+/// horizontal cube cross when its aspect is 4:3, else a lat-long map.
+std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
 /// True if spec names an analytic map rather than a file.
 bool isAnalyticEnvironment(const std::string& spec);
 
@@ -48,6 +49,10 @@ std::unique_ptr<Environment> makeSunEnvironment(double thetaDegrees, double phiD
 /// The built-in sun-and-sky (docs/lighting.md).
 std::unique_ptr<Environment> makeSkyEnvironment();
 /// A lat-long image in memory: width x height RGB, row 0 at the zenith.
+/// A horizontal cube cross (4 x 3 faces of faceSize pixels, the layout of
+/// latticeToCross), RGB row-major.
+std::unique_ptr<Environment> makeCubeCrossEnvironment(std::string name, int faceSize,
+                                                      std::vector<float> rgb);
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb);
 

@@ -106,7 +106,7 @@ std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width,
   return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));
 }
 
-std::unique_ptr<Environment> loadLatLongFile(const std::string& path) {
+std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw UserError(concat(path, ": cannot read the environment map: ", OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
@@ -128,8 +128,11 @@ std::unique_ptr<Environment> loadLatLongFile(const std::string& path) {
                                ") channel ", c, " is ", v, "; radiance must be finite and >= 0"));
       rgb[3 * p + c] = v;
     }
-  return makeLatLongEnvironment(std::filesystem::path(path).stem().string(), spec.width,
-                                spec.height, std::move(rgb));
+  std::string name = std::filesystem::path(path).stem().string();
+  // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
+  if (spec.width * 3 == spec.height * 4 && spec.width % 4 == 0)
+    return makeCubeCrossEnvironment(std::move(name), spec.width / 4, std::move(rgb));
+  return makeLatLongEnvironment(std::move(name), spec.width, spec.height, std::move(rgb));
 }
 
 }  // namespace acpca

@@ -110,7 +110,7 @@ void run(const SweepArgs& a) {
         for (size_t j = 0; j < lightings.size(); ++j)
           truncated.push_back(relativeL2(relighter->relight(lightings[j]), truth[j]));
         Row t = r;
-        t.setting = concat("N, first ", k, " bases");
+        t.setting = concat("first ", k, " bases");
         t.costPerPixel = double(k) * (pixels + basis.globalBases()) / pixels;
         t.transportError = NAN;  // not measured for truncations
         record(t, truncated);
