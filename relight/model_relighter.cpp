@@ -58,14 +58,28 @@ ModelRelighter::ModelRelighter(const Model& m)
   for (int k = 0; k < n; ++k)
     for (long long i = 0; i < seen; ++i)
       globalBasis_[k * seen + i] = m.globalBasis(seenTexels_[i], k);
+  // W_i^T in tiles of 16 bases, global index by global index: the phase-2
+  // product W_i^T L_g is then the chunk loop of phase 3 with 16 bases as lanes.
+  std::vector<float> tiles;
+  for (int c = 0; c < m.clusters(); ++c) {
+    basisOffset_.push_back(static_cast<long long>(tiles.size()));
+    const int rank = m.ranks[c];
+    for (int first = 0; first < rank; first += kChunkRows) {
+      const size_t start = tiles.size();
+      tiles.resize(start + static_cast<size_t>(n) * kChunkRows, 0.0f);
+      for (int lane = 0; lane < kChunkRows && first + lane < rank; ++lane)
+        for (int j = 0; j < n; ++j)
+          tiles[start + static_cast<size_t>(j) * kChunkRows + lane] =
+              m.bases[m.basisOffsets[c] + static_cast<long long>(first + lane) * n + j];
+    }
+  }
   if (basisPrecision_ == CoeffPrecision::F16) {
-    basesF16_.resize(m.bases.size());
-    floatToHalf(m.bases.data(), basesF16_.data(), m.bases.size());  // exact: half values
+    basesF16_.resize(tiles.size());
+    floatToHalf(tiles.data(), basesF16_.data(), tiles.size());  // exact: half values
   } else {
-    bases_ = m.bases;
+    bases_ = std::move(tiles);
   }
   if (hasMean_) means_ = m.means;
-  basisOffset_.assign(m.basisOffsets.begin(), m.basisOffsets.end() - 1);
   if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
 
   // Chunks: each cluster's rows in groups of 16, coefficients k-major within.
@@ -108,6 +122,7 @@ ModelRelighter::ModelRelighter(const Model& m)
 
   light_.assign(3 * seen, 0.0f);
   globalLighting_.assign(3 * static_cast<size_t>(n), 0.0f);
+  globalLightingRgb_.assign(3 * static_cast<size_t>(n), 0.0f);
   clusterLighting_.assign(3 * totalRank, 0.0f);
   meanTerm_.assign(3 * static_cast<size_t>(clusters), 0.0f);
   activeRanks_ = ranks_;
@@ -135,7 +150,8 @@ long long ModelRelighter::bytesPerFrame() const {
   const long long basisBytes = basisPrecision_ == CoeffPrecision::F16 ? 2 : 4;
   long long bytes = static_cast<long long>(globalBasis_.size()) * 4;
   for (size_t c = 0; c < activeRanks_.size(); ++c)
-    bytes += activeRanks_[c] * static_cast<long long>(globalBases_) * basisBytes +
+    bytes += (activeRanks_[c] + kChunkRows - 1) / kChunkRows * kChunkRows *
+                 static_cast<long long>(globalBases_) * basisBytes +
              (hasMean_ ? globalBases_ * 4LL : 0);
   for (const Chunk& chunk : chunks_)
     bytes += activeRanks_[chunk.cluster] * kChunkRows * elementBytes;
@@ -182,20 +198,26 @@ void ModelRelighter::clusterLighting(const std::vector<T>& bases) {
   const int n = globalBases_;
   const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
                         globalLighting_.data() + 2 * n};
-  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int c = range.begin(); c != range.end(); ++c) {
-                        float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
-                        kernels::dotRgbColumns(bases.data() + basisOffset_[c], activeRanks_[c], lg,
-                                               n, li);
-                        for (int k = 0; k < 3 * activeRanks_[c]; ++k) li[k] *= scale_[c];
-                        float* mean = meanTerm_.data() + 3 * c;
-                        if (hasMean_)
-                          kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
-                        else
-                          mean[0] = mean[1] = mean[2] = 0;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
+      [&](const tbb::blocked_range<int>& range) {
+        for (int c = range.begin(); c != range.end(); ++c) {
+          float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
+          const float zero[3] = {0, 0, 0};
+          float tile[3][kChunkRows];
+          for (int first = 0; first < activeRanks_[c]; first += kChunkRows) {
+            kernels::shadeChunk(bases.data() + basisOffset_[c] + static_cast<size_t>(first) * n,
+                                globalLightingRgb_.data(), n, zero, tile);
+            for (int k = first; k < std::min(first + kChunkRows, activeRanks_[c]); ++k)
+              for (int ch = 0; ch < 3; ++ch) li[3 * k + ch] = tile[ch][k - first] * scale_[c];
+          }
+          float* mean = meanTerm_.data() + 3 * c;
+          if (hasMean_)
+            kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
+          else
+            mean[0] = mean[1] = mean[2] = 0;
+        }
+      });
 }
 
 void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
@@ -219,7 +241,10 @@ void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
     kernels::dotRgbColumns(globalBasis_.data() + static_cast<size_t>(first) * seen, count, light,
                            seen, out);
     for (int k = 0; k < count; ++k)
-      for (int c = 0; c < 3; ++c) globalLighting_[c * n + first + k] = out[3 * k + c];
+      for (int c = 0; c < 3; ++c) {
+        globalLighting_[c * n + first + k] = out[3 * k + c];
+        globalLightingRgb_[3 * (first + k) + c] = out[3 * k + c];
+      }
   });
 
   // Phase 2: L_i = W_i^T L_g (the i8 step folded in), and the mean term.

@@ -57,7 +57,8 @@ class ModelRelighter {
   std::vector<int> seenTexels_;     ///< lattice texels with a non-zero row of V_g
   std::vector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
   CoeffPrecision basisPrecision_;
-  std::vector<float> bases_;             ///< W_i, column-major N x n_i, cluster after cluster
+  /// W_i^T in tiles of 16 bases: per tile N x 16 values, global index major.
+  std::vector<float> bases_;
   std::vector<std::uint16_t> basesF16_;  ///< the same in half, for f16-basis models
   std::vector<long long> basisOffset_;   ///< per cluster
   std::vector<float> means_;             ///< C x N when the model has means
@@ -73,10 +74,11 @@ class ModelRelighter {
   std::vector<std::int8_t> coeffI8_;
 
   // Per-frame scratch, sized once.
-  std::vector<float> light_;            ///< 3 x |seen|, channel-major
-  std::vector<float> globalLighting_;   ///< 3 x N, channel-major
-  std::vector<float> clusterLighting_;  ///< per cluster n_i x 3, interleaved
-  std::vector<float> meanTerm_;         ///< 3 per cluster
+  std::vector<float> light_;              ///< 3 x |seen|, channel-major
+  std::vector<float> globalLighting_;     ///< 3 x N, channel-major
+  std::vector<float> globalLightingRgb_;  ///< N x 3, interleaved
+  std::vector<float> clusterLighting_;    ///< per cluster n_i x 3, interleaved
+  std::vector<float> meanTerm_;           ///< 3 per cluster
 };
 
 }  // namespace acpca

@@ -124,21 +124,49 @@ inline void loadRow(const std::int8_t* p, __m256& lo, __m256& hi) {
 template <typename T>
 void shadeChunkAvx2(const T* coefficients, const float* lighting, int rank, const float base[3],
                     float out[3][kChunkRows]) {
-  __m256 lo[3], hi[3];
-  for (int c = 0; c < 3; ++c) lo[c] = hi[c] = _mm256_set1_ps(base[c]);
-  for (int k = 0; k < rank; ++k) {
+  // Two sets of accumulators (rows k even and odd) so that each FMA chain waits
+  // on its previous FMA only every other step. Named variables, not arrays:
+  // GCC keeps arrays of vectors in memory.
+  __m256 rLo = _mm256_set1_ps(base[0]), rHi = rLo, gLo = _mm256_set1_ps(base[1]), gHi = gLo,
+         bLo = _mm256_set1_ps(base[2]), bHi = bLo;
+  __m256 rLo1 = _mm256_setzero_ps(), rHi1 = rLo1, gLo1 = rLo1, gHi1 = rLo1, bLo1 = rLo1,
+         bHi1 = rLo1;
+  int k = 0;
+  for (; k + 2 <= rank; k += 2) {
+    const float* l = lighting + 3 * k;
     __m256 uLo, uHi;
     loadRow(coefficients + k * kChunkRows, uLo, uHi);
-    for (int c = 0; c < 3; ++c) {
-      const __m256 l = _mm256_broadcast_ss(lighting + 3 * k + c);
-      lo[c] = _mm256_fmadd_ps(uLo, l, lo[c]);
-      hi[c] = _mm256_fmadd_ps(uHi, l, hi[c]);
-    }
+    __m256 b = _mm256_broadcast_ss(l);
+    rLo = _mm256_fmadd_ps(uLo, b, rLo), rHi = _mm256_fmadd_ps(uHi, b, rHi);
+    b = _mm256_broadcast_ss(l + 1);
+    gLo = _mm256_fmadd_ps(uLo, b, gLo), gHi = _mm256_fmadd_ps(uHi, b, gHi);
+    b = _mm256_broadcast_ss(l + 2);
+    bLo = _mm256_fmadd_ps(uLo, b, bLo), bHi = _mm256_fmadd_ps(uHi, b, bHi);
+    loadRow(coefficients + (k + 1) * kChunkRows, uLo, uHi);
+    b = _mm256_broadcast_ss(l + 3);
+    rLo1 = _mm256_fmadd_ps(uLo, b, rLo1), rHi1 = _mm256_fmadd_ps(uHi, b, rHi1);
+    b = _mm256_broadcast_ss(l + 4);
+    gLo1 = _mm256_fmadd_ps(uLo, b, gLo1), gHi1 = _mm256_fmadd_ps(uHi, b, gHi1);
+    b = _mm256_broadcast_ss(l + 5);
+    bLo1 = _mm256_fmadd_ps(uLo, b, bLo1), bHi1 = _mm256_fmadd_ps(uHi, b, bHi1);
   }
-  for (int c = 0; c < 3; ++c) {
-    _mm256_storeu_ps(out[c], lo[c]);
-    _mm256_storeu_ps(out[c] + 8, hi[c]);
+  if (k < rank) {
+    const float* l = lighting + 3 * k;
+    __m256 uLo, uHi;
+    loadRow(coefficients + k * kChunkRows, uLo, uHi);
+    rLo = _mm256_fmadd_ps(uLo, _mm256_broadcast_ss(l), rLo);
+    rHi = _mm256_fmadd_ps(uHi, _mm256_broadcast_ss(l), rHi);
+    gLo = _mm256_fmadd_ps(uLo, _mm256_broadcast_ss(l + 1), gLo);
+    gHi = _mm256_fmadd_ps(uHi, _mm256_broadcast_ss(l + 1), gHi);
+    bLo = _mm256_fmadd_ps(uLo, _mm256_broadcast_ss(l + 2), bLo);
+    bHi = _mm256_fmadd_ps(uHi, _mm256_broadcast_ss(l + 2), bHi);
   }
+  _mm256_storeu_ps(out[0], _mm256_add_ps(rLo, rLo1));
+  _mm256_storeu_ps(out[0] + 8, _mm256_add_ps(rHi, rHi1));
+  _mm256_storeu_ps(out[1], _mm256_add_ps(gLo, gLo1));
+  _mm256_storeu_ps(out[1] + 8, _mm256_add_ps(gHi, gHi1));
+  _mm256_storeu_ps(out[2], _mm256_add_ps(bLo, bLo1));
+  _mm256_storeu_ps(out[2] + 8, _mm256_add_ps(bHi, bHi1));
 }
 
 #endif
