@@ -224,19 +224,12 @@ void dotRgbColumns(const float* columns, int count, const float* const light[3],
                    float* out) {
   dotRgbColumnsBest(columns, count, light, length, out);
 }
-void dotRgbColumns(const std::uint16_t* columns, int count, const float* const light[3], int length,
-                   float* out) {
-  dotRgbColumnsBest(columns, count, light, length, out);
-}
 
 void dotSegmentsRgb(const std::uint16_t* values, const std::uint16_t* segments, int count,
                     const float* const light[3], float out[3]) {
   dotSegmentsBest(values, segments, count, light, out);
 }
 void dotRgb(const float* column, const float* const light[3], int length, float out[3]) {
-  dotRgbBest(column, light, length, out);
-}
-void dotRgb(const std::uint16_t* column, const float* const light[3], int length, float out[3]) {
   dotRgbBest(column, light, length, out);
 }
 void shadeChunk(const float* u, const float* lighting, int rank, const float base[3],

@@ -11,16 +11,13 @@ namespace acpca::kernels {
 /// rows (one 64-byte line per basis in f32), so one load feeds 16 pixels.
 inline constexpr int kChunkRows = 16;
 
-/// out[c] = sum_j column[j] * light[c][j], c = R, G, B: one row of
-/// V_g^T L or W_i^T L_g.
+/// out[c] = sum_j column[j] * light[c][j], c = R, G, B: one row of V_g^T L
+/// (or a cluster mean's mu_i . L_g).
 void dotRgb(const float* column, const float* const light[3], int length, float out[3]);
-void dotRgb(const std::uint16_t* column, const float* const light[3], int length, float out[3]);
 
 /// dotRgb of `count` columns stored one after another (stride `length`):
 /// out[3 i + c] for column i. Four columns at a time share the loads of light.
 void dotRgbColumns(const float* columns, int count, const float* const light[3], int length,
-                   float* out);
-void dotRgbColumns(const std::uint16_t* columns, int count, const float* const light[3], int length,
                    float* out);
 
 /// out[c] = sum over the listed 16-texel segments s of sum_lane
@@ -30,7 +27,8 @@ void dotSegmentsRgb(const std::uint16_t* values, const std::uint16_t* segments, 
                     const float* const light[3], float out[3]);
 
 /// out[c][lane] = base[c] + sum_{k < rank} coefficients[k * 16 + lane] * lighting[3k + c]:
-/// paper 003 eq. 17 for one chunk of 16 rows of a cluster.
+/// paper 003 eq. 17 for one chunk of 16 rows of a cluster, and W_i^T L_g for a
+/// tile of 16 bases (lanes = bases, k = global index).
 void shadeChunk(const float* coefficients, const float* lighting, int rank, const float base[3],
                 float out[3][kChunkRows]);
 void shadeChunk(const std::uint16_t* coefficients, const float* lighting, int rank,
