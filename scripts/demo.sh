@@ -18,9 +18,13 @@ $cli relight "$out/plant.h5" --env sky --rotate 0:360:45 --format png --out "$ou
 $cli compress "$out/plant.h5" --method adaptive-quad --out "$out/plant-model.h5"
 $cli info "$out/plant-model.h5"
 $cli relight "$out/plant-model.h5" --env sky --env sun:50,30,4,1000 --format png --out "$out/model-images"
+# Timing mode: 50 frames of the fast relighter, ms/frame and GB/s.
+$cli relight "$out/plant-model.h5" --env sky --frames 50 --out "$out/model-sky.png" \
+  --json "$out/relight-timing.json"
 $cli envmap sky --out "$out/sky-lattice.exr" --cross "$out/sky-cross.exr"
 echo
 echo "demo: transport in $out/plant.h5"
 echo "demo: relit images (EXR + PNG) and manifest.csv in $out/images/"
 echo "demo: the sky turned in 45-degree steps in $out/sky-turn/"
 echo "demo: adaptive-quad model in $out/plant-model.h5, relit from it in $out/model-images/"
+echo "demo: relighter timing (50 frames) in $out/relight-timing.json"
