@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "precompute/render/scene.h"
 #include "precompute/render/transport_renderer.h"
 #include "precompute/transport/error.h"
 #include "precompute/transport/transport_file.h"
@@ -57,6 +58,17 @@ inline LoadedTransport precomputeInMemory(const Scene& scene, const PrecomputeOp
   t.rows.resize(static_cast<size_t>(reader.rows()) * t.l);
   reader.readRows(0, reader.rows(), t.rows.data());
   return t;
+}
+
+/// The small plant the compression and relighting suites share: 40x40 pixels,
+/// a 6x8x8 lattice, f32 rows, written to `path`.
+inline void precomputeSmallPlant(const std::string& path) {
+  Scene scene = makePlantScene();
+  scene.camera.size = {40, 40};
+  PrecomputeOptions o;
+  o.cubemapResolution = 8;
+  o.precision = Precision::F32;
+  precomputeTransport(scene, path, o);
 }
 
 /// Index of the row of pixel (x, y), or -1 for background.

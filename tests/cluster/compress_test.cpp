@@ -7,6 +7,7 @@
 #include "cluster/cost_model.h"
 #include "precompute/render/scene.h"
 #include "relight/dense_relight.h"
+#include "relight/evaluation.h"
 #include "relight/lighting.h"
 #include "tests/test_support.h"
 
@@ -165,25 +166,13 @@ class CompressPlant : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir;
-    Scene scene = makePlantScene();
-    scene.camera.size = {40, 40};
-    PrecomputeOptions o;
-    o.cubemapResolution = 8;
-    o.precision = Precision::F32;
-    precomputeTransport(scene, dir_->file("t.h5"), o);
+    test::precomputeSmallPlant(dir_->file("t.h5"));
   }
   static void TearDownTestSuite() { delete dir_; }
   static std::string path() { return dir_->file("t.h5"); }
   static test::TempDir* dir_;
 };
 test::TempDir* CompressPlant::dir_ = nullptr;
-
-double relativeL2(const std::vector<float>& a, const std::vector<float>& b) {
-  double d = 0, n = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    d += std::pow(double(a[i]) - b[i], 2), n += double(b[i]) * b[i];
-  return std::sqrt(d / n);
-}
 
 TEST_F(CompressPlant, KeepingEverythingMatchesTheDenseRelight) {
   const TransportReader t(path());

@@ -15,6 +15,7 @@
 #include "precompute/render/scene.h"
 #include "precompute/transport/half.h"
 #include "relight/dense_relight.h"
+#include "relight/evaluation.h"
 #include "relight/lighting.h"
 #include "relight/sparse_transport.h"
 #include "tests/test_support.h"
@@ -30,13 +31,6 @@ double maxRelativeDifference(const std::vector<float>& a, const std::vector<floa
     scale = std::max(scale, std::abs(double(b[i])));
   }
   return scale > 0 ? diff / scale : diff;
-}
-
-double relativeL2(const std::vector<float>& a, const std::vector<float>& b) {
-  double d = 0, n = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    d += std::pow(double(a[i]) - b[i], 2), n += double(b[i]) * b[i];
-  return std::sqrt(d / n);
 }
 
 /// A model with every awkward shape, filled with random numbers: clusters of
@@ -159,12 +153,7 @@ class RelightPlant : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir;
-    Scene scene = makePlantScene();
-    scene.camera.size = {40, 40};
-    PrecomputeOptions o;
-    o.cubemapResolution = 8;
-    o.precision = Precision::F32;
-    precomputeTransport(scene, dir_->file("t.h5"), o);
+    test::precomputeSmallPlant(dir_->file("t.h5"));
   }
   static void TearDownTestSuite() { delete dir_; }
   static std::string path() { return dir_->file("t.h5"); }
