@@ -35,6 +35,7 @@ struct GlobalProjection {
   RowMatrixF coefficients;         ///< G: rows x N
   Eigen::VectorXd rowEnergy;       ///< |t_p|^2 of every row
   Eigen::VectorXd residualEnergy;  ///< |t_p|^2 - |g_p|^2: what the basis misses, per row
+                                   ///< (rounding noise of either sign; use sums)
   double transportEnergy() const { return rowEnergy.sum(); }
 };
 
