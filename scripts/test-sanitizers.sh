@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The unit, physics and CLI tests under AddressSanitizer + UndefinedBehaviorSanitizer
+# (build-asan/, RelWithDebInfo). Any report fails the run. CI runs it after
+# scripts/test.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_SANITIZE=ON \
+  -DACPCA_BUILD_TESTS=ON >/dev/null
+cmake --build build-asan -j "$(nproc)"
+cd build-asan
+# The h5py check runs Debian's Python, which is not instrumented.
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --output-on-failure -j "$(nproc)" --timeout 1800 -E h5py
