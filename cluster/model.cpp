@@ -448,10 +448,16 @@ Model readModel(const std::string& path) {
       clusters > std::max(rows, 1LL))
     throw UserError(concat(ctx, ": sizes in the header do not add up"));
   m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;
-  m.precision = parseCoeffPrecision(h5::readStringAttribute(f, "coeffs", ctx));
-  m.basisPrecision = h5::hasAttribute(f, "bases")
-                         ? parseBasisPrecision(h5::readStringAttribute(f, "bases", ctx))
-                         : CoeffPrecision::F32;
+  // Storage kinds, named as the file's attributes (not as the CLI options).
+  const auto storage = [&](const char* attribute, bool allowI8) {
+    const std::string text = h5::readStringAttribute(f, attribute, ctx);
+    if (text == "f32") return CoeffPrecision::F32;
+    if (text == "f16") return CoeffPrecision::F16;
+    if (text == "i8" && allowI8) return CoeffPrecision::I8;
+    throw UserError(concat(ctx, ": attribute '", attribute, "' is '", text, "'"));
+  };
+  m.precision = storage("coeffs", true);
+  m.basisPrecision = h5::hasAttribute(f, "bases") ? storage("bases", false) : CoeffPrecision::F32;
   m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
   m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
   m.compressSeconds = h5::readDoubleAttribute(f, "compress_seconds", ctx);
