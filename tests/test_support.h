@@ -71,6 +71,21 @@ inline void precomputeSmallPlant(const std::string& path) {
   precomputeTransport(scene, path, o);
 }
 
+/// A suite whose tests share one small plant transport, `path()`, in `dir_`.
+class SmallPlantSuite : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir;
+    precomputeSmallPlant(dir_->file("t.h5"));
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::string path() { return dir_->file("t.h5"); }
+  static inline TempDir* dir_ = nullptr;
+};
+
 /// Index of the row of pixel (x, y), or -1 for background.
 inline long long rowOfPixel(const TransportHeader& h, int x, int y) {
   const int p = y * h.camera.size.width + x;

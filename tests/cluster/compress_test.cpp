@@ -162,17 +162,7 @@ TEST(RankAllocation, SpendsTheBudgetWhereItBuysTheMost) {
             (std::vector<int>{0, 1}));
 }
 
-class CompressPlant : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new test::TempDir;
-    test::precomputeSmallPlant(dir_->file("t.h5"));
-  }
-  static void TearDownTestSuite() { delete dir_; }
-  static std::string path() { return dir_->file("t.h5"); }
-  static test::TempDir* dir_;
-};
-test::TempDir* CompressPlant::dir_ = nullptr;
+class CompressPlant : public test::SmallPlantSuite {};
 
 TEST_F(CompressPlant, KeepingEverythingMatchesTheDenseRelight) {
   const TransportReader t(path());

@@ -149,14 +149,8 @@ TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
   EXPECT_THROW(relighter.setRankFraction(1.5), UserError);
 }
 
-class RelightPlant : public ::testing::Test {
+class RelightPlant : public test::SmallPlantSuite {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new test::TempDir;
-    test::precomputeSmallPlant(dir_->file("t.h5"));
-  }
-  static void TearDownTestSuite() { delete dir_; }
-  static std::string path() { return dir_->file("t.h5"); }
   static std::vector<LatticeLighting> lightings() {
     const CubeLattice lattice(8);
     std::vector<LatticeLighting> out;
@@ -164,9 +158,7 @@ class RelightPlant : public ::testing::Test {
       out.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
     return out;
   }
-  static test::TempDir* dir_;
 };
-test::TempDir* RelightPlant::dir_ = nullptr;
 
 TEST_F(RelightPlant, KeepingEverythingEqualsTheDenseRelight) {
   const TransportReader t(path());
