@@ -16,8 +16,8 @@ using kernels::kChunkRows;
 
 namespace {
 
-/// Copies cluster c's row-major p x n coefficients into k-major chunks of 16
-/// rows (padding lanes stay zero).
+/// Copies `rows` rows of `rank` values (row-major) into k-major chunks of 16
+/// rows (padding lanes stay zero): a cluster's coefficients, or its bases.
 template <typename T>
 void packCluster(const T* rowMajor, long long rows, int rank, T* chunks) {
   for (long long r = 0; r < rows; ++r)
@@ -60,18 +60,16 @@ ModelRelighter::ModelRelighter(const Model& m)
       globalBasis_[k * seen + i] = m.globalBasis(seenTexels_[i], k);
   // W_i^T in tiles of 16 bases, global index by global index: the phase-2
   // product W_i^T L_g is then the chunk loop of phase 3 with 16 bases as lanes.
+  // W_i (column-major N x n_i) read as n_i rows of N values packs like a
+  // cluster's coefficients, 16 bases to a tile.
   std::vector<float> tiles;
   for (int c = 0; c < m.clusters(); ++c) {
     basisOffset_.push_back(static_cast<long long>(tiles.size()));
-    const int rank = m.ranks[c];
-    for (int first = 0; first < rank; first += kChunkRows) {
-      const size_t start = tiles.size();
-      tiles.resize(start + static_cast<size_t>(n) * kChunkRows, 0.0f);
-      for (int lane = 0; lane < kChunkRows && first + lane < rank; ++lane)
-        for (int j = 0; j < n; ++j)
-          tiles[start + static_cast<size_t>(j) * kChunkRows + lane] =
-              m.bases[m.basisOffsets[c] + static_cast<long long>(first + lane) * n + j];
-    }
+    const size_t start = tiles.size();
+    tiles.resize(
+        start + (m.ranks[c] + kChunkRows - 1) / kChunkRows * kChunkRows * static_cast<size_t>(n),
+        0.0f);
+    packCluster(m.bases.data() + m.basisOffsets[c], m.ranks[c], n, tiles.data() + start);
   }
   if (basisPrecision_ == CoeffPrecision::F16) {
     basesF16_.resize(tiles.size());
