@@ -2,7 +2,13 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "precompute/transport/atomic_file.h"
 #include "precompute/transport/error.h"
@@ -21,6 +27,57 @@ double linearToSrgb(double v) {
   return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
 }
 
+namespace {
+/// The 8-bit code of a scaled linear value, by the formula itself.
+unsigned char srgbCode(float scaled) {
+  return static_cast<unsigned char>(std::lround(linearToSrgb(scaled) * 255));
+}
+}  // namespace
+
+SrgbEncoder::SrgbEncoder(double exposureEv) : scale_(static_cast<float>(std::exp2(exposureEv))) {
+  // Non-negative floats order like their bit patterns, so each threshold is
+  // found by bisection over the bits: the smallest x with srgbCode(x) > b.
+  for (int b = 0; b < 255; ++b) {
+    std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);  // srgbCode(1) = 255
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (srgbCode(std::bit_cast<float>(mid)) > b)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    thresholds_[b] = std::bit_cast<float>(lo);
+  }
+  thresholds_[255] = std::numeric_limits<float>::infinity();
+  for (size_t k = 0; k < bucketCode_.size(); ++k)
+    bucketCode_[k] =
+        srgbCode(std::bit_cast<float>(kFirstBucket + (std::uint32_t(k) << (23 - kBucketBits))));
+}
+
+unsigned char SrgbEncoder::operator()(float linear) const {
+  const float scaled = linear * scale_;
+  if (!(scaled > 0)) return 0;  // negative, zero or NaN
+  if (scaled >= 1) return 255;
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(scaled);
+  int code = bits < kFirstBucket ? 0 : bucketCode_[(bits - kFirstBucket) >> (23 - kBucketBits)];
+  while (scaled >= thresholds_[code]) ++code;  // thresholds_[255] is infinite
+  return static_cast<unsigned char>(code);
+}
+
+std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
+  std::vector<unsigned char> bytes(image.pixels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), 1 << 16),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const bool alpha = image.channels == 4 && i % 4 == 3;
+                        bytes[i] = alpha ? static_cast<unsigned char>(std::lround(
+                                               std::clamp(image.pixels[i], 0.0f, 1.0f) * 255))
+                                         : (*this)(image.pixels[i]);
+                      }
+                    });
+  return bytes;
+}
+
 Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
                    Background background, const Environment& env, const Eigen::Matrix3d& rotation) {
   const Camera& camera = header.camera;
@@ -32,7 +89,8 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
   std::vector<float> coverage(static_cast<size_t>(camera.size.pixels()), 0.0f);
   for (long long r = 0; r < header.rows(); ++r) coverage[header.pixels[r]] = header.coverage[r];
   const Eigen::Matrix3d inverse = rotation.transpose();
-  for (int y = 0; y < image.height; ++y)
+  // Background pixels evaluate the environment, the costly part: rows in parallel.
+  tbb::parallel_for(0, image.height, [&](int y) {
     for (int x = 0; x < image.width; ++x) {
       float* out = image.at(x, y);
       const float cov = coverage[static_cast<size_t>(y) * image.width + x];
@@ -42,6 +100,7 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
       }
       if (background == Background::Alpha) out[3] = cov;
     }
+  });
   for (long long r = 0; r < header.rows(); ++r) {
     const int p = header.pixels[r];
     float* out = image.at(p % image.width, p / image.width);
@@ -69,13 +128,7 @@ void writeImage(const Image& image, const std::string& path, ImageFormat format,
          out->write_image(OIIO::TypeDesc::FLOAT, scaled.data()) && out->close();
   } else {
     OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
-    std::vector<unsigned char> bytes(values);
-    for (size_t i = 0; i < values; ++i) {
-      const bool alpha = image.channels == 4 && i % 4 == 3;
-      const double v = alpha ? std::clamp(double(image.pixels[i]), 0.0, 1.0)
-                             : linearToSrgb(image.pixels[i] * scale);
-      bytes[i] = static_cast<unsigned char>(std::lround(v * 255));
-    }
+    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv).encode(image);
     ok = out->open(output.tempPath(), spec) &&
          out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) && out->close();
   }

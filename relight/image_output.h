@@ -1,6 +1,8 @@
 #pragma once
 // Relit images: composing per-pixel results with the background, and writing
 // linear EXR or tone-mapped sRGB PNG (always to a temporary name, then renamed).
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,5 +38,27 @@ void writeImage(const Image& image, const std::string& path, ImageFormat format,
 
 /// sRGB transfer function of a linear value in [0, 1].
 double linearToSrgb(double v);
+
+/// 8-bit sRGB of linear values times 2^exposure, as PNG output writes them:
+/// round(255 * linearToSrgb(v * scale)). Exact and fast: the code is found
+/// among the 255 float thresholds where it steps up (the map is monotone), so
+/// a viewer shows the very bytes a batch PNG holds.
+class SrgbEncoder {
+ public:
+  explicit SrgbEncoder(double exposureEv);
+  unsigned char operator()(float linear) const;
+  /// Every channel of the image (alpha, if any, is coverage in [0, 1], not tone mapped).
+  std::vector<unsigned char> encode(const Image& image) const;
+
+ private:
+  float scale_;
+  std::array<float, 256> thresholds_;  ///< [b]: smallest scaled value whose code is b + 1
+  /// Code at the start of each bucket of scaled values in [2^-kBucketExponents, 1),
+  /// a bucket per exponent and top kBucketBits mantissa bits; the exact code is
+  /// at most a step or two above it.
+  static constexpr int kBucketExponents = 16, kBucketBits = 7;
+  static constexpr std::uint32_t kFirstBucket = std::uint32_t(127 - kBucketExponents) << 23;
+  std::array<unsigned char, (kBucketExponents << kBucketBits)> bucketCode_;
+};
 
 }  // namespace acpca

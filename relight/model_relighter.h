@@ -31,6 +31,8 @@ class ModelRelighter {
   void relight(const LatticeLighting& lighting, float* rgb);
   std::vector<float> relight(const LatticeLighting& lighting);
 
+  /// Bases each cluster uses at the current rank limit.
+  const std::vector<int>& activeRanks() const { return activeRanks_; }
   const TransportHeader& geometry() const { return geometry_; }
   long long rows() const { return geometry_.rows(); }
   /// Bytes of model data one frame reads at the current rank limit: bases,

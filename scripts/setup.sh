@@ -11,6 +11,7 @@ packages=(
   libopenblas-dev liblapacke-dev
   libgtest-dev libbenchmark-dev
   python3 python3-h5py python3-numpy python3-matplotlib
+  xvfb xauth
 )
 
 missing=()

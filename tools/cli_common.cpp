@@ -4,13 +4,16 @@
 #include <tbb/info.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "precompute/transport/atomic_file.h"
 #include "precompute/transport/error.h"
+#include "relight/environment.h"
 
 namespace acpca::cli {
 
@@ -103,6 +106,34 @@ std::string formatBytes(double bytes) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, u ? "%.2f %s" : "%.0f %s", bytes, units[u]);
   return buffer;
+}
+
+namespace {
+bool isImageFile(const std::filesystem::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  return ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
+}
+}  // namespace
+
+std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const auto& spec : specs) {
+    if (!isAnalyticEnvironment(spec) && fs::is_directory(spec)) {
+      std::vector<std::string> files;
+      for (const auto& entry : fs::directory_iterator(spec))
+        if (entry.is_regular_file() && isImageFile(entry.path()))
+          files.push_back(entry.path().string());
+      if (files.empty())
+        throw UserError(concat("--env '", spec, "': the directory holds no .exr/.hdr maps"));
+      std::sort(files.begin(), files.end());
+      out.insert(out.end(), files.begin(), files.end());
+    } else {
+      out.push_back(spec);
+    }
+  }
+  return out;
 }
 
 }  // namespace acpca::cli

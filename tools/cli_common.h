@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "precompute/transport/camera.h"
 
@@ -53,6 +54,11 @@ void writeJson(const std::string& path, const nlohmann::json& value);
 
 /// Parses "WxH" (e.g. 256x256); throws UserError naming the option.
 ImageSize parseSize(const std::string& text, const std::string& option);
+
+/// --env arguments with each directory replaced by the lighting images it holds
+/// (sorted); analytic specs and files pass through. Throws UserError for an
+/// empty directory.
+std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs);
 
 /// Human-readable byte count (e.g. "1.2 GiB").
 std::string formatBytes(double bytes);

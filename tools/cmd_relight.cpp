@@ -40,31 +40,6 @@ struct EnvInput {
   std::string error;  // non-empty: could not be loaded
 };
 
-bool isImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  return ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
-}
-
-std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs) {
-  std::vector<std::string> out;
-  for (const auto& spec : specs) {
-    if (!isAnalyticEnvironment(spec) && fs::is_directory(spec)) {
-      std::vector<std::string> files;
-      for (const auto& entry : fs::directory_iterator(spec))
-        if (entry.is_regular_file() && isImageFile(entry.path()))
-          files.push_back(entry.path().string());
-      if (files.empty())
-        throw UserError(concat("--env '", spec, "': the directory holds no .exr/.hdr maps"));
-      std::sort(files.begin(), files.end());
-      out.insert(out.end(), files.begin(), files.end());
-    } else {
-      out.push_back(spec);
-    }
-  }
-  return out;
-}
-
 std::vector<ImageFormat> formatsFor(const std::string& format, const fs::path& out, bool batch) {
   if (format == "both") return {ImageFormat::Exr, ImageFormat::Png};
   if (format == "exr") return {ImageFormat::Exr};

@@ -13,6 +13,8 @@ void registerEnvmap(CLI::App& app);
 void registerInfo(CLI::App& app);
 void registerScenes(CLI::App& app);
 void registerBench(CLI::App& app);
+void registerView(CLI::App& app);
+void registerEval(CLI::App& app);
 
 /// " n=R:COUNT" for each rank R a model's clusters have.
 std::string rankHistogramText(const Model& m);

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   acpca::cli::registerInfo(app);
   acpca::cli::registerScenes(app);
   acpca::cli::registerBench(app);
+  acpca::cli::registerEval(app);
+  acpca::cli::registerView(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +14,6 @@
 #include "relight/dense_relight.h"
 #include "relight/evaluation.h"
 #include "relight/lighting.h"
-#include "relight/model_relighter.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -25,150 +23,191 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct SweepArgs {
-  CommonOptions common;
-  std::string input, out;
-  std::vector<double> globalEnergies{0.99, 0.999}, tolerances{0.99, 0.999};
-  std::vector<int> cpcaClusters{10, 5000};
-  std::vector<std::string> envs;
-  std::vector<std::string> methods{
-      "global", "block", "adaptive-quad", "adaptive-quad-exact", "adaptive-binary", "cpca"};
-};
-
-struct Row {
-  std::string method, setting;
-  double globalEnergy = 0, tolerance = 0;
-  int clusters = 0;
-  double costPerPixel = 0, transportError = 0, imageError = 0, seconds = 0;
-};
-
 double seconds(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-void run(const SweepArgs& a) {
-  ThreadLimit limit(a.common.threads);
-  const TransportReader transport(a.input);
+const std::vector<std::string> kMethods{
+    "global", "block", "adaptive-quad", "adaptive-quad-exact", "adaptive-binary", "cpca"};
+
+}  // namespace
+
+void checkSweepMethods(const std::vector<std::string>& methods) {
+  for (const auto& m : methods)
+    if (std::find(kMethods.begin(), kMethods.end(), m) == kMethods.end())
+      throw UserError(concat("--methods: unknown method '", m, "'"));
+}
+
+EvaluationData loadEvaluationData(const TransportReader& transport, std::vector<std::string> envs) {
+  EvaluationData d;
+  d.transport = &transport;
+  d.envs = envs.empty() ? defaultEvaluationSet() : std::move(envs);
   const CubeLattice lattice(transport.header().cubemapResolution);
-  const std::vector<std::string> envs = a.envs.empty() ? defaultEvaluationSet() : a.envs;
-  std::vector<LatticeLighting> lightings;
-  for (const auto& e : envs) lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
-  const auto truth = denseRelight(transport, lightings);
-  const auto log = [&](const std::string& s) {
-    if (!a.common.quiet) std::cerr << "bench methods: " << s << std::endl;
-  };
+  for (const auto& e : d.envs)
+    d.lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
+  d.truth = denseRelight(transport, d.lightings);
+  return d;
+}
 
-  for (const auto& method : a.methods)
-    if (method != "global" && method != "block" && method != "adaptive-quad" &&
-        method != "adaptive-quad-exact" && method != "adaptive-binary" && method != "cpca")
-      throw UserError(concat("--methods: unknown method '", method, "'"));
+double medianFrameMs(const std::function<void()>& relight, int frames) {
+  relight();  // warm-up
+  std::vector<double> ms;
+  for (int k = 0; k < frames; ++k) {
+    const auto start = Clock::now();
+    relight();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  return ms.empty() ? NAN : ms[ms.size() / 2];
+}
+
+std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSettings& s,
+                                      const SweepObserver& observe) {
+  checkSweepMethods(s.methods);
+  const TransportReader& transport = *data.transport;
+  const auto log = [&](const std::string& text) {
+    if (!s.quiet) std::cerr << s.logName << ": " << text << std::endl;
+  };
   const auto wanted = [&](const std::string& method) {
-    return std::find(a.methods.begin(), a.methods.end(), method) != a.methods.end();
+    return std::find(s.methods.begin(), s.methods.end(), method) != s.methods.end();
   };
+  std::vector<SweepResult> results;
+  std::vector<float> image(3 * transport.rows());
 
-  std::vector<Row> rows;
-  const auto record = [&](Row r, const std::vector<double>& errors) {
-    r.imageError = aggregateError(errors);
+  // Relights every map, records errors (and timing), tells the observer.
+  const auto measure = [&](SweepResult r, ModelRelighter& relighter,
+                           const std::vector<int>& clusterOfRow) {
+    std::vector<float> first;
+    for (size_t k = 0; k < data.lightings.size(); ++k) {
+      relighter.relight(data.lightings[k], image.data());
+      r.errors.push_back(relativeL2(image, data.truth[k]));
+      r.psnrs.push_back(psnr(image, data.truth[k]));
+      if (k == 0) first = image;
+    }
+    r.imageError = aggregateError(r.errors);
+    r.modelBytes = relighter.bytesPerFrame();
+    r.costPerPixel = relighter.costPerPixel();
+    if (s.timingFrames > 0 && !data.lightings.empty())
+      r.msPerFrame = medianFrameMs([&] { relighter.relight(data.lightings[0], image.data()); },
+                                   s.timingFrames);
     log(concat(r.method, " ", r.setting, " g=", r.globalEnergy, " tol=", r.tolerance, ": ",
                r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
-               ", transport error ", r.transportError));
-    rows.push_back(r);
-  };
-  const auto evaluate = [&](const std::string& method, const std::string& setting, double g,
-                            double tol, const GlobalBasis& basis,
-                            const GlobalProjection& projection, const Partition& partition,
-                            bool mean, double partitionSeconds, bool allocate = false) {
-    const auto start = Clock::now();
-    std::unique_ptr<ModelRelighter> relighter;
-    Row r{method, setting, g, tol};
-    std::vector<int> ranks;
-    {
-      ModelOptions options;
-      options.tolerance = tol;
-      options.mean = mean;
-      options.allocateRanks = allocate;
-      const Model m = buildModel(transport.header(), basis, projection, partition, options);
-      relighter = std::make_unique<ModelRelighter>(m);
-      r.clusters = m.clusters();
-      r.costPerPixel = m.costPerPixel();
-      r.transportError = m.transportError;
-      ranks = m.ranks;
-    }  // the relighter holds its own copy
-    std::vector<double> errors;
-    for (size_t k = 0; k < lightings.size(); ++k)
-      errors.push_back(relativeL2(relighter->relight(lightings[k]), truth[k]));
-    r.seconds = partitionSeconds + seconds(start);
-    record(r, errors);
-    // One PCA basis set is nested: its first k bases are the best rank-k fit, so
-    // global PCA at lower ranks comes from the same model (--max-rank).
-    if (method == "global" && !ranks.empty() && ranks[0] > 8) {
-      const long long pixels = transport.rows();
-      for (int divisor : {8, 4, 2}) {
-        const int k = ranks[0] / divisor;
-        relighter->setMaxRank(k);
-        std::vector<double> truncated;
-        for (size_t j = 0; j < lightings.size(); ++j)
-          truncated.push_back(relativeL2(relighter->relight(lightings[j]), truth[j]));
-        Row t = r;
-        t.setting = concat("first ", k, " bases");
-        t.costPerPixel = double(k) * (pixels + basis.globalBases()) / pixels;
-        t.transportError = NAN;  // not measured for truncations
-        record(t, truncated);
-      }
-    }
-    return r.clusters;
+               ", transport error ", r.transportError,
+               std::isnan(r.msPerFrame) ? std::string() : concat(", ", r.msPerFrame, " ms/frame")));
+    if (observe) observe(r, first, clusterOfRow);
+    results.push_back(r);
   };
 
-  for (double g : a.globalEnergies) {
+  for (double g : s.globalEnergies) {
     const auto basisStart = Clock::now();
     const GlobalBasis basis = computeGlobalBasis(transport, {g, 16384, 1});
     const GlobalProjection projection = projectOntoBasis(transport, basis);
-    log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", seconds(basisStart),
-               " s)"));
-    for (double tol : a.tolerances) {
+    const double basisSeconds = seconds(basisStart);
+    log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", basisSeconds, " s)"));
+
+    const auto evaluate = [&](const std::string& method, const std::string& setting, double tol,
+                              const Partition& partition, bool mean, double partitionSeconds) {
+      const auto start = Clock::now();
+      std::unique_ptr<ModelRelighter> relighter;
+      SweepResult r{method, setting, g, tol};
+      r.globalBases = basis.globalBases();
+      r.basisSeconds = basisSeconds;
+      std::vector<int> clusterOfRow;
+      std::vector<int> ranks;
+      {
+        ModelOptions options;
+        options.tolerance = tol;
+        options.mean = mean;
+        const Model m = buildModel(transport.header(), basis, projection, partition, options);
+        relighter = std::make_unique<ModelRelighter>(m);
+        r.clusters = m.clusters();
+        r.transportError = m.transportError;
+        ranks = m.ranks;
+        if (observe) {
+          clusterOfRow.assign(m.rows(), -1);
+          for (int c = 0; c < m.clusters(); ++c)
+            for (auto i = m.rowOffsets[c]; i < m.rowOffsets[c + 1]; ++i)
+              clusterOfRow[m.clusterRows[i]] = c;
+        }
+      }  // the relighter holds its own copy
+      r.compressSeconds = partitionSeconds + seconds(start);
+      measure(r, *relighter, clusterOfRow);
+      // PCA bases are nested: the first k of them are the best rank-k fit, so
+      // global PCA at lower ranks comes from the same model (--max-rank).
+      if (method == "global" && !ranks.empty() && ranks[0] > 8)
+        for (int divisor : {8, 4, 2}) {
+          const int k = ranks[0] / divisor;
+          relighter->setMaxRank(k);
+          SweepResult t = r;
+          t.setting = concat("first ", k, " bases");
+          t.transportError = NAN;
+          measure(t, *relighter, clusterOfRow);
+        }
+      return r.clusters;
+    };
+
+    for (double tol : s.tolerances) {
       for (bool mean : {false, true}) {
         ClusterInput in{&projection.coefficients, &transport.header().pixels,
                         transport.header().camera.size, tol, mean};
-        std::vector<int> all(in.rows());
-        std::iota(all.begin(), all.end(), 0);
         auto t = Clock::now();
         if (!mean) {
-          if (wanted("global"))
-            evaluate("global", "N", g, tol, basis, projection, singleCluster(in), false,
-                     seconds(t));
-          for (int b : {8, 16}) {
-            if (!wanted("block")) break;
-            t = Clock::now();
-            evaluate("block", concat("B=", b), g, tol, basis, projection, fixedBlocks(in, b), false,
-                     seconds(t));
-          }
+          if (wanted("global")) evaluate("global", "N", tol, singleCluster(in), false, seconds(t));
+          if (wanted("block"))
+            for (int b : s.blockSizes) {
+              t = Clock::now();
+              evaluate("block", concat("B=", b), tol, fixedBlocks(in, b), false, seconds(t));
+            }
           t = Clock::now();
           if (wanted("adaptive-quad"))
-            evaluate("adaptive-quad", "greedy", g, tol, basis, projection,
-                     adaptiveQuadTree(in, {64, 2, false}), false, seconds(t));
+            evaluate("adaptive-quad", "greedy", tol, adaptiveQuadTree(in, {64, 2, false}), false,
+                     seconds(t));
           t = Clock::now();
           if (wanted("adaptive-quad-exact"))
-            evaluate("adaptive-quad-exact", "bottom-up", g, tol, basis, projection,
-                     adaptiveQuadTree(in, {64, 2, true}), false, seconds(t));
+            evaluate("adaptive-quad-exact", "bottom-up", tol, adaptiveQuadTree(in, {64, 2, true}),
+                     false, seconds(t));
         } else if (wanted("adaptive-binary") || wanted("cpca")) {
+          std::vector<int> all(in.rows());
+          std::iota(all.begin(), all.end(), 0);
           BinaryOptions b;
           b.initialClusters = 8;
-          std::vector<int> ks = a.cpcaClusters;
-          if (wanted("adaptive-binary"))  // and CPCA with as many clusters as it found
-            ks.push_back(evaluate("adaptive-binary", "K0=8", g, tol, basis, projection,
-                                  adaptiveBinary(in, b), true, seconds(t)));
-          if (!wanted("cpca")) ks.clear();
+          std::vector<int> ks = wanted("cpca") ? s.cpcaClusters : std::vector<int>{};
+          if (wanted("adaptive-binary")) {
+            const int found =
+                evaluate("adaptive-binary", "K0=8", tol, adaptiveBinary(in, b), true, seconds(t));
+            // CPCA with as many clusters as the adaptive split found: the paper's comparison.
+            if (wanted("cpca") && s.cpcaMatchingBinary) ks.push_back(found);
+          }
           for (int k : ks) {
             CpcaOptions o;
             o.clusters = k;
             t = Clock::now();
-            evaluate("cpca", concat("K=", k), g, tol, basis, projection, cpca(in, all, o), true,
-                     seconds(t));
+            evaluate("cpca", concat("K=", k), tol, cpca(in, all, o), true, seconds(t));
           }
         }
       }
     }
   }
+  return results;
+}
+
+namespace {
+
+struct SweepArgs {
+  CommonOptions common;
+  std::string input, out;
+  SweepSettings settings;
+  std::vector<std::string> envs;
+};
+
+void run(SweepArgs& a) {
+  ThreadLimit limit(a.common.threads);
+  const TransportReader transport(a.input);
+  a.settings.quiet = a.common.quiet;
+  if (a.settings.methods.empty()) a.settings.methods = kMethods;
+  checkSweepMethods(a.settings.methods);
+  const EvaluationData data = loadEvaluationData(transport, a.envs);
+  const std::vector<SweepResult> rows = sweepMethods(data, a.settings);
 
   // Equal-error comparison.
   std::map<std::string, std::vector<ErrorCostPoint>> curves;
@@ -183,7 +222,7 @@ void run(const SweepArgs& a) {
     for (const auto& r : rows)
       csv << r.method << "," << r.setting << "," << r.globalEnergy << "," << r.tolerance << ","
           << r.clusters << "," << r.costPerPixel << "," << r.imageError << "," << r.transportError
-          << "," << r.seconds << "\n";
+          << "," << r.compressSeconds << "\n";
   }
   std::printf("\n%-26s %14s %14s\n", "method", "cost @ 1%", "cost @ 3%");
   std::map<std::string, std::pair<double, double>> atError;
@@ -198,11 +237,10 @@ void run(const SweepArgs& a) {
     return (x > 0 && y > 0) ? x / y : NAN;
   };
   std::printf("\nratios at equal image error (negative or nan: target outside the sweep)\n");
-  for (const char* adaptive :
-       {"adaptive-quad", "adaptive-quad-exact", "adaptive-quad+alloc", "adaptive-binary"})
+  for (const char* adaptive : {"adaptive-quad", "adaptive-quad-exact", "adaptive-binary"})
     std::printf("%-22s / global  : %.3f @1%%  %.3f @3%%\n", adaptive,
                 ratio(adaptive, "global", true), ratio(adaptive, "global", false));
-  for (int k : a.cpcaClusters) {
+  for (int k : a.settings.cpcaClusters) {
     const std::string c = concat("cpca K=", k);
     std::printf("%-22s / adaptive-binary: %.3f @1%%  %.3f @3%%\n", c.c_str(),
                 ratio(c, "adaptive-binary", true), ratio(c, "adaptive-binary", false));
@@ -230,12 +268,14 @@ void registerMethodSweep(CLI::App& bench) {
   auto* sub = bench.add_subcommand("methods", "Cost of every method at equal image error");
   sub->add_option("input", args->input, "Transport file")->required();
   sub->add_option("--out", args->out, "Directory for methods.csv")->required();
-  sub->add_option("--global-energies", args->globalEnergies, "Global energies to sweep")
+  sub->add_option("--global-energies", args->settings.globalEnergies, "Global energies to sweep")
       ->delimiter(',');
-  sub->add_option("--tolerances", args->tolerances, "Cluster tolerances to sweep")->delimiter(',');
-  sub->add_option("--cpca-clusters", args->cpcaClusters, "CPCA cluster counts")->delimiter(',');
+  sub->add_option("--tolerances", args->settings.tolerances, "Cluster tolerances to sweep")
+      ->delimiter(',');
+  sub->add_option("--cpca-clusters", args->settings.cpcaClusters, "CPCA cluster counts")
+      ->delimiter(',');
   sub->add_option("--env", args->envs, "Evaluation lightings (default: the evaluation set)");
-  sub->add_option("--methods", args->methods,
+  sub->add_option("--methods", args->settings.methods,
                   "Methods to run: global, block, adaptive-quad, adaptive-quad-exact, "
                   "adaptive-binary, cpca (default all)")
       ->delimiter(',');

@@ -1,10 +1,68 @@
 #pragma once
-// `bench methods`: every compression method over a sweep of settings, each
-// model relit under the evaluation set and compared with the dense ground
-// truth; costs compared at equal image error (design.md section 7).
+// Every compression method over a sweep of settings, each model relit under an
+// evaluation set and compared with the dense ground truth (design.md section
+// 7). The global basis and projection are computed once per global energy and
+// shared by every method. `bench methods` prints costs at equal error from it;
+// `eval` adds timing, images, plots and the baselines.
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "precompute/transport/transport_file.h"
+#include "relight/environment.h"
+#include "relight/model_relighter.h"
 
 namespace acpca::cli {
+
+/// The lightings a sweep is judged by and their dense relights.
+struct EvaluationData {
+  const TransportReader* transport = nullptr;
+  std::vector<std::string> envs;
+  std::vector<LatticeLighting> lightings;
+  std::vector<std::vector<float>> truth;  ///< per map: 3 floats per row, albedo applied
+};
+/// Loads the maps (default: the evaluation set) and relights them densely.
+EvaluationData loadEvaluationData(const TransportReader& transport, std::vector<std::string> envs);
+
+struct SweepSettings {
+  /// global, block, adaptive-quad, adaptive-quad-exact, adaptive-binary, cpca
+  std::vector<std::string> methods;
+  std::vector<double> globalEnergies{0.99, 0.999}, tolerances{0.99, 0.999};
+  std::vector<int> blockSizes{8, 16}, cpcaClusters{10, 5000};
+  bool cpcaMatchingBinary = true;  ///< also CPCA with as many clusters as adaptive-binary found
+  int timingFrames = 0;            ///< > 0: median ms over that many frames after a warm-up
+  bool quiet = false;
+  std::string logName = "bench methods";
+};
+/// The methods a sweep knows; throws UserError naming an unknown one.
+void checkSweepMethods(const std::vector<std::string>& methods);
+
+struct SweepResult {
+  std::string method, setting;
+  double globalEnergy = 0, tolerance = 0;
+  int clusters = 0, globalBases = 0;
+  double costPerPixel = 0;
+  double transportError = NAN;  ///< not measured for truncations
+  double compressSeconds = 0;   ///< partition + fits (the shared basis not included)
+  double basisSeconds = 0;      ///< the shared global basis and projection
+  double msPerFrame = NAN;
+  long long modelBytes = 0;               ///< bytes one frame reads
+  std::vector<double> errors{}, psnrs{};  ///< per map
+  double imageError = 0;                  ///< RMS of the per-map relative L2
+};
+
+/// What a caller may keep of each setting: the relit first map and, for
+/// clustered methods, each row's cluster.
+using SweepObserver = std::function<void(const SweepResult&, const std::vector<float>& firstImage,
+                                         const std::vector<int>& clusterOfRow)>;
+
+std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSettings& settings,
+                                      const SweepObserver& observe = {});
+
+/// Median ms per frame of `relight` over `frames` calls after one warm-up.
+double medianFrameMs(const std::function<void()>& relight, int frames);
 
 void registerMethodSweep(CLI::App& bench);
 

@@ -11,39 +11,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
 namespace acpca {
 namespace {
 
 using test::TempDir;
-
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-RunResult runCli(const std::string& args) {
-  const std::string command = std::string(ACPCA_CLI_PATH) + " " + args + " 2>&1";
-  RunResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
-
-void expectFailure(const std::string& args, const std::string& needle) {
-  const RunResult r = runCli(args);
-  EXPECT_NE(r.status, 0) << args << "\n" << r.output;
-  EXPECT_NE(r.status, 3) << "an internal error, not a user error: " << r.output;
-  EXPECT_NE(r.output.find(needle), std::string::npos)
-      << "message should mention '" << needle << "':\n"
-      << r.output;
-}
 
 size_t filesIn(const test::fs::path& dir) {
   size_t n = 0;
