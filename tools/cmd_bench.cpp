@@ -9,6 +9,7 @@
 #include "tools/commands.h"
 #include "tools/method_sweep.h"
 #include "tools/relight_benchmark.h"
+#include "tools/scaling_benchmark.h"
 
 namespace acpca::cli {
 
@@ -69,6 +70,7 @@ void registerBench(CLI::App& app) {
   rays->callback([args] { runRays(*args); });
   registerMethodSweep(*bench);
   registerRelightBenchmark(*bench);
+  registerScalingBenchmark(*bench);
 }
 
 }  // namespace acpca::cli

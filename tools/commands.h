@@ -15,6 +15,7 @@ void registerScenes(CLI::App& app);
 void registerBench(CLI::App& app);
 void registerView(CLI::App& app);
 void registerEval(CLI::App& app);
+void registerAnalyze(CLI::App& app);
 
 /// " n=R:COUNT" for each rank R a model's clusters have.
 std::string rankHistogramText(const Model& m);

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   acpca::cli::registerScenes(app);
   acpca::cli::registerBench(app);
   acpca::cli::registerEval(app);
+  acpca::cli::registerAnalyze(app);
   acpca::cli::registerView(app);
   try {
     app.parse(argc, argv);

@@ -27,10 +27,6 @@ std::string number(double v) {
   return s.str();
 }
 
-nlohmann::json finiteOrNull(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
-}
-
 /// Cost or time at a target error along a method's settings (log-log between
 /// the two settings that bracket it, design.md section 7); NAN outside.
 double atError(const std::vector<SweepResult>& rows, double target, bool time) {
@@ -51,6 +47,10 @@ std::string cell(double v, const char* format = "%.1f") {
 }
 
 }  // namespace
+
+nlohmann::json finiteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
 
 void writeTextFile(const std::string& path, const std::string& text) {
   AtomicOutput file(path);

@@ -32,6 +32,9 @@ void writeEvalReport(const EvalReport& report, const std::string& dir);
 /// returns "" on success, else why no plot was drawn (the report says so).
 std::string drawPlots(const std::string& kind, const std::string& dir);
 
+/// v as JSON, or null when it is NAN or infinite.
+nlohmann::json finiteOrNull(double v);
+
 /// A whole text file written atomically.
 void writeTextFile(const std::string& path, const std::string& text);
 

@@ -121,5 +121,68 @@ TEST_F(Reports, EvalRefusesUnknownMethodsBeforeWorking) {
   expectFailure("eval " + out.file("missing.h5") + " --out " + out.file("r"), "missing.h5");
 }
 
+TEST_F(Reports, AnalyzeReportsSlopesBlockCostsAndAConsistentOptimum) {
+  TempDir out;
+  const std::string report = out.file("analysis");
+  const RunResult r =
+      runCli("analyze " + transport() + " --out " + report +
+             " --blocks 2,4,8 --centre 16,20 --centre 8,8 --quiet --json " + out.file("a.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"dimensionality.csv", "slopes.csv", "block_cost.csv", "analysis.json",
+                        "summary.md", "dimensionality.png", "block_cost.png"})
+    EXPECT_TRUE(fs::exists(fs::path(report) / f)) << f;
+  const auto j = nlohmann::json::parse(std::ifstream(out.file("a.json")));
+  ASSERT_EQ(j["centres"].size(), 2u);
+  EXPECT_EQ(j["centres"][0]["x"], 16);
+  const double slope = j["mean_slope"], n = j["global_bases"];
+  EXPECT_GT(slope, 0.0);
+  EXPECT_NEAR(j["mu_r4"].get<double>(), std::pow(4.0, -slope), 1e-12);
+  EXPECT_NEAR(j["mu_r2"].get<double>(), std::pow(2.0, -slope), 1e-12);
+  const double mu = j["mu_r4"];
+  EXPECT_NEAR(j["p_star_r4"].get<double>(), n * (4 * mu - 1) / (1 - mu), 1e-6 * n);
+  // The measured optimum is the cheapest block of the table.
+  double cheapest = INFINITY;
+  int side = 0;
+  ASSERT_EQ(j["block_costs"].size(), 3u);
+  for (const auto& b : j["block_costs"]) {
+    const double total = b["cost_per_pixel"];
+    EXPECT_NEAR(total, b["global_to_local"].get<double>() + b["local_to_pixel"].get<double>(),
+                1e-9 * total);
+    if (total < cheapest) cheapest = total, side = b["side"];
+  }
+  EXPECT_EQ(j["best_block_side"], side);
+  expectFailure("analyze " + transport() + " --out " + out.file("x") + " --centre 99,3",
+                "outside the 32x32 image");
+  expectFailure("analyze " + transport() + " --out " + out.file("x") + " --centre 3", "X,Y");
+}
+
+TEST_F(Reports, ScalingReportsEverySizeWithItsRatioAndPrediction) {
+  TempDir out;
+  const std::string report = out.file("scaling");
+  const RunResult r = runCli(
+      "bench scaling --scene plant --sizes 16,32 --cubemap 4 --frames 2 "
+      "--quiet --out " +
+      report + " --json " + out.file("s.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"scaling.csv", "summary.md", "scaling.png"})
+    EXPECT_TRUE(fs::exists(fs::path(report) / f)) << f;
+  EXPECT_FALSE(fs::exists(fs::path(report) / "transport_16.h5")) << "transports are removed";
+  const auto j = nlohmann::json::parse(std::ifstream(out.file("s.json")));
+  ASSERT_EQ(j["sizes"].size(), 2u);
+  const auto& a = j["sizes"][0];
+  const auto& b = j["sizes"][1];
+  EXPECT_EQ(a["pixels"], 256);
+  EXPECT_EQ(b["pixels"], 1024);
+  EXPECT_NEAR(b["cost_ratio"].get<double>(),
+              b["total_cost"].get<double>() / a["total_cost"].get<double>(), 1e-9);
+  const double mu = a["mu"];
+  EXPECT_NEAR(b["predicted_ratio"].get<double>(), 4 * mu * mu, 1e-12);
+  EXPECT_NEAR(b["total_cost"].get<double>(),
+              b["cost_per_pixel"].get<double>() * b["occupied_pixels"].get<double>(),
+              1e-6 * b["total_cost"].get<double>());
+  EXPECT_GT(b["ms_per_frame"].get<double>(), 0.0);
+  expectFailure("bench scaling --scene plant --sizes 16,3 --out " + report, "--sizes: 3");
+}
+
 }  // namespace
 }  // namespace acpca

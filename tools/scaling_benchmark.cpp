@@ -1,0 +1,210 @@
+#include "tools/scaling_benchmark.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "cluster/compress.h"
+#include "precompute/render/scene.h"
+#include "precompute/render/transport_renderer.h"
+#include "precompute/transport/error.h"
+#include "relight/lighting.h"
+#include "relight/model_relighter.h"
+#include "tools/analysis.h"
+#include "tools/cli_common.h"
+#include "tools/method_sweep.h"
+#include "tools/report.h"
+
+namespace acpca::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct ScalingArgs {
+  CommonOptions common;
+  std::string scene, out, method = "adaptive-quad";
+  std::vector<int> sizes{128, 256, 512, 1024};
+  double tolerance = 0.999, globalEnergy = 0.999, energy = 0.9995;
+  int cubemap = 32, frames = 20;
+  bool keepTransports = false;
+};
+
+struct SizeResult {
+  int size = 0;
+  long long pixels = 0, occupied = 0;
+  int globalBases = 0, clusters = 0;
+  double totalCost = 0, costPerPixel = 0, msPerFrame = 0;
+  long long modelBytes = 0;
+  double slope = NAN, mu = NAN;             ///< dimensionality slope; mu = 2^-slope
+  double costRatio = NAN, predicted = NAN;  ///< per 4x pixels, against the previous size
+  double precomputeSeconds = 0, compressSeconds = 0;
+};
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+void run(const ScalingArgs& a) {
+  ThreadLimit limit(a.common.threads);
+  const auto start = Clock::now();
+  if (a.sizes.empty()) throw UserError("--sizes: give at least one size");
+  for (int s : a.sizes)
+    if (s < 8 || s > 8192) throw UserError(concat("--sizes: ", s, " is not in 8..8192"));
+  Scene scene = loadScene(a.scene);
+  fs::create_directories(a.out);
+  if (!fs::is_directory(a.out))
+    throw UserError(concat("--out '", a.out, "': cannot create the report directory"));
+  const auto log = [&](const std::string& s) {
+    if (!a.common.quiet) std::cerr << "bench scaling: " << s << std::endl;
+  };
+
+  std::vector<SizeResult> results;
+  for (int size : a.sizes) {
+    SizeResult r;
+    r.size = size;
+    // The same camera at a finer pixel grid; the aspect follows the scene's.
+    const ImageSize base = scene.camera.size;
+    Scene scaled = scene;
+    scaled.camera.size = {
+        size, std::max(1, static_cast<int>(std::lround(double(size) * base.height / base.width)))};
+    scaled.validate();
+    r.pixels = scaled.camera.size.pixels();
+    const std::string path = (fs::path(a.out) / concat("transport_", size, ".h5")).string();
+    auto t = Clock::now();
+    PrecomputeOptions p;
+    p.cubemapResolution = a.cubemap;
+    p.threads = a.common.threads;
+    precomputeTransport(scaled, path, p);
+    r.precomputeSeconds = secondsSince(t);
+    {
+      const TransportReader transport(path);
+      r.occupied = transport.rows();
+      t = Clock::now();
+      CompressOptions c;
+      c.method = parseMethod(a.method);
+      c.tolerance = a.tolerance;
+      c.globalEnergy = a.globalEnergy;
+      const Model model = compressTransport(transport, c);
+      r.compressSeconds = secondsSince(t);
+      r.globalBases = model.globalBases();
+      r.clusters = model.clusters();
+      r.totalCost = model.totalCost();
+      r.costPerPixel = model.costPerPixel();
+      ModelRelighter relighter(model);
+      r.modelBytes = relighter.bytesPerFrame();
+      const LatticeLighting sky =
+          computeLighting(*loadEnvironment("sky"), CubeLattice(a.cubemap), {});
+      std::vector<float> rgb(3 * relighter.rows());
+      r.msPerFrame = medianFrameMs([&] { relighter.relight(sky, rgb.data()); }, a.frames);
+      const DimensionalityAnalysis dims =
+          analyzeDimensionality(transport, {}, kAnalysisSides, a.energy, {});
+      r.slope = dims.meanSlope;
+      // Doubling a patch's pixels splits it into two halves of mu n bases each.
+      r.mu = muFromSlope(r.slope, 2);
+    }
+    if (!a.keepTransports) fs::remove(path);
+    if (!results.empty()) {
+      const SizeResult& prev = results.back();
+      const double quadruplings = std::log(double(r.pixels) / prev.pixels) / std::log(4.0);
+      r.costRatio = std::pow(r.totalCost / prev.totalCost, 1 / quadruplings);
+      r.predicted = 4 * prev.mu * prev.mu;
+    }
+    log(concat(size, ": N = ", r.globalBases, ", ", r.clusters, " clusters, cost/pixel ",
+               r.costPerPixel, ", total ", r.totalCost, ", ", r.msPerFrame, " ms/frame, slope ",
+               formatFixed(r.slope, 3), ", mu ", formatFixed(r.mu, 3),
+               std::isnan(r.costRatio)
+                   ? std::string()
+                   : concat(", cost ratio per 4x pixels ", formatFixed(r.costRatio, 2),
+                            " (4 mu^2 = ", formatFixed(r.predicted, 2), ")"),
+               " [precompute ", formatFixed(r.precomputeSeconds, 0), " s, compress ",
+               formatFixed(r.compressSeconds, 0), " s]"));
+    results.push_back(r);
+  }
+
+  std::ostringstream csv;
+  csv << "size,pixels,occupied_pixels,global_bases,clusters,total_cost,cost_per_pixel,ms_per_"
+         "frame,model_bytes,slope,mu,cost_ratio,predicted_ratio,precompute_seconds,compress_"
+         "seconds\n";
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : results) {
+    csv << r.size << "," << r.pixels << "," << r.occupied << "," << r.globalBases << ","
+        << r.clusters << "," << r.totalCost << "," << r.costPerPixel << "," << r.msPerFrame << ","
+        << r.modelBytes << "," << formatFixed(r.slope, 4) << "," << formatFixed(r.mu, 4) << ","
+        << formatFixed(r.costRatio, 4) << "," << formatFixed(r.predicted, 4) << ","
+        << r.precomputeSeconds << "," << r.compressSeconds << "\n";
+    rows.push_back({{"size", r.size},
+                    {"pixels", r.pixels},
+                    {"occupied_pixels", r.occupied},
+                    {"global_bases", r.globalBases},
+                    {"clusters", r.clusters},
+                    {"total_cost", r.totalCost},
+                    {"cost_per_pixel", r.costPerPixel},
+                    {"ms_per_frame", r.msPerFrame},
+                    {"model_bytes", r.modelBytes},
+                    {"slope", finiteOrNull(r.slope)},
+                    {"mu", finiteOrNull(r.mu)},
+                    {"cost_ratio", finiteOrNull(r.costRatio)},
+                    {"predicted_ratio", finiteOrNull(r.predicted)},
+                    {"precompute_seconds", r.precomputeSeconds},
+                    {"compress_seconds", r.compressSeconds}});
+  }
+  writeTextFile((fs::path(a.out) / "scaling.csv").string(), csv.str());
+  const std::string plotProblem = drawPlots("scaling", a.out);
+
+  std::ostringstream md;
+  md << "# Cost against resolution: " << scene.name << "\n\n"
+     << a.method << " at tolerance " << a.tolerance << ", global energy " << a.globalEnergy
+     << ", 6x" << a.cubemap << "x" << a.cubemap
+     << " lattice. mu is estimated at each size from the slope s of dimensionality against "
+        "patch area (99.95% energy, five patch centres, areas "
+     << kSlopeAreaMin << "-" << kSlopeAreaMax
+     << "): doubling a patch's pixels splits it into two halves of mu n bases each, mu = 2^-s, "
+        "so 4x pixels should multiply the total cost by 4 mu^2 (paper 003 sec. 4.4, using the "
+        "coarser size's mu).\n\n"
+     << "| size | occupied | N | clusters | total cost | cost/pixel | ms/frame | model MB | "
+        "slope | mu | cost ratio / 4x | 4 mu^2 |\n"
+     << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : results)
+    md << "| " << r.size << " | " << r.occupied << " | " << r.globalBases << " | " << r.clusters
+       << " | " << formatFixed(r.totalCost / 1e6, 1) << "M | " << formatFixed(r.costPerPixel, 1)
+       << " | " << formatFixed(r.msPerFrame, 2) << " | " << formatFixed(r.modelBytes / 1e6, 1)
+       << " | " << formatFixed(r.slope, 3) << " | " << formatFixed(r.mu, 3) << " | "
+       << formatFixed(r.costRatio, 2) << " | " << formatFixed(r.predicted, 2) << " |\n";
+  md << "\nA ratio below 4 is sub-linear growth of cost with pixels.\n\n";
+  if (plotProblem.empty())
+    md << "![scaling](scaling.png)\n";
+  else
+    md << "No plot: " << plotProblem << "\n";
+  md << "\n" << results.size() << " sizes in " << formatFixed(secondsSince(start), 0) << " s.\n";
+  writeTextFile((fs::path(a.out) / "summary.md").string(), md.str());
+  writeJson(a.common.jsonPath, {{"scene", scene.name}, {"sizes", rows}});
+  if (!a.common.quiet) std::cout << md.str();
+}
+
+}  // namespace
+
+void registerScalingBenchmark(CLI::App& bench) {
+  auto args = std::make_shared<ScalingArgs>();
+  auto* sub = bench.add_subcommand(
+      "scaling", "Cost and time against resolution, with the paper's 4 mu^2 prediction");
+  sub->add_option("--scene", args->scene, "Built-in scene name or scene JSON file")->required();
+  sub->add_option("--sizes", args->sizes, "Image widths (height follows the scene's aspect)")
+      ->delimiter(',');
+  sub->add_option("--out", args->out, "Report directory")->required();
+  sub->add_option("--method", args->method, "adaptive-quad (default) or another method");
+  sub->add_option("--tolerance", args->tolerance, "Energy each cluster keeps");
+  sub->add_option("--global-energy", args->globalEnergy, "Energy the global basis keeps");
+  sub->add_option("--cubemap", args->cubemap, "Cube-map resolution R");
+  sub->add_option("--frames", args->frames, "Timed relight frames per size (median)")
+      ->check(CLI::PositiveNumber);
+  sub->add_flag("--keep-transports", args->keepTransports,
+                "Keep transport_<size>.h5 in the report directory");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli
