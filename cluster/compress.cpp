@@ -33,13 +33,19 @@ const char* methodName(Method m) {
   }
 }
 
+int blockSideFor(const CompressOptions& o) {
+  if (o.block != 0) return o.block;
+  return o.method == Method::AdaptiveQuad ? 64 : 8;
+}
+
 Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
   if (!(o.tolerance > 0 && o.tolerance <= 1))
     throw UserError(concat("--tolerance ", o.tolerance, " is outside (0, 1]"));
   if (!(o.globalEnergy > 0 && o.globalEnergy <= 1))
     throw UserError(concat("--global-energy ", o.globalEnergy, " is outside (0, 1]"));
   if (o.clusters < 1) throw UserError(concat("--clusters ", o.clusters, " must be >= 1"));
-  if (o.block < 1) throw UserError(concat("--block ", o.block, " must be >= 1"));
+  const int block = blockSideFor(o);
+  if (block < 1) throw UserError(concat("--block ", block, " must be >= 1"));
   const auto start = std::chrono::steady_clock::now();
   const auto log = [&](const std::string& s) {
     const double t =
@@ -67,7 +73,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
       partition = singleCluster(in);
       break;
     case Method::Block:
-      partition = fixedBlocks(in, o.block);
+      partition = fixedBlocks(in, block);
       break;
     case Method::Cpca: {
       std::vector<int> all(in.rows());
@@ -77,7 +83,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
     }
     case Method::AdaptiveQuad: {
       QuadTreeOptions q;
-      q.rootBlock = o.block;
+      q.rootBlock = block;
       q.exact = o.exactQuadTree;
       partition = adaptiveQuadTree(in, q);
       break;
@@ -103,7 +109,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
                                   {"tolerance", o.tolerance},
                                   {"global_energy", o.globalEnergy},
                                   {"clusters", o.clusters},
-                                  {"block", o.block},
+                                  {"block", block},
                                   {"exact_quad_tree", o.exactQuadTree},
                                   {"allocate_ranks", o.allocateRanks},
                                   {"coeffs", coeffPrecisionName(o.coeffs)},

@@ -16,7 +16,8 @@ struct CompressOptions {
   double tolerance = 0.999;     ///< fraction of each cluster's energy kept
   double globalEnergy = 0.999;  ///< fraction of the sample's energy the global basis keeps
   int clusters = 10;            ///< cpca; initial clusters of adaptive-binary
-  int block = 8;                ///< block: block side; adaptive-quad: root block side (default 64)
+  /// block: block side; adaptive-quad: root block side; 0: 8 for block, 64 for adaptive-quad.
+  int block = 0;
   bool exactQuadTree = false;   ///< adaptive-quad: bottom-up optimum instead of greedy
   bool allocateRanks = false;   ///< one error budget across clusters instead of per cluster
   CoeffPrecision coeffs = CoeffPrecision::F32;
@@ -26,6 +27,9 @@ struct CompressOptions {
   /// Stage messages ("global basis: N = 812") for progress output.
   std::function<void(const std::string&)> log;
 };
+
+/// The block side `options` means for its method (resolving block = 0).
+int blockSideFor(const CompressOptions& options);
 
 /// Throws UserError on bad options (before any work) or a bad file.
 Model compressTransport(const TransportReader& transport, const CompressOptions& options);

@@ -102,8 +102,8 @@ DimensionalityAnalysis analyzeDimensionality(const TransportReader& transport,
       throw UserError(concat("--centre ", x, ",", y, ": outside the ", w, "x", ht, " image"));
   if (centres.empty() && !h.pixels.empty()) centres = defaultCentres(transport, energy);
   DimensionalityAnalysis out;
-  double slopeSum = 0;
-  int fitted = 0;
+  double slopeSum = 0, largeSum = 0;
+  int fitted = 0, largeFitted = 0;
   for (const auto& [x, y] : centres) {
     CentreDimensionality c{x, y};
     long long lastRows = -1;
@@ -114,32 +114,40 @@ DimensionalityAnalysis analyzeDimensionality(const TransportReader& transport,
       c.area.push_back(double(patch.rows));
       c.dimensionality.push_back(patchDimensionality(patch, transport.latticeSize(), energy));
     }
-    std::vector<double> area, dims;
-    for (size_t i = 0; i < c.area.size(); ++i)
-      if (c.area[i] >= kSlopeAreaMin && c.area[i] <= kSlopeAreaMax)
-        area.push_back(c.area[i]), dims.push_back(c.dimensionality[i]);
-    c.fit = fitPowerLaw(area, dims);
+    const auto fitOver = [&](double lo) {
+      std::vector<double> area, dims;
+      for (size_t i = 0; i < c.area.size(); ++i)
+        if (c.area[i] >= lo && c.area[i] <= kSlopeAreaMax)
+          area.push_back(c.area[i]), dims.push_back(c.dimensionality[i]);
+      return fitPowerLaw(area, dims);
+    };
+    c.fit = fitOver(kSlopeAreaMin);
+    c.largeFit = fitOver(kLargeAreaMin);
     if (std::isfinite(c.fit.slope)) slopeSum += c.fit.slope, ++fitted;
+    if (std::isfinite(c.largeFit.slope)) largeSum += c.largeFit.slope, ++largeFitted;
     if (log)
       log(concat("centre ", x, ",", y, ": slope ", formatFixed(c.fit.slope, 3), " over ",
-                 c.fit.points, " patches"));
+                 c.fit.points, " patches (", formatFixed(c.largeFit.slope, 3), " from ",
+                 kLargeAreaMin, " pixels)"));
     out.centres.push_back(std::move(c));
   }
   out.meanSlope = fitted ? slopeSum / fitted : NAN;
+  out.meanLargeSlope = largeFitted ? largeSum / largeFitted : NAN;
   return out;
 }
 
 void writeDimensionalityCsv(const DimensionalityAnalysis& analysis, const std::string& dir) {
   std::ostringstream dims, slopes;
   dims << "centre,x,y,area,dimensionality\n";
-  slopes << "centre,x,y,slope,scale,points\n";
+  slopes << "centre,x,y,slope,scale,points,large_patch_slope\n";
   for (size_t i = 0; i < analysis.centres.size(); ++i) {
     const auto& c = analysis.centres[i];
     for (size_t k = 0; k < c.area.size(); ++k)
       dims << i << "," << c.x << "," << c.y << "," << c.area[k] << "," << c.dimensionality[k]
            << "\n";
     slopes << i << "," << c.x << "," << c.y << "," << formatFixed(c.fit.slope, 4) << ","
-           << formatFixed(c.fit.scale, 4) << "," << c.fit.points << "\n";
+           << formatFixed(c.fit.scale, 4) << "," << c.fit.points << ","
+           << formatFixed(c.largeFit.slope, 4) << "\n";
   }
   namespace fs = std::filesystem;
   writeTextFile((fs::path(dir) / "dimensionality.csv").string(), dims.str());

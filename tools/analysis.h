@@ -14,16 +14,21 @@ namespace acpca::cli {
 inline const std::vector<int> kAnalysisSides{4, 6, 8, 11, 16, 23, 32, 45, 64};
 /// Slopes are fitted over patches of this many occupied pixels.
 inline constexpr double kSlopeAreaMin = 16, kSlopeAreaMax = 4096;
+/// The large-patch slope starts here: below it the paper's flat, sub-linear
+/// regime (the omega_H term of eq. 12) pulls the full-range slope down.
+inline constexpr double kLargeAreaMin = 256;
 
 struct CentreDimensionality {
   int x = 0, y = 0;
   std::vector<double> area{}, dimensionality{};  ///< per patch tried (pixels, eigenvalues)
   PowerLaw fit{};                                ///< over areas in [kSlopeAreaMin, kSlopeAreaMax]
+  PowerLaw largeFit{};                           ///< over areas in [kLargeAreaMin, kSlopeAreaMax]
 };
 
 struct DimensionalityAnalysis {
   std::vector<CentreDimensionality> centres;
-  double meanSlope = 0;  ///< over the centres with a fit
+  double meanSlope = 0;       ///< over the centres with a fit
+  double meanLargeSlope = 0;  ///< the same for the large-patch fits
 };
 
 /// "X,Y" strings as pixel positions; throws UserError naming a bad one.

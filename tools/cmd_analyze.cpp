@@ -151,7 +151,10 @@ void run(const AnalyzeArgs& a) {
 
   nlohmann::json centres = nlohmann::json::array();
   for (const auto& c : dims.centres)
-    centres.push_back({{"x", c.x}, {"y", c.y}, {"slope", finiteOrNull(c.fit.slope)}});
+    centres.push_back({{"x", c.x},
+                       {"y", c.y},
+                       {"slope", finiteOrNull(c.fit.slope)},
+                       {"large_patch_slope", finiteOrNull(c.largeFit.slope)}});
   nlohmann::json blocks = nlohmann::json::array();
   for (const auto& c : costs)
     blocks.push_back({{"side", c.side},
@@ -166,6 +169,7 @@ void run(const AnalyzeArgs& a) {
       {"slope_area_range", {kSlopeAreaMin, kSlopeAreaMax}},
       {"centres", centres},
       {"mean_slope", finiteOrNull(slope)},
+      {"mean_large_patch_slope", finiteOrNull(dims.meanLargeSlope)},
       {"global_bases", n},
       {"mu_r4", finiteOrNull(mu4)},
       {"mu_r2", finiteOrNull(mu2)},

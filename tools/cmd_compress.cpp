@@ -33,7 +33,7 @@ void run(const CompressArgs& a) {
   o.tolerance = a.tolerance;
   o.globalEnergy = a.globalEnergy;
   o.clusters = a.clusters;
-  o.block = a.block > 0 ? a.block : (o.method == Method::AdaptiveQuad ? 64 : 8);
+  o.block = a.block;
   o.exactQuadTree = a.exactQuadTree;
   o.allocateRanks = a.allocateRanks;
   o.coeffs = parseCoeffPrecision(a.coeffs);

@@ -106,8 +106,9 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
     log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", basisSeconds, " s)"));
 
     const auto evaluate = [&](const std::string& method, const std::string& setting, double tol,
-                              const Partition& partition, bool mean, double partitionSeconds) {
+                              const std::function<Partition()>& makePartition, bool mean) {
       const auto start = Clock::now();
+      const Partition partition = makePartition();
       std::unique_ptr<ModelRelighter> relighter;
       SweepResult r{method, setting, g, tol};
       r.globalBases = basis.globalBases();
@@ -130,7 +131,7 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
               clusterOfRow[m.clusterRows[i]] = c;
         }
       }  // the relighter holds its own copy
-      r.compressSeconds = partitionSeconds + seconds(start);
+      r.compressSeconds = seconds(start);
       measure(r, *relighter, clusterOfRow);
       // PCA bases are nested: the first k of them are the best rank-k fit, so
       // global PCA at lower ranks comes from the same model (--max-rank).
@@ -146,43 +147,54 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
       return r.clusters;
     };
 
+    const bool highestEnergy =
+        g == *std::max_element(s.globalEnergies.begin(), s.globalEnergies.end());
+    const double highestTolerance = *std::max_element(s.tolerances.begin(), s.tolerances.end());
     for (double tol : s.tolerances) {
       for (bool mean : {false, true}) {
-        ClusterInput in{&projection.coefficients, &transport.header().pixels,
-                        transport.header().camera.size, tol, mean};
-        auto t = Clock::now();
+        const ClusterInput in{&projection.coefficients, &transport.header().pixels,
+                              transport.header().camera.size, tol, mean};
         if (!mean) {
-          if (wanted("global")) evaluate("global", "N", tol, singleCluster(in), false, seconds(t));
+          // Global PCA once per basis: its nested truncations cover the lower tolerances.
+          if (wanted("global") && tol == highestTolerance)
+            evaluate(
+                "global", "N", tol, [&] { return singleCluster(in); }, false);
           if (wanted("block"))
-            for (int b : s.blockSizes) {
-              t = Clock::now();
-              evaluate("block", concat("B=", b), tol, fixedBlocks(in, b), false, seconds(t));
-            }
-          t = Clock::now();
+            for (int b : s.blockSizes)
+              evaluate(
+                  "block", concat("B=", b), tol, [&] { return fixedBlocks(in, b); }, false);
           if (wanted("adaptive-quad"))
-            evaluate("adaptive-quad", "greedy", tol, adaptiveQuadTree(in, {64, 2, false}), false,
-                     seconds(t));
-          t = Clock::now();
+            evaluate(
+                "adaptive-quad", "greedy", tol,
+                [&] {
+                  return adaptiveQuadTree(in, {64, 2, false});
+                },
+                false);
           if (wanted("adaptive-quad-exact"))
-            evaluate("adaptive-quad-exact", "bottom-up", tol, adaptiveQuadTree(in, {64, 2, true}),
-                     false, seconds(t));
+            evaluate(
+                "adaptive-quad-exact", "bottom-up", tol,
+                [&] {
+                  return adaptiveQuadTree(in, {64, 2, true});
+                },
+                false);
         } else if (wanted("adaptive-binary") || wanted("cpca")) {
           std::vector<int> all(in.rows());
           std::iota(all.begin(), all.end(), 0);
           BinaryOptions b;
           b.initialClusters = 8;
-          std::vector<int> ks = wanted("cpca") ? s.cpcaClusters : std::vector<int>{};
+          const bool cpcaHere = wanted("cpca") && (highestEnergy || !s.cpcaAtHighestEnergyOnly);
+          std::vector<int> ks = cpcaHere ? s.cpcaClusters : std::vector<int>{};
           if (wanted("adaptive-binary")) {
-            const int found =
-                evaluate("adaptive-binary", "K0=8", tol, adaptiveBinary(in, b), true, seconds(t));
+            const int found = evaluate(
+                "adaptive-binary", "K0=8", tol, [&] { return adaptiveBinary(in, b); }, true);
             // CPCA with as many clusters as the adaptive split found: the paper's comparison.
             if (wanted("cpca") && s.cpcaMatchingBinary) ks.push_back(found);
           }
           for (int k : ks) {
             CpcaOptions o;
             o.clusters = k;
-            t = Clock::now();
-            evaluate("cpca", concat("K=", k), tol, cpca(in, all, o), true, seconds(t));
+            evaluate(
+                "cpca", concat("K=", k), tol, [&] { return cpca(in, all, o); }, true);
           }
         }
       }

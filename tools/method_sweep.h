@@ -32,7 +32,8 @@ struct SweepSettings {
   std::vector<double> globalEnergies{0.99, 0.999}, tolerances{0.99, 0.999};
   std::vector<int> blockSizes{8, 16}, cpcaClusters{10, 5000};
   bool cpcaMatchingBinary = true;  ///< also CPCA with as many clusters as adaptive-binary found
-  int timingFrames = 0;            ///< > 0: median ms over that many frames after a warm-up
+  bool cpcaAtHighestEnergyOnly = false;  ///< the CPCA cluster counts at the largest energy only
+  int timingFrames = 0;                  ///< > 0: median ms over that many frames after a warm-up
   bool quiet = false;
   std::string logName = "bench methods";
 };

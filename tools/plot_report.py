@@ -38,6 +38,18 @@ def pareto(points):
     return front
 
 
+def finish(fig, ax, path, xlabel, ylabel, title, legend_size=8):
+    """Labels, grid and legend, then writes the figure and closes it."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=legend_size)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def plot_eval(folder):
     rows = read_rows(os.path.join(folder, "settings.csv"))
     methods = sorted({r["method"] for r in rows})
@@ -74,14 +86,8 @@ def plot_eval(folder):
             ax.axhline(target, color="grey", linewidth=0.6, linestyle=":")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel(label)
-        ax.set_ylabel("relative L2 error (RMS over maps)")
-        ax.set_title("error against " + ("run time" if x_key == "ms_per_frame" else "cost"))
-        ax.grid(True, which="both", alpha=0.25)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(os.path.join(folder, name), dpi=110)
-        plt.close(fig)
+        finish(fig, ax, os.path.join(folder, name), label, "relative L2 error (RMS over maps)",
+               "error against " + ("run time" if x_key == "ms_per_frame" else "cost"))
 
 
 def plot_scaling(folder):
@@ -125,14 +131,8 @@ def plot_analyze(folder):
         s = slopes.get(centre, {})
         label = f"centre {s.get('x', '?')},{s.get('y', '?')}: slope {number(s.get('slope')):.2f}"
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], "-o", color=f"C{i % 10}", label=label, markersize=3)
-    ax.set_xlabel("patch area (pixels)")
-    ax.set_ylabel("eigenvalues for 99.95% of the energy")
-    ax.set_title("dimensionality against patch area")
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "dimensionality.png"), dpi=110)
-    plt.close(fig)
+    finish(fig, ax, os.path.join(folder, "dimensionality.png"), "patch area (pixels)",
+           "eigenvalues for 99.95% of the energy", "dimensionality against patch area", 7)
 
     blocks = read_rows(os.path.join(folder, "block_cost.csv"))
     fig, ax = plt.subplots(figsize=(7, 5))
@@ -145,14 +145,8 @@ def plot_analyze(folder):
     n_global = number(blocks[0]["global_bases"]) if blocks else math.nan
     if math.isfinite(n_global):
         ax.axvline(n_global, color="grey", linestyle=":", label=f"p = N = {int(n_global)}")
-    ax.set_xlabel("block size (pixels per block)")
-    ax.set_ylabel("cost per pixel")
-    ax.set_title("cost against patch size (fixed blocks)")
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "block_cost.png"), dpi=110)
-    plt.close(fig)
+    finish(fig, ax, os.path.join(folder, "block_cost.png"), "block size (pixels per block)",
+           "cost per pixel", "cost against patch size (fixed blocks)")
 
 
 def main():

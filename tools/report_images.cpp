@@ -1,7 +1,6 @@
 #include "tools/report_images.h"
 
 #include <cmath>
-#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -68,13 +67,13 @@ cv::Mat errorHeatMap(const TransportHeader& header, const std::vector<float>& ro
 }
 
 void writePng(const cv::Mat& bgr, const std::string& path) {
-  AtomicOutput file(path);
-  // The temporary name hides the extension, so encode in memory and write.
-  std::vector<unsigned char> png;
-  if (!cv::imencode(".png", bgr, png)) throw UserError(concat(path, ": cannot encode the PNG"));
-  std::FILE* out = std::fopen(file.tempPath().c_str(), "wb");
-  const bool ok = out && std::fwrite(png.data(), 1, png.size(), out) == png.size();
-  if (out) std::fclose(out);
+  AtomicOutput file(path);  // the temporary name keeps the .png that picks the codec
+  bool ok = false;
+  try {
+    ok = cv::imwrite(file.tempPath(), bgr);
+  } catch (const cv::Exception& e) {
+    throw UserError(concat(path, ": cannot write the PNG: ", e.what()));
+  }
   if (!ok) throw UserError(concat(path, ": cannot write the PNG"));
   file.commit();
 }

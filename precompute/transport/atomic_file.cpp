@@ -1,6 +1,9 @@
 #include "precompute/transport/atomic_file.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <atomic>
 #include <filesystem>
@@ -11,6 +14,32 @@ namespace acpca {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// Removes what killed runs left of earlier writes to the same target: files
+/// named as tempPath names them whose process no longer exists.
+void removeStalePartials(const fs::path& dir, const fs::path& target) {
+  const std::string prefix = concat(".", target.stem().string(), ".partial-");
+  const std::string extension = target.extension().string();
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || name.size() < prefix.size() + extension.size() ||
+        name.compare(name.size() - extension.size(), extension.size(), extension) != 0)
+      continue;
+    const std::string rest = name.substr(prefix.size());
+    const auto dash = rest.find('-');
+    if (dash == std::string::npos || dash == 0 ||
+        rest.find_first_not_of("0123456789") != dash)
+      continue;
+    const long pid = std::stol(rest.substr(0, dash));
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
+      fs::remove(entry.path(), ec);
+  }
+}
+
+}  // namespace
+
 AtomicOutput::AtomicOutput(std::string finalPath) : finalPath_(std::move(finalPath)) {
   if (finalPath_.empty()) throw UserError("output path is empty");
   const fs::path target(finalPath_);
@@ -20,6 +49,7 @@ AtomicOutput::AtomicOutput(std::string finalPath) : finalPath_(std::move(finalPa
     throw UserError(concat(finalPath_, ": output directory '", dir.string(), "' does not exist"));
   if (fs::is_directory(target, ec))
     throw UserError(concat(finalPath_, ": is a directory, expected a file path"));
+  removeStalePartials(dir, target);
   static std::atomic<int> counter{0};
   // Keep the extension last: image writers pick the format from it.
   tempPath_ = (dir / concat(".", target.stem().string(), ".partial-", ::getpid(), "-", counter++,

@@ -1,0 +1,132 @@
+// Work killed half-way (SIGKILL: no handler runs) leaves no file that reads as
+// valid, and running the same command again gives the result of a clean run.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/cli/run_cli.h"
+#include "tests/test_support.h"
+
+extern char** environ;
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// Starts the CLI with `args`, kills it with SIGKILL once `ready()` says so (or
+/// after 60 s), and returns whether it was killed before finishing.
+bool killWhen(const std::vector<std::string>& args, const std::function<bool()>& ready) {
+  std::vector<std::string> argv{ACPCA_CLI_PATH};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> raw;
+  for (auto& a : argv) raw.push_back(a.data());
+  raw.push_back(nullptr);
+  pid_t pid;
+  if (posix_spawn(&pid, raw[0], nullptr, nullptr, raw.data(), environ) != 0) return false;
+  const auto start = Clock::now();
+  for (;;) {
+    int status;
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;  // finished first
+    if (ready() || Clock::now() - start > std::chrono::seconds(60)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(pid, SIGKILL);
+  int status;
+  waitpid(pid, &status, 0);
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+/// A partial file of the target in dir with at least `bytes` in it.
+bool partialWritten(const fs::path& dir, long long bytes) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().find(".partial-") != std::string::npos &&
+        static_cast<long long>(e.file_size(ec)) >= bytes)
+      return true;
+  return false;
+}
+
+size_t partialFiles(const fs::path& dir) {
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir))
+    n += e.path().filename().string().find(".partial-") != std::string::npos;
+  return n;
+}
+
+std::vector<float> readPixels(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return {};
+  std::vector<float> pixels(static_cast<size_t>(in->spec().image_pixels()) * in->spec().nchannels);
+  in->read_image(0, 0, 0, -1, OIIO::TypeDesc::FLOAT, pixels.data());
+  return pixels;
+}
+
+nlohmann::json info(const std::string& path) {
+  const RunResult r = runCli("info " + path + " --json -");
+  EXPECT_EQ(r.status, 0) << r.output;
+  return r.status == 0 ? nlohmann::json::parse(r.output) : nlohmann::json{};
+}
+
+TEST(Interruption, AKilledPrecomputeLeavesNothingValidAndARerunIsExact) {
+  TempDir dir;
+  const std::string out = dir.file("t.h5");
+  // Killed while rows are streaming into the partial file.
+  ASSERT_TRUE(
+      killWhen({"precompute", "--scene", "plant", "--size", "160x160", "--quiet", "--out", out},
+               [&] { return partialWritten(dir.path(), 1 << 20); }))
+      << "the precompute should still have been running";
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(partialFiles(dir.path()), 1u) << "the killed run's partial file is left";
+  expectFailure("info " + out, "t.h5");
+
+  // The rerun writes the file and clears the dead run's partial.
+  ASSERT_EQ(runCli("precompute --scene plant --size 160x160 --quiet --out " + out).status, 0);
+  EXPECT_EQ(partialFiles(dir.path()), 0u);
+  const std::string clean = dir.file("clean.h5");
+  ASSERT_EQ(runCli("precompute --scene plant --size 160x160 --quiet --out " + clean).status, 0);
+  const auto a = info(out), b = info(clean);
+  EXPECT_EQ(a["occupied_pixels"], b["occupied_pixels"]);
+  // Same inputs, same rows: the dense relights agree exactly.
+  ASSERT_EQ(runCli("relight " + out + " --env sky --quiet --out " + dir.file("a.exr")).status, 0);
+  ASSERT_EQ(runCli("relight " + clean + " --env sky --quiet --out " + dir.file("b.exr")).status, 0);
+  const auto pixelsA = readPixels(dir.file("a.exr")), pixelsB = readPixels(dir.file("b.exr"));
+  ASSERT_FALSE(pixelsA.empty());
+  EXPECT_EQ(pixelsA, pixelsB);
+}
+
+TEST(Interruption, AKilledCompressLeavesNothingValidAndARerunIsExact) {
+  TempDir dir;
+  const std::string transport = dir.file("t.h5");
+  ASSERT_EQ(runCli("precompute --scene plant --size 96x96 --cubemap 16 --quiet --out " + transport)
+                .status,
+            0);
+  const std::string out = dir.file("m.h5");
+  const auto start = Clock::now();
+  ASSERT_TRUE(
+      killWhen({"compress", transport, "--method", "adaptive-binary", "--quiet", "--out", out},
+               [&] { return Clock::now() - start > std::chrono::milliseconds(300); }))
+      << "the compress should still have been running";
+  EXPECT_FALSE(fs::exists(out));
+  const std::string args = " --method block --block 8 --global-energy 0.99 --quiet --out ";
+  ASSERT_EQ(runCli("compress " + transport + args + out).status, 0);
+  ASSERT_EQ(runCli("compress " + transport + args + dir.file("clean.h5")).status, 0);
+  EXPECT_EQ(partialFiles(dir.path()), 0u);
+  const auto a = info(out), b = info(dir.file("clean.h5"));
+  EXPECT_EQ(a["clusters"], b["clusters"]);
+  EXPECT_EQ(a["cost_per_pixel"], b["cost_per_pixel"]);
+  EXPECT_EQ(a["global_bases"], b["global_bases"]);
+}
+
+}  // namespace
+}  // namespace acpca
