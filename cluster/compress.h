@@ -18,8 +18,8 @@ struct CompressOptions {
   int clusters = 10;            ///< cpca; initial clusters of adaptive-binary
   /// block: block side; adaptive-quad: root block side; 0: 8 for block, 64 for adaptive-quad.
   int block = 0;
-  bool exactQuadTree = false;   ///< adaptive-quad: bottom-up optimum instead of greedy
-  bool allocateRanks = false;   ///< one error budget across clusters instead of per cluster
+  bool exactQuadTree = false;  ///< adaptive-quad: bottom-up optimum instead of greedy
+  bool allocateRanks = false;  ///< one error budget across clusters instead of per cluster
   CoeffPrecision coeffs = CoeffPrecision::F32;
   CoeffPrecision bases = CoeffPrecision::F32;  ///< F32 or F16
   int sampleRows = 16384;

@@ -56,6 +56,13 @@ float Model::coefficient(int c, long long r, int k) const {
   }
 }
 
+std::vector<int> Model::clusterOfRow() const {
+  std::vector<int> out(static_cast<size_t>(rows()), -1);
+  for (int c = 0; c < clusters(); ++c)
+    for (auto r = rowOffsets[c]; r < rowOffsets[c + 1]; ++r) out[clusterRows[r]] = c;
+  return out;
+}
+
 long long Model::frameBytes() const {
   const long long coefficientBytes = precision == CoeffPrecision::F32   ? 4
                                      : precision == CoeffPrecision::F16 ? 2

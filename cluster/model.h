@@ -65,6 +65,8 @@ struct Model {
   float coefficient(int c, long long r, int k) const;
   /// Bytes of the arrays a relight reads per frame (bases, means, coefficients).
   long long frameBytes() const;
+  /// The cluster of every row, in the transport's row order.
+  std::vector<int> clusterOfRow() const;
 };
 
 struct ModelOptions {

@@ -124,12 +124,7 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
         r.clusters = m.clusters();
         r.transportError = m.transportError;
         ranks = m.ranks;
-        if (observe) {
-          clusterOfRow.assign(m.rows(), -1);
-          for (int c = 0; c < m.clusters(); ++c)
-            for (auto i = m.rowOffsets[c]; i < m.rowOffsets[c + 1]; ++i)
-              clusterOfRow[m.clusterRows[i]] = c;
-        }
+        if (observe) clusterOfRow = m.clusterOfRow();
       }  // the relighter holds its own copy
       r.compressSeconds = seconds(start);
       measure(r, *relighter, clusterOfRow);

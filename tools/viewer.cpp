@@ -47,11 +47,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     const TransportHeader& g = model.geometry;
     width_ = g.camera.size.width;
     height_ = g.camera.size.height;
-    clusterOfPixel_.assign(static_cast<size_t>(width_) * height_, -1);
-    for (int c = 0; c < model.clusters(); ++c)
-      for (auto r = model.rowOffsets[c]; r < model.rowOffsets[c + 1]; ++r)
-        clusterOfPixel_[g.pixels[model.clusterRows[r]]] = c;
-    clusterRanks_.assign(model.ranks.begin(), model.ranks.end());
+    clusterOfPixel_ = clusterOfPixel(g, model.clusterOfRow());
     maxRank_ = model.ranks.empty() ? 0 : *std::max_element(model.ranks.begin(), model.ranks.end());
   }  // the relighter keeps its own packed copy of the model
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));

@@ -84,7 +84,6 @@ class Viewer {
   std::unique_ptr<CubeLattice> lattice_;
   int width_ = 0, height_ = 0, maxRank_ = 0;
   std::vector<int> clusterOfPixel_;  ///< -1 for background
-  std::vector<int> clusterRanks_;
 
   // Worker cache: the last relit image and what it was relit for.
   std::shared_ptr<const Image> linear_;

@@ -29,8 +29,7 @@ void removeStalePartials(const fs::path& dir, const fs::path& target) {
       continue;
     const std::string rest = name.substr(prefix.size());
     const auto dash = rest.find('-');
-    if (dash == std::string::npos || dash == 0 ||
-        rest.find_first_not_of("0123456789") != dash)
+    if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash)
       continue;
     const long pid = std::stol(rest.substr(0, dash));
     if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
