@@ -176,7 +176,6 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   m.geometry = geometry;
   m.globalBasis = basis.basis;
   m.hasMean = options.mean;
-  m.precision = options.precision;
   ACPCA_CHECK(options.basisPrecision != CoeffPrecision::I8, "bases are f32 or f16");
   m.basisPrecision = options.basisPrecision;
   const int clusters = static_cast<int>(partition.size());
@@ -234,35 +233,15 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
     m.basisOffsets.push_back(m.bases.size());
     for (int k = 0; k < n; ++k) m.means[static_cast<size_t>(c) * n + k] = float(f.pca.mean[k]);
     clusterResidual += f.pca.residualEnergy;
-    // Row-major p x n coefficients, quantized as asked; the quantization error
-    // is measured exactly (orthonormal bases: coefficient error = row error).
+    // Row-major p x n coefficients, stored as asked once all are in.
     const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> u = f.coefficients;
     const size_t count = u.size();
-    if (options.precision == CoeffPrecision::F32) {
-      m.coeffF32.insert(m.coeffF32.end(), u.data(), u.data() + count);
-      m.coeffScale.push_back(1.0f);
-    } else if (options.precision == CoeffPrecision::F16) {
-      std::vector<std::uint16_t> h(count);
-      std::vector<float> back(count);
-      floatToHalf(u.data(), h.data(), count);
-      halfToFloat(h.data(), back.data(), count);
-      for (size_t i = 0; i < count; ++i)
-        quantizationError += std::pow(double(back[i]) - u.data()[i], 2);
-      m.coeffF16.insert(m.coeffF16.end(), h.begin(), h.end());
-      m.coeffScale.push_back(1.0f);
-    } else {
-      const float maxAbs = count ? u.cwiseAbs().maxCoeff() : 0.0f;
-      const float scale = maxAbs > 0 ? maxAbs / 127.0f : 1.0f;
-      for (size_t i = 0; i < count; ++i) {
-        const float q = std::clamp(std::round(u.data()[i] / scale), -127.0f, 127.0f);
-        m.coeffI8.push_back(static_cast<std::int8_t>(q));
-        quantizationError += std::pow(double(q) * scale - u.data()[i], 2);
-      }
-      m.coeffScale.push_back(scale);
-    }
+    m.coeffF32.insert(m.coeffF32.end(), u.data(), u.data() + count);
     m.coefficientOffsets.push_back(m.coefficientOffsets.back() + static_cast<long long>(count));
     f = ClusterFit();  // release as we go: one cluster may hold most of the model
   }
+  m.precision = CoeffPrecision::F32;
+  quantizationError = storeCoefficients(m, options.precision);
   if (m.basisPrecision == CoeffPrecision::F16) {
     roundToHalf(m.bases);
     roundToHalf(m.means);
@@ -277,6 +256,40 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
           ? std::sqrt(std::max(0.0, globalResidual + clusterResidual + quantizationError) / total)
           : 0;
   return m;
+}
+
+double storeCoefficients(Model& m, CoeffPrecision precision) {
+  ACPCA_CHECK(m.precision == CoeffPrecision::F32 && m.coeffF16.empty() && m.coeffI8.empty(),
+              "coefficients are already stored as ", coeffPrecisionName(m.precision));
+  m.precision = precision;
+  m.coeffScale.assign(m.clusters(), 1.0f);
+  if (precision == CoeffPrecision::F32) return 0;
+  // Orthonormal bases: the coefficient error is the row error, so this is exact.
+  double error = 0;
+  const std::vector<float> exact = std::move(m.coeffF32);
+  m.coeffF32.clear();
+  if (precision == CoeffPrecision::F16) {
+    m.coeffF16.resize(exact.size());
+    floatToHalf(exact.data(), m.coeffF16.data(), exact.size());
+    std::vector<float> back(exact.size());
+    halfToFloat(m.coeffF16.data(), back.data(), back.size());
+    for (size_t i = 0; i < exact.size(); ++i) error += std::pow(double(back[i]) - exact[i], 2);
+    return error;
+  }
+  m.coeffI8.resize(exact.size());
+  for (int c = 0; c < m.clusters(); ++c) {
+    const auto first = m.coefficientOffsets[c], last = m.coefficientOffsets[c + 1];
+    float maxAbs = 0;
+    for (auto i = first; i < last; ++i) maxAbs = std::max(maxAbs, std::abs(exact[i]));
+    const float scale = maxAbs > 0 ? maxAbs / 127.0f : 1.0f;
+    for (auto i = first; i < last; ++i) {
+      const float q = std::clamp(std::round(exact[i] / scale), -127.0f, 127.0f);
+      m.coeffI8[i] = static_cast<std::int8_t>(q);
+      error += std::pow(double(q) * scale - exact[i], 2);
+    }
+    m.coeffScale[c] = scale;
+  }
+  return error;
 }
 
 std::vector<int> allocateRanks(const std::vector<Eigen::VectorXd>& spectra,

@@ -98,6 +98,11 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
                  const GlobalProjection& projection, const Partition& partition,
                  const ModelOptions& options);
 
+/// Stores a model's f32 coefficients as `precision` (f16, or i8 with one scale
+/// per cluster: its largest |value| / 127); returns the squared error this adds
+/// to the transport (orthonormal bases: the coefficients' squared error).
+double storeCoefficients(Model& model, CoeffPrecision precision);
+
 /// Writes atomically (temporary name, renamed when complete).
 void writeModel(const Model& model, const std::string& path);
 /// Reads and validates a model file; throws UserError naming the file.

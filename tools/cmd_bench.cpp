@@ -8,6 +8,7 @@
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "tools/method_sweep.h"
+#include "tools/quantization_benchmark.h"
 #include "tools/relight_benchmark.h"
 #include "tools/scaling_benchmark.h"
 
@@ -71,6 +72,7 @@ void registerBench(CLI::App& app) {
   registerMethodSweep(*bench);
   registerRelightBenchmark(*bench);
   registerScalingBenchmark(*bench);
+  registerQuantizationBenchmark(*bench);
 }
 
 }  // namespace acpca::cli

@@ -1,6 +1,7 @@
 // `adaptive-cpca eval`: error against run time for every method (design.md
-// section 7): the method sweep with timing, the dense relight and Ng 2003's
-// Haar-wavelet baseline, written as CSV/JSON, images, plots and summary.md.
+// section 7): the method sweep with timing, the dense relight, Ng 2003's
+// Haar-wavelet baseline and paper 004's spherical-harmonics fits, written as
+// CSV/JSON, images, plots and summary.md.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "precompute/transport/error.h"
 #include "relight/evaluation.h"
 #include "relight/haar_transport.h"
+#include "relight/sh_transport.h"
 #include "relight/sparse_transport.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -32,10 +34,13 @@ struct EvalArgs {
   std::string input, out;
   std::vector<std::string> envs;
   std::vector<std::string> methods{"dense",         "global",          "block", "cpca",
-                                   "adaptive-quad", "adaptive-binary", "haar"};
+                                   "adaptive-quad", "adaptive-binary", "haar",  "sh"};
   SweepSettings sweep;
   std::vector<int> haarTerms{20, 50, 100, 200};
   int haarBits = 6;
+  std::vector<int> shOrders{16, 25, 49, 64};
+  std::vector<std::string> shFits{"uls", "cls", "ceb"};
+  int shGroups = 8;
 };
 
 /// The relit first map of a method's most accurate setting, kept for pictures.
@@ -78,10 +83,13 @@ void run(EvalArgs& a) {
   };
   std::vector<std::string> sweepMethodsWanted;
   for (const auto& m : a.methods)
-    if (m != "dense" && m != "haar") sweepMethodsWanted.push_back(m);
+    if (m != "dense" && m != "haar" && m != "sh") sweepMethodsWanted.push_back(m);
   checkSweepMethods(sweepMethodsWanted);
   for (int k : a.haarTerms)
     if (k <= 0) throw UserError(concat("--haar-terms: ", k, " is not a positive count"));
+  for (int n : a.shOrders) shBandsOf(n, "--sh-orders");
+  std::vector<ShFit> shFits;
+  for (const auto& f : a.shFits) shFits.push_back(parseShFit(f));
   fs::create_directories(fs::path(a.out) / "images");
   if (!fs::is_directory(a.out))
     throw UserError(concat("--out '", a.out, "': cannot create the report directory"));
@@ -147,6 +155,31 @@ void run(EvalArgs& a) {
     }
   }
 
+  if (wanted("sh") && !a.shOrders.empty()) {
+    const auto t = Clock::now();
+    ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
+    const double buildSeconds = secondsSince(t);
+    log(concat("sh: ", sh.groups(), " normal groups (", buildSeconds, " s)"));
+    for (ShFit fit : shFits)
+      for (int n : a.shOrders) {
+        // One curve per fit: sh-uls, sh-cls, sh-ceb.
+        SweepResult r{concat("sh-", shFitName(fit)), concat("n=", n)};
+        const auto fitStart = Clock::now();
+        const ShCoefficients c = sh.fit(n, fit);
+        r.compressSeconds = buildSeconds + secondsSince(fitStart);
+        r.costPerPixel = sh.costPerPixel(n);
+        r.modelBytes = sh.frameBytes(c);
+        std::vector<float> first;
+        measureBaseline(
+            data, r, a.sweep.timingFrames,
+            [&](const LatticeLighting& l, float* rgb) { sh.relight(c, l, rgb); }, first);
+        log(concat(r.method, " n=", n, ": cost/pixel ", r.costPerPixel, ", ", r.msPerFrame,
+                   " ms/frame, error ", r.imageError));
+        keep(r, first, {});
+        results.push_back(r);
+      }
+  }
+
   // Pictures of each method's most accurate setting under the first map.
   const fs::path images = fs::path(a.out) / "images";
   const auto env = loadEnvironment(data.envs[0]);
@@ -196,7 +229,7 @@ void registerEval(CLI::App& app) {
   sub->add_option("--out", args->out, "Report directory")->required();
   sub->add_option("--methods", args->methods,
                   "dense, global, block, cpca, adaptive-quad, adaptive-quad-exact, "
-                  "adaptive-binary, haar (default: all but adaptive-quad-exact)")
+                  "adaptive-binary, haar, sh (default: all but adaptive-quad-exact)")
       ->delimiter(',');
   sub->add_option("--tolerances", args->sweep.tolerances, "Cluster tolerances to sweep")
       ->delimiter(',');
@@ -210,6 +243,12 @@ void registerEval(CLI::App& app) {
   sub->add_option(
       "--haar-bits", args->haarBits,
       "Wavelet-domain transport: drop coefficients below 2^-bits of their row's largest");
+  sub->add_option("--sh-orders", args->shOrders,
+                  "Spherical-harmonics coefficient counts (squares of 1..16)")
+      ->delimiter(',');
+  sub->add_option("--sh-fits", args->shFits, "SH fits of paper 004: uls, cls, ceb")->delimiter(',');
+  sub->add_option("--sh-groups", args->shGroups,
+                  "Cube resolution the rows' normals are grouped on for the SH fits (1..64)");
   sub->add_option("--frames", args->sweep.timingFrames, "Timed frames per setting (median)")
       ->check(CLI::PositiveNumber);
   args->common.add(*sub);

@@ -59,7 +59,7 @@ TEST_F(Reports, EvalWritesEveryFileWithOneRowPerMethodSettingAndMap) {
   const RunResult r =
       runCli("eval " + transport() + " --env sky --env sun:50,30,4,1000 --out " + report +
              " --global-energies 0.999 --tolerances 0.99 --block-sizes 4,8 --cpca-clusters 5"
-             " --haar-terms 10,40 --frames 2 --quiet --json " +
+             " --haar-terms 10,40 --sh-orders 9,16 --sh-fits uls,cls --frames 2 --quiet --json " +
              out.file("eval.json"));
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* f : {"results.csv", "settings.csv", "results.json", "summary.md",
@@ -83,6 +83,9 @@ TEST_F(Reports, EvalWritesEveryFileWithOneRowPerMethodSettingAndMap) {
   EXPECT_EQ(perMethod["adaptive-quad"], 1);
   EXPECT_EQ(perMethod["adaptive-binary"], 1);
   EXPECT_EQ(perMethod["haar"], 2);
+  EXPECT_EQ(perMethod["sh-uls"], 2);
+  EXPECT_EQ(perMethod["sh-cls"], 2);
+  EXPECT_EQ(perMethod.count("sh-ceb"), 0u);
   EXPECT_GE(perMethod["global"], 1);
   const auto settings = readCsv(report + "/settings.csv");
   const auto results = readCsv(report + "/results.csv");
@@ -119,6 +122,45 @@ TEST_F(Reports, EvalRefusesUnknownMethodsBeforeWorking) {
   expectFailure("eval " + transport() + " --methods global,wavelets --out " + out.file("r"),
                 "unknown method 'wavelets'");
   expectFailure("eval " + out.file("missing.h5") + " --out " + out.file("r"), "missing.h5");
+}
+
+TEST_F(Reports, QuantizationTablesHoldTheBoundsTheFitsPromise) {
+  TempDir out;
+  const std::string report = out.file("q");
+  const RunResult r = runCli("bench quantization " + transport() + " --env sky --out " + report +
+                             " --sh-orders 16,25 --methods global,cpca --cpca-clusters 4 --quiet"
+                             " --json " +
+                             out.file("q.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"sh.csv", "models.csv", "summary.md"})
+    EXPECT_TRUE(fs::exists(fs::path(report) / f)) << f;
+  const auto json = nlohmann::json::parse(std::ifstream(out.file("q.json")));
+  ASSERT_EQ(json["sh"].size(), 6u);  // 2 orders x (uls, cls, ceb)
+  for (const auto& row : json["sh"]) {
+    // CLS and CEB keep |c|^2 within E_c (eq. 17); every stored variant is finite.
+    if (row["fit"] != "uls") {
+      EXPECT_LE(row["max_norm_to_bound"].get<double>(), 1 + 1e-5);
+    }
+    for (const char* s : {"f32", "f16", "i8"}) {
+      EXPECT_TRUE(row["stored"][s]["psnr"].is_number()) << row["fit"] << " " << s;
+      EXPECT_LT(row["stored"][s]["rel_l2"].get<double>(), 1.0) << row["fit"] << " " << s;
+    }
+  }
+  ASSERT_EQ(json["models"].size(), 2u);
+  for (const auto& row : json["models"]) {
+    // Orthonormal bases: no coefficient vector is longer than its row and cluster mean.
+    EXPECT_LE(row["max_norm_to_bound"].get<double>(), 1 + 1e-4) << row["method"];
+    const double f32 = row["stored"]["f32"]["rel_l2"], f16 = row["stored"]["f16"]["rel_l2"],
+                 i8 = row["stored"]["i8"]["rel_l2"];
+    EXPECT_NEAR(f16, f32, 1e-3) << row["method"];
+    EXPECT_GE(i8, f32 * 0.99) << row["method"];
+    EXPECT_GT(row["stored"]["f32"]["bytes"].get<double>(),
+              row["stored"]["i8"]["bytes"].get<double>());
+  }
+  const RunResult bad =
+      runCli("bench quantization " + transport() + " --out " + report + "2 --sh-orders 50");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("--sh-orders: 50"), std::string::npos) << bad.output;
 }
 
 TEST_F(Reports, AnalyzeReportsSlopesBlockCostsAndAConsistentOptimum) {

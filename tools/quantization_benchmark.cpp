@@ -1,0 +1,307 @@
+#include "tools/quantization_benchmark.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "cluster/compress.h"
+#include "precompute/transport/error.h"
+#include "precompute/transport/row_stream.h"
+#include "relight/evaluation.h"
+#include "relight/model_relighter.h"
+#include "relight/sh_transport.h"
+#include "tools/analysis.h"
+#include "tools/cli_common.h"
+#include "tools/method_sweep.h"
+#include "tools/report.h"
+
+namespace acpca::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const CoeffPrecision kStorages[] = {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8};
+
+struct QuantizationArgs {
+  CommonOptions common;
+  std::string input, out;
+  std::vector<std::string> envs;
+  std::vector<int> shOrders{16, 25, 49, 64};
+  int shGroups = 8;
+  std::vector<std::string> methods{"global", "cpca", "adaptive-binary"};
+  double tolerance = 0.999, globalEnergy = 0.999;
+  int cpcaClusters = 100;
+  bool noSh = false, noModels = false;
+};
+
+/// Image error of one stored variant over the evaluation set.
+struct StoredError {
+  double error = 0;  ///< RMS over maps of the relative L2
+  double psnr = 0;   ///< mean over maps
+  long long bytes = 0;
+};
+
+StoredError measure(const EvaluationData& data, long long bytes,
+                    const std::function<void(const LatticeLighting&, float*)>& relight) {
+  StoredError s;
+  s.bytes = bytes;
+  std::vector<double> errors;
+  std::vector<float> image(3 * data.transport->rows());
+  for (size_t k = 0; k < data.lightings.size(); ++k) {
+    relight(data.lightings[k], image.data());
+    errors.push_back(relativeL2(image, data.truth[k]));
+    s.psnr += psnr(image, data.truth[k]) / data.lightings.size();
+  }
+  s.error = aggregateError(errors);
+  return s;
+}
+
+struct ShRow {
+  int n = 0;
+  ShFit fit = ShFit::Uls;
+  ShStatistics stats{};
+  StoredError stored[3]{};
+};
+
+struct ModelRow {
+  std::string method;
+  int clusters = 0, globalBases = 0;
+  double costPerPixel = 0, medianNormRatio = 0, maxNormRatio = 0;
+  StoredError stored[3]{};
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+std::string dB(double v) {
+  return formatFixed(v, 2);
+}
+
+void run(const QuantizationArgs& a) {
+  ThreadLimit limit(a.common.threads);
+  for (int n : a.shOrders) shBandsOf(n, "--sh-orders");
+  for (const auto& m : a.methods) parseMethod(m);
+  const auto start = Clock::now();
+  const auto log = [&](const std::string& text) {
+    if (!a.common.quiet) std::cerr << "bench quantization: " << text << std::endl;
+  };
+  const TransportReader transport(a.input);
+  fs::create_directories(a.out);
+  const EvaluationData data = loadEvaluationData(transport, a.envs);
+
+  std::vector<ShRow> shRows;
+  if (!a.noSh) {
+    ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
+    log(concat("SH: ", sh.groups(), " normal groups"));
+    for (int n : a.shOrders)
+      for (ShFit fit : {ShFit::Uls, ShFit::Cls, ShFit::Ceb}) {
+        ShRow row{n, fit};
+        const auto t = Clock::now();
+        const ShCoefficients exact = sh.fit(n, fit);
+        row.stats = sh.statistics(exact);
+        row.stats.fitSeconds = std::chrono::duration<double>(Clock::now() - t).count();
+        for (int s = 0; s < 3; ++s) {
+          ShCoefficients stored = exact;
+          storeShCoefficients(stored, kStorages[s]);
+          row.stored[s] =
+              measure(data, sh.frameBytes(stored),
+                      [&](const LatticeLighting& l, float* rgb) { sh.relight(stored, l, rgb); });
+        }
+        log(concat("SH n=", n, " ", shFitName(fit), ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ",
+                   dB(row.stored[1].psnr), " i8 ", dB(row.stored[2].psnr),
+                   " dB; |c|/sqrt(E_c) median ", formatFixed(row.stats.medianNormToBound, 2),
+                   " max ", formatFixed(row.stats.maxNormToBound, 1)));
+        shRows.push_back(row);
+      }
+  }
+
+  std::vector<ModelRow> modelRows;
+  if (!a.noModels) {
+    std::vector<double> rowNorm(transport.rows());
+    streamRowBlocks(transport, rowsPerBlock(transport),
+                    [&](long long first, long long count, const float* rows) {
+                      for (long long r = 0; r < count; ++r) {
+                        double sum = 0;
+                        for (int j = 0; j < transport.latticeSize(); ++j)
+                          sum += double(rows[r * transport.latticeSize() + j]) *
+                                 rows[r * transport.latticeSize() + j];
+                        rowNorm[first + r] = std::sqrt(sum);
+                      }
+                    });
+    for (const auto& method : a.methods) {
+      CompressOptions c;
+      c.method = parseMethod(method);
+      c.tolerance = a.tolerance;
+      c.globalEnergy = a.globalEnergy;
+      c.clusters = a.cpcaClusters;
+      const Model exact = compressTransport(transport, c);
+      ModelRow row{method, exact.clusters(), exact.globalBases(), exact.costPerPixel()};
+      // Orthonormal V_g and W_c: |u_p| <= |g_p - mean_c| <= |T_p| + |mean_c|.
+      std::vector<double> ratios;
+      for (int k = 0; k < exact.clusters(); ++k) {
+        const double meanNorm =
+            Eigen::Map<const Eigen::VectorXf>(
+                exact.means.data() + static_cast<size_t>(k) * exact.globalBases(),
+                exact.globalBases())
+                .norm();
+        for (auto i = exact.rowOffsets[k]; i < exact.rowOffsets[k + 1]; ++i) {
+          const long long r = i - exact.rowOffsets[k];
+          double sum = 0;
+          for (int b = 0; b < exact.ranks[k]; ++b) sum += std::pow(exact.coefficient(k, r, b), 2);
+          const double bound = rowNorm[exact.clusterRows[i]] + meanNorm;
+          if (bound > 0) ratios.push_back(std::sqrt(sum) / bound);
+        }
+      }
+      row.medianNormRatio = median(ratios);
+      row.maxNormRatio = ratios.empty() ? 0 : *std::max_element(ratios.begin(), ratios.end());
+      for (int s = 0; s < 3; ++s) {
+        Model stored = exact;
+        storeCoefficients(stored, kStorages[s]);
+        ModelRelighter relighter(stored);
+        row.stored[s] =
+            measure(data, relighter.bytesPerFrame(),
+                    [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
+      }
+      log(concat(method, ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ", dB(row.stored[1].psnr),
+                 " i8 ", dB(row.stored[2].psnr), " dB; |u|/(|T|+|mean|) max ",
+                 formatFixed(row.maxNormRatio, 3)));
+      modelRows.push_back(row);
+    }
+  }
+
+  // CSV, JSON and the summary's two tables.
+  std::ostringstream shCsv, modelCsv, md;
+  shCsv << "n,fit,median_condition,max_condition,median_norm,max_norm,median_norm_to_bound,max_"
+           "norm_to_bound,fit_seconds";
+  modelCsv << "method,clusters,global_bases,cost_per_pixel,median_norm_to_bound,max_norm_to_bound";
+  for (CoeffPrecision s : kStorages)
+    for (std::ostringstream* csv : {&shCsv, &modelCsv})
+      *csv << "," << coeffPrecisionName(s) << "_rel_l2," << coeffPrecisionName(s) << "_psnr,"
+           << coeffPrecisionName(s) << "_bytes";
+  shCsv << "\n";
+  modelCsv << "\n";
+  const auto storedJson = [](const StoredError(&stored)[3]) {
+    nlohmann::json j;
+    for (int s = 0; s < 3; ++s)
+      j[coeffPrecisionName(kStorages[s])] = {{"rel_l2", stored[s].error},
+                                             {"psnr", finiteOrNull(stored[s].psnr)},
+                                             {"bytes", stored[s].bytes}};
+    return j;
+  };
+  const auto storedCsv = [](std::ostringstream& csv, const StoredError(&stored)[3]) {
+    for (const auto& s : stored) csv << "," << s.error << "," << s.psnr << "," << s.bytes;
+    csv << "\n";
+  };
+  nlohmann::json shJson = nlohmann::json::array(), modelJson = nlohmann::json::array();
+  for (const auto& r : shRows) {
+    shCsv << r.n << "," << shFitName(r.fit) << "," << r.stats.medianCondition << ","
+          << r.stats.maxCondition << "," << r.stats.medianNorm << "," << r.stats.maxNorm << ","
+          << r.stats.medianNormToBound << "," << r.stats.maxNormToBound << ","
+          << r.stats.fitSeconds;
+    storedCsv(shCsv, r.stored);
+    shJson.push_back({{"n", r.n},
+                      {"fit", shFitName(r.fit)},
+                      {"median_condition", finiteOrNull(r.stats.medianCondition)},
+                      {"max_condition", finiteOrNull(r.stats.maxCondition)},
+                      {"median_norm_to_bound", r.stats.medianNormToBound},
+                      {"max_norm_to_bound", r.stats.maxNormToBound},
+                      {"stored", storedJson(r.stored)}});
+  }
+  for (const auto& r : modelRows) {
+    modelCsv << r.method << "," << r.clusters << "," << r.globalBases << "," << r.costPerPixel
+             << "," << r.medianNormRatio << "," << r.maxNormRatio;
+    storedCsv(modelCsv, r.stored);
+    modelJson.push_back({{"method", r.method},
+                         {"clusters", r.clusters},
+                         {"global_bases", r.globalBases},
+                         {"cost_per_pixel", r.costPerPixel},
+                         {"median_norm_to_bound", r.medianNormRatio},
+                         {"max_norm_to_bound", r.maxNormRatio},
+                         {"stored", storedJson(r.stored)}});
+  }
+  writeTextFile((fs::path(a.out) / "sh.csv").string(), shCsv.str());
+  writeTextFile((fs::path(a.out) / "models.csv").string(), modelCsv.str());
+
+  md << "# Coefficient quantization: " << fs::path(a.input).filename().string() << "\n\n"
+     << "PSNR (dB) of the relit images against the dense relight, mean over " << data.envs.size()
+     << " maps (";
+  for (size_t k = 0; k < data.envs.size(); ++k) md << (k ? ", " : "") << data.envs[k];
+  md << "); relative L2 aggregated as RMS over the maps. i8 quantizes each coefficient map "
+        "(SH: the same coefficient of every pixel; models: each cluster's coefficients) "
+        "uniformly to its largest magnitude / 127.\n\n"
+     << "## Spherical harmonics (paper 004, Table III)\n\n"
+     << "Rows grouped by normal on a 6x" << a.shGroups << "x" << a.shGroups
+     << " cube; each group's Gram matrix over its support (hemisphere plus every lit texel). "
+        "|c|/sqrt(E_c) is the coefficient norm over the bound of eq. 17.\n\n"
+     << "| n | fit | cond (median) | cond (max) | |c|/sqrt(E_c) median | max | f32 dB | f16 dB "
+        "| i8 dB | f32 err | i8 err |\n|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : shRows)
+    md << "| " << r.n << " | " << shFitName(r.fit) << " | "
+       << formatFixed(r.stats.medianCondition, 0) << " | " << formatFixed(r.stats.maxCondition, 0)
+       << " | " << formatFixed(r.stats.medianNormToBound, 2) << " | "
+       << formatFixed(r.stats.maxNormToBound, 1) << " | " << dB(r.stored[0].psnr) << " | "
+       << dB(r.stored[1].psnr) << " | " << dB(r.stored[2].psnr) << " | "
+       << formatFixed(100 * r.stored[0].error, 2) << "% | "
+       << formatFixed(100 * r.stored[2].error, 2) << "% |\n";
+  md << "\n## Our models\n\n"
+     << "Tolerance " << a.tolerance << ", global energy " << a.globalEnergy << ", CPCA with "
+     << a.cpcaClusters
+     << " clusters. |u|/(|T|+|m|): a pixel's coefficient norm over its transport row's norm plus "
+        "its cluster mean's (at most 1 with orthonormal bases; |u|/|T| without a mean).\n\n"
+     << "| method | clusters | N | cost/pixel | |u|/(|T|+|m|) median | max | f32 dB | f16 dB | i8 "
+        "dB "
+        "| f32 err | f16 err | i8 err | i8 MB |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : modelRows)
+    md << "| " << r.method << " | " << r.clusters << " | " << r.globalBases << " | "
+       << formatFixed(r.costPerPixel, 0) << " | " << formatFixed(r.medianNormRatio, 3) << " | "
+       << formatFixed(r.maxNormRatio, 3) << " | " << dB(r.stored[0].psnr) << " | "
+       << dB(r.stored[1].psnr) << " | " << dB(r.stored[2].psnr) << " | "
+       << formatFixed(100 * r.stored[0].error, 3) << "% | "
+       << formatFixed(100 * r.stored[1].error, 3) << "% | "
+       << formatFixed(100 * r.stored[2].error, 3) << "% | "
+       << formatFixed(r.stored[2].bytes / 1e6, 1) << " |\n";
+  md << "\n"
+     << formatFixed(std::chrono::duration<double>(Clock::now() - start).count(), 0) << " s.\n";
+  writeTextFile((fs::path(a.out) / "summary.md").string(), md.str());
+  writeJson(a.common.jsonPath,
+            {{"input", a.input}, {"envs", data.envs}, {"sh", shJson}, {"models", modelJson}});
+  if (!a.common.quiet) std::cout << md.str();
+}
+
+}  // namespace
+
+void registerQuantizationBenchmark(CLI::App& bench) {
+  auto args = std::make_shared<QuantizationArgs>();
+  auto* sub = bench.add_subcommand(
+      "quantization",
+      "PSNR with coefficients in f32, f16 and i8: SH fits (ULS, CLS, CEB) and our models");
+  sub->add_option("input", args->input, "Transport file (T_FILE)")->required();
+  sub->add_option("--env", args->envs, "Lightings (default: the evaluation set)");
+  sub->add_option("--out", args->out, "Report directory")->required();
+  sub->add_option("--sh-orders", args->shOrders, "SH coefficient counts (squares of 1..16)")
+      ->delimiter(',');
+  sub->add_option("--sh-groups", args->shGroups,
+                  "Cube resolution the rows' normals are grouped on (1..64)");
+  sub->add_option("--methods", args->methods,
+                  "Compression methods to quantize (global, block, cpca, adaptive-quad, "
+                  "adaptive-binary)")
+      ->delimiter(',');
+  sub->add_option("--tolerance", args->tolerance, "Energy each cluster keeps");
+  sub->add_option("--global-energy", args->globalEnergy, "Energy the global basis keeps");
+  sub->add_option("--cpca-clusters", args->cpcaClusters,
+                  "Clusters of cpca (and adaptive-binary's start)");
+  sub->add_flag("--no-sh", args->noSh, "Leave out the spherical-harmonics table");
+  sub->add_flag("--no-models", args->noModels, "Leave out the models' table");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli
