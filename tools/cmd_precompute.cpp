@@ -28,6 +28,8 @@ void run(const PrecomputeArgs& a) {
   if (!a.size.empty()) scene.camera.size = parseSize(a.size, "--size");
   scene.validate();
 
+  for (const auto& w : samplingWarnings(scene, options)) std::cerr << "warning: " << w << "\n";
+
   ThreadLimit limit(a.common.threads);
   Progress progress("precompute " + scene.name, "rows", a.common.quiet);
   options.progress = [&](long long done, long long total) { progress.update(done, total); };
@@ -43,12 +45,16 @@ void run(const PrecomputeArgs& a) {
               << stats.transportSeconds << " s (" << raysPerSecond / 1e6 << " M rays/s, "
               << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
               << formatBytes(peakMemoryBytes()) << "\n";
+  if (stats.degenerateTriangles > 0 && !a.common.quiet)
+    std::cerr << "note: " << stats.degenerateTriangles
+              << " zero-area triangles were left out (they cover nothing)\n";
   writeJson(a.common.jsonPath, {{"out", a.out},
                                 {"scene", scene.name},
                                 {"width", scene.camera.size.width},
                                 {"height", scene.camera.size.height},
                                 {"cubemap", a.cubemap},
                                 {"triangles", stats.triangles},
+                                {"degenerate_triangles", stats.degenerateTriangles},
                                 {"occupied_pixels", stats.occupiedPixels},
                                 {"occlusion_rays", stats.occlusionRays},
                                 {"rays_per_second", raysPerSecond},

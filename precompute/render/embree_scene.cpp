@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -46,11 +47,25 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
       for (int c = 0; c < 3; ++c) v[3 * i + c] = mesh.vertices[i][c];
-    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0,
-                                                             RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                             mesh.triangles.size()));
-    for (size_t i = 0; i < mesh.triangles.size(); ++i)
-      for (int c = 0; c < 3; ++c) t[3 * i + c] = static_cast<unsigned>(mesh.triangles[i][c]);
+    // Zero-area triangles (repeated or collinear corners) have no normal and
+    // cover nothing: they are left out rather than risk a NaN normal on a hit.
+    std::vector<Eigen::Vector3i> kept;
+    kept.reserve(mesh.triangles.size());
+    for (const auto& tri : mesh.triangles) {
+      const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>(),
+                            b = mesh.vertices[tri[1]].cast<double>(),
+                            c = mesh.vertices[tri[2]].cast<double>();
+      const double twiceArea = (b - a).cross(c - a).norm();
+      const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+      if (twiceArea > 1e-12 * longest * longest)
+        kept.push_back(tri);
+      else
+        ++degenerateTriangles_;
+    }
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), kept.size()));
+    for (size_t i = 0; i < kept.size(); ++i)
+      for (int c = 0; c < 3; ++c) t[3 * i + c] = static_cast<unsigned>(kept[i][c]);
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene_, g);
     rtcReleaseGeometry(g);

@@ -24,6 +24,8 @@ class EmbreeScene {
   /// Offset of shadow-ray origins along the normal, relative to the scene size.
   float rayEpsilon() const { return epsilon_; }
   const std::vector<Material>& materials() const { return materials_; }
+  /// Zero-area triangles left out of the scene.
+  long long degenerateTriangles() const { return degenerateTriangles_; }
 
   /// First hit of a ray; material < 0 when it leaves the scene.
   struct Hit {
@@ -37,6 +39,7 @@ class EmbreeScene {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   float epsilon_ = 1e-4f;
+  long long degenerateTriangles_ = 0;
   std::vector<Material> materials_;              // per geometry ID
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
 };

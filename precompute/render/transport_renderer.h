@@ -3,6 +3,7 @@
 // and streams it to a transport file (design.md section 4).
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "precompute/render/scene.h"
 #include "precompute/transport/transport_file.h"
@@ -21,6 +22,7 @@ struct PrecomputeOptions {
 
 struct PrecomputeStats {
   long long triangles = 0;
+  long long degenerateTriangles = 0;  ///< zero-area triangles left out
   long long occupiedPixels = 0;
   long long occlusionRays = 0;
   long long bytesWritten = 0;   ///< transport rows only
@@ -39,6 +41,15 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
 
 /// Computes the rows of image rows [0, rows) without writing a file (for the
 /// ray benchmark): returns the occlusion rays traced and the seconds spent.
+/// Occlusion rays per texel that resolve a Phong lobe of this exponent on a
+/// 6 x R x R lattice (1 when texel centres already do).
+int texelRaysForLobe(double exponent, int cubemapResolution);
+/// One line per Phong material whose lobe the lattice under-samples: fewer than
+/// two direction samples (2/R radians apart at a face's centre, over
+/// sqrt(texel rays)) across its half-maximum width, so highlights alias. Each
+/// names the --texel-rays that resolves the lobe.
+std::vector<std::string> samplingWarnings(const Scene& scene, const PrecomputeOptions& options);
+
 PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOptions& options,
                                       int imageRows);
 
