@@ -508,12 +508,13 @@ Model readModel(const std::string& path) {
     throw UserError(concat(ctx, ": cluster offsets do not start at 0"));
   for (long long c = 0; c < clusters; ++c) {
     const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
-    if (p < 0 || m.ranks[c] < 0 || m.ranks[c] > n ||
+    if (p < 0 || p > rows || m.ranks[c] < 0 || m.ranks[c] > n ||
         m.basisOffsets[c + 1] - m.basisOffsets[c] != n * m.ranks[c] ||
         m.coefficientOffsets[c + 1] - m.coefficientOffsets[c] != p * m.ranks[c])
       throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
   }
   if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
+  g.validate(ctx);  // pixel indices in range and increasing, albedo and coverage sane
   std::vector<char> seen(rows, 0);
   for (auto r : m.clusterRows) {
     if (r < 0 || r >= rows || seen[r])
@@ -533,10 +534,21 @@ Model readModel(const std::string& path) {
   }
   if (m.precision == CoeffPrecision::I8)
     m.coeffI8 = readVector<std::int8_t>(f, "coefficients", H5T_NATIVE_INT8, coefficients, ctx);
-  for (float v : m.bases)
-    if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite basis value"));
-  for (float v : m.coeffF32)
-    if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite coefficient"));
+  const auto finite = [&](const auto& values, const char* what) {
+    for (float v : values)
+      if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite ", what));
+  };
+  finite(m.bases, "basis value");
+  finite(m.means, "cluster mean");
+  finite(m.coeffF32, "coefficient");
+  finite(m.coeffScale, "coefficient scale");
+  finite(Eigen::Map<const Eigen::VectorXf>(m.globalBasis.data(), m.globalBasis.size()),
+         "global basis value");
+  if (m.precision == CoeffPrecision::F16) {
+    std::vector<float> decoded(m.coeffF16.size());
+    halfToFloat(m.coeffF16.data(), decoded.data(), decoded.size());
+    finite(decoded, "coefficient");
+  }
   return m;
 }
 

@@ -115,7 +115,16 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
     throw UserError(
         concat(path, ": environment map size ", spec.width, "x", spec.height, " is out of range"));
   if (spec.nchannels < 1) throw UserError(concat(path, ": the environment map has no channels"));
-  const int channels = spec.nchannels;
+  // Only RGB (or the grey channel) is read; alpha and extra channels are skipped.
+  const int channels = std::min(spec.nchannels, 3);
+  // Even a well-compressed map needs some bytes per scanline: a header that
+  // declares far more pixels than the file could hold is refused before the
+  // pixel buffer is allocated.
+  const double declaredBytes = double(spec.width) * spec.height * channels * sizeof(float);
+  const double fileBytes = double(std::filesystem::file_size(path));
+  if (declaredBytes > 4096 * fileBytes)
+    throw UserError(concat(path, ": declares ", spec.width, "x", spec.height, " pixels but holds ",
+                           fileBytes, " bytes (truncated or corrupt)"));
   std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
     throw UserError(concat(path, ": cannot read the environment map pixels: ", in->geterror()));

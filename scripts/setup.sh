@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   python3 python3-h5py python3-numpy python3-matplotlib
   xvfb xauth
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -1,5 +1,6 @@
 #include "precompute/transport/hdf5_handles.h"
 
+#include <fstream>
 #include <mutex>
 
 #include "precompute/transport/error.h"
@@ -48,15 +49,29 @@ Handle halfType() {
 
 Handle createFile(const std::string& path) {
   silenceLibraryErrors();
-  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), path,
+  // The 1.10 file format: every piece of metadata (superblock, object headers,
+  // chunk indices) carries a checksum that HDF5 verifies before parsing it, so a
+  // corrupt or hostile file is refused instead of reaching the library's parsers
+  // (which fuzzing showed can crash on damaged unchecked metadata).
+  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_V110), path,
+        "file format bounds");
+  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), path,
                         "cannot create the file (is the directory writable?)"),
                 H5Fclose);
 }
 
 Handle openFileReadOnly(const std::string& path) {
   silenceLibraryErrors();
-  if (H5Fis_hdf5(path.c_str()) <= 0)
+  // Byte 8 of the superblock is its version: 2 and up have checksums (see createFile).
+  char head[9] = {};
+  std::ifstream(path, std::ios::binary).read(head, sizeof head);
+  if (std::string(head, 8) != "\x89HDF\r\n\x1a\n" || H5Fis_hdf5(path.c_str()) <= 0)
     throw UserError(concat(path, ": not an HDF5 file (missing, unreadable, truncated or foreign)"));
+  if (head[8] < 2)
+    throw UserError(concat(path, ": HDF5 file without metadata checksums (superblock version ",
+                           int(head[8]),
+                           "): not written by this version of adaptive-cpca; write it again"));
   return Handle(
       checkId(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), path, "cannot open the file"),
       H5Fclose);
@@ -202,6 +217,19 @@ std::vector<hsize_t> datasetShape(hid_t file, const std::string& name, const std
   if (rank < 0 || rank > 8) throw UserError(concat(ctx, ": dataset '", name, "' has a bad rank"));
   std::vector<hsize_t> dims(rank);
   H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  // Our datasets are stored whole and uncompressed: a shape whose bytes the
+  // file does not hold is a corrupt or hostile header, refused before a caller
+  // allocates for it (a declared 10^12 values must not become a 4 TB vector).
+  Handle type(H5Dget_type(set.get()), H5Tclose);
+  const double declared = double(H5Sget_simple_extent_npoints(space.get())) *
+                          double(type.get() >= 0 ? H5Tget_size(type.get()) : 0);
+  hsize_t fileBytes = 0;
+  H5Fget_filesize(file, &fileBytes);
+  const double stored = double(H5Dget_storage_size(set.get()));
+  if (declared > stored || stored > double(fileBytes))
+    throw UserError(concat(ctx, ": dataset '", name, "' declares ", declared,
+                           " bytes but the file holds ", std::min(stored, double(fileBytes)),
+                           " (truncated or corrupt)"));
   return dims;
 }
 

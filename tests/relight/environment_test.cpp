@@ -120,6 +120,27 @@ TEST(Environment, LatLongIsReadWithTheDesignOrientation) {
   EXPECT_EQ(map->radiance({0, 0, -1})[0], 0);
 }
 
+// Found by fuzz_environment: a damaged header made the loader allocate what it
+// declared. Now a map declaring far more pixels than its file could hold is
+// refused before the pixel buffer exists.
+TEST(Environment, MapsDeclaringMorePixelsThanTheyHoldAreRefusedBeforeReading) {
+  test::TempDir dir;
+  const std::string path = dir.file("big.exr");
+  std::vector<float> pixels(3 * 2048 * 1024, 0.25f);
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out->open(path, OIIO::ImageSpec(2048, 1024, 3, OIIO::TypeDesc::FLOAT)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  out->close();
+  EXPECT_NO_THROW(loadEnvironmentImage(path));  // whole, it reads
+  test::fs::resize_file(path, 3000);
+  try {
+    loadEnvironmentImage(path);
+    FAIL() << "a map cut to 3000 bytes was read";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.exr"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Environment, FilesWithNaNInfOrNegativeTexelsAreRefused) {
   test::TempDir dir;
   for (float bad : {NAN, INFINITY, -1.0f}) {

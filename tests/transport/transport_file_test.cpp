@@ -8,6 +8,7 @@
 
 #include "precompute/transport/error.h"
 #include "precompute/transport/half.h"
+#include "precompute/transport/hdf5_handles.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -124,6 +125,100 @@ TEST(TransportFile, RefusesMissingForeignAndTruncatedFiles) {
     } catch (const UserError& e) {
       EXPECT_NE(std::string(e.what()).find("cut.h5"), std::string::npos) << e.what();
     }
+  }
+}
+
+// Found by fuzz_model_file: libhdf5 read freed memory while parsing a damaged
+// object header. Files are now written in the 1.10 format, whose metadata is
+// checksummed, so damage is refused before HDF5 parses it. Every damaged byte
+// must give a UserError or rows that read back finite (ASan checks the rest).
+TEST(TransportFile, DamagedBytesAreRefusedOrReadBackFinite) {
+  TempDir dir;
+  const std::string path = dir.file("t.h5");
+  const TransportHeader header = smallHeader(Precision::F16, 6);
+  {
+    TransportWriter writer(path, header);
+    const auto rows = randomRows(6, header.latticeSize());
+    writer.writeRows(0, 6, rows.data());
+    writer.finish();
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::string original((std::istreambuf_iterator<char>(in)), {});
+  int refused = 0, read = 0;
+  // About 400 positions spread over the file (metadata and rows alike).
+  const size_t stride = std::max<size_t>(1, original.size() / 400) | 1;
+  for (size_t at = 0; at < original.size(); at += stride) {
+    std::string damaged = original;
+    damaged[at] = static_cast<char>(damaged[at] ^ 0x5A);
+    const std::string bad = dir.file("bad.h5");
+    std::ofstream(bad, std::ios::binary | std::ios::trunc) << damaged;
+    try {
+      const TransportReader reader(bad);
+      std::vector<float> rows(reader.rows() * reader.latticeSize());
+      reader.readRows(0, reader.rows(), rows.data());
+      for (float v : rows) ASSERT_TRUE(std::isfinite(v)) << "byte " << at;
+      ++read;
+    } catch (const UserError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(read, 0);  // damage to row values alone is not detectable
+}
+
+TEST(TransportFile, FilesWithoutMetadataChecksumsAreRefusedByName) {
+  TempDir dir;
+  const std::string path = dir.file("old.h5");
+  H5Fclose(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));  // superblock 0
+  try {
+    TransportReader reader(path);
+    FAIL() << "an unchecksummed file was opened";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("without metadata checksums"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Found by fuzz_hdf5_headers: datasets declared with dimensions the file does
+// not hold (a 16384^2 image, every per-pixel array declared but never written)
+// are refused before anything is allocated for them.
+TEST(TransportFile, AbsurdDeclaredShapesAreRefusedBeforeAllocation) {
+  TempDir dir;
+  const std::string path = dir.file("t.h5");
+  {
+    TransportWriter writer(path, smallHeader(Precision::F32, 2));
+    const auto rows = randomRows(2, 24);
+    writer.writeRows(0, 2, rows.data());
+    writer.finish();
+  }
+  {
+    h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    const long long side = 16384, n = side * side;
+    for (const char* a : {"width", "height", "occupied_pixels"}) {
+      H5Adelete(f.get(), a);
+      h5::writeAttribute(f.get(), a, a[0] == 'o' ? n : side, path);
+    }
+    for (auto [name, columns] : {std::pair{"pixels", 0},
+                                 {"albedo", 3},
+                                 {"coverage", 0},
+                                 {"normal", 3},
+                                 {"transport", 24}}) {
+      H5Ldelete(f.get(), name, H5P_DEFAULT);
+      hsize_t dims[2] = {hsize_t(n), hsize_t(columns)}, chunk[2] = {1024, 1};
+      h5::Handle space(H5Screate_simple(columns ? 2 : 1, dims, nullptr), H5Sclose);
+      h5::Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+      H5Pset_chunk(create.get(), columns ? 2 : 1, chunk);
+      h5::Handle set(H5Dcreate2(f.get(), name, name[0] == 'p' ? H5T_NATIVE_INT32 : H5T_NATIVE_FLOAT,
+                                space.get(), H5P_DEFAULT, create.get(), H5P_DEFAULT),
+                     H5Dclose);
+      ASSERT_GE(set.get(), 0) << name;
+    }
+  }
+  try {
+    TransportReader reader(path);
+    FAIL() << "a header declaring 2^28 rows that the file does not hold was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("declares"), std::string::npos) << e.what();
   }
 }
 

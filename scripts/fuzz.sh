@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Fuzzes every reader of outside input (fuzz/: transport and model files, their
+# HDF5 headers edited field by field, scene JSON, environment images) with
+# libFuzzer under ASan + UBSan, for SECONDS each (default 60). Files kept in
+# fuzz/regressions/<target>/ (inputs that once crashed) run first. Any crash,
+# leak, timeout or out-of-memory fails the run and leaves the input in
+# build-fuzz/findings/. CI runs it after the sanitizer tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$(pwd)"
+seconds="${1:-60}"
+bash scripts/setup.sh
+[ -x build/tools/adaptive-cpca ] || bash scripts/build.sh >/dev/null
+
+targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment)
+cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF >/dev/null
+cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
+
+# Seeds: small valid inputs of each kind, made by the normal build.
+cli=build/tools/adaptive-cpca
+seeds=build-fuzz/seeds
+rm -rf "$seeds"
+mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment}
+"$cli" precompute --scene sphere --size 4x4 --cubemap 2 --quiet --out "$seeds/fuzz_transport_file/f16.h5"
+"$cli" precompute --scene step --size 3x3 --cubemap 1 --precision f32 --quiet \
+  --out "$seeds/fuzz_transport_file/f32.h5"
+"$cli" compress "$seeds/fuzz_transport_file/f16.h5" --method global --quiet \
+  --out "$seeds/fuzz_model_file/global.h5"
+"$cli" compress "$seeds/fuzz_transport_file/f16.h5" --method cpca --clusters 2 --coeffs i8 \
+  --quiet --out "$seeds/fuzz_model_file/cpca_i8.h5"
+cp data/scenes/*.json "$seeds/fuzz_scene_json/"
+"$cli" envmap sky --cubemap 2 --size 8x4 --quiet --out "$seeds/sky.exr"
+# The environment target's first byte picks the format: 1 is EXR.
+{ printf '\001'; cat "$seeds/sky.exr"; } >"$seeds/fuzz_environment/sky"
+rm "$seeds/sky.exr"
+
+status=0
+for t in "${targets[@]}"; do
+  corpus="build-fuzz/corpus/$t" findings="build-fuzz/findings/$t"
+  mkdir -p "$corpus" "$findings" "fuzz/regressions/$t"
+  echo "fuzz: $t for ${seconds} s" >&2
+  # OpenEXR allocates header attributes (up to 2 GiB each) before OIIO returns
+  # an error: the environment target gets room for that.
+  rss=2048
+  [ "$t" = fuzz_environment ] && rss=4096
+  if ! (cd "$findings" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+        LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp" \
+        UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        "../../fuzz/$t" -max_total_time="$seconds" -rss_limit_mb=$rss -timeout=30 \
+        -print_final_stats=1 "../../../$corpus" "../../../$seeds/$t" \
+        "../../../fuzz/regressions/$t" 2>"fuzz.log"); then
+    echo "fuzz: $t FAILED; input and log in $findings" >&2
+    tail -40 "$findings/fuzz.log" >&2
+    status=1
+  else
+    grep -E "stat::number_of_executed_units|cov:" "$findings/fuzz.log" | tail -2 >&2 || true
+  fi
+done
+exit "$status"
