@@ -52,7 +52,7 @@ float Model::coefficient(int c, long long r, int k) const {
       return v;
     }
     default:
-      return coeffI8[i] * coeffScale[c];
+      return coeffI8[i] * coeffScale[firstBasisIndex(c) + k];
   }
 }
 
@@ -262,7 +262,7 @@ double storeCoefficients(Model& m, CoeffPrecision precision) {
   ACPCA_CHECK(m.precision == CoeffPrecision::F32 && m.coeffF16.empty() && m.coeffI8.empty(),
               "coefficients are already stored as ", coeffPrecisionName(m.precision));
   m.precision = precision;
-  m.coeffScale.assign(m.clusters(), 1.0f);
+  m.coeffScale.assign(m.clusters() ? m.firstBasisIndex(m.clusters()) : 0, 1.0f);
   if (precision == CoeffPrecision::F32) return 0;
   // Orthonormal bases: the coefficient error is the row error, so this is exact.
   double error = 0;
@@ -278,16 +278,22 @@ double storeCoefficients(Model& m, CoeffPrecision precision) {
   }
   m.coeffI8.resize(exact.size());
   for (int c = 0; c < m.clusters(); ++c) {
-    const auto first = m.coefficientOffsets[c], last = m.coefficientOffsets[c + 1];
-    float maxAbs = 0;
-    for (auto i = first; i < last; ++i) maxAbs = std::max(maxAbs, std::abs(exact[i]));
-    const float scale = maxAbs > 0 ? maxAbs / 127.0f : 1.0f;
-    for (auto i = first; i < last; ++i) {
-      const float q = std::clamp(std::round(exact[i] / scale), -127.0f, 127.0f);
-      m.coeffI8[i] = static_cast<std::int8_t>(q);
-      error += std::pow(double(q) * scale - exact[i], 2);
+    const int rank = m.ranks[c];
+    const long long rows = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    const long long first = m.coefficientOffsets[c];
+    for (int k = 0; k < rank; ++k) {
+      float maxAbs = 0;
+      for (long long r = 0; r < rows; ++r)
+        maxAbs = std::max(maxAbs, std::abs(exact[first + r * rank + k]));
+      const float scale = maxAbs > 0 ? maxAbs / 127.0f : 1.0f;
+      for (long long r = 0; r < rows; ++r) {
+        const long long i = first + r * rank + k;
+        const float q = std::clamp(std::round(exact[i] / scale), -127.0f, 127.0f);
+        m.coeffI8[i] = static_cast<std::int8_t>(q);
+        error += std::pow(double(q) * scale - exact[i], 2);
+      }
+      m.coeffScale[m.firstBasisIndex(c) + k] = scale;
     }
-    m.coeffScale[c] = scale;
   }
   return error;
 }
@@ -524,7 +530,8 @@ Model readModel(const std::string& path) {
   // HDF5 converts half datasets to float on read.
   m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
   m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
-  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT, clusters, ctx);
+  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT,
+                                   n > 0 ? m.basisOffsets.back() / n : 0, ctx);
   const long long coefficients = m.coefficientOffsets.back();
   if (m.precision == CoeffPrecision::F32)
     m.coeffF32 = readVector<float>(f, "coefficients", H5T_NATIVE_FLOAT, coefficients, ctx);

@@ -20,7 +20,7 @@ CoeffPrecision parseBasisPrecision(const std::string& text);  // f32 | f16
 const char* coeffPrecisionName(CoeffPrecision p);
 
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
-inline constexpr int kModelVersion = 1;
+inline constexpr int kModelVersion = 2;  // 2: one i8 scale per cluster basis
 
 struct Model {
   TransportHeader geometry;  ///< camera, lattice, pixels, albedo, coverage (normals unused)
@@ -47,7 +47,9 @@ struct Model {
   std::vector<float> coeffF32;
   std::vector<std::uint16_t> coeffF16;
   std::vector<std::int8_t> coeffI8;
-  std::vector<float> coeffScale;  ///< per cluster (i8 only)
+  /// One per cluster basis, clusters in order (sum of n_c values): the i8 step
+  /// of that basis's coefficients; 1 for f32 and f16.
+  std::vector<float> coeffScale;
 
   // Figures recorded when compressing.
   double transportError = 0;    ///< relative Frobenius error against T
@@ -65,6 +67,10 @@ struct Model {
   float coefficient(int c, long long r, int k) const;
   /// Bytes of the arrays a relight reads per frame (bases, means, coefficients).
   long long frameBytes() const;
+  /// Index of cluster c's first basis among all clusters' bases (into coeffScale).
+  long long firstBasisIndex(int c) const {
+    return globalBases() > 0 ? basisOffsets[c] / globalBases() : 0;
+  }
   /// The cluster of every row, in the transport's row order.
   std::vector<int> clusterOfRow() const;
 };
@@ -99,7 +105,8 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
                  const ModelOptions& options);
 
 /// Stores a model's f32 coefficients as `precision` (f16, or i8 with one scale
-/// per cluster: its largest |value| / 127); returns the squared error this adds
+/// per cluster basis: the largest |value| of that basis's coefficients / 127,
+/// so a basis of small coefficients keeps its own fine step); returns the squared error this adds
 /// to the transport (orthonormal bases: the coefficients' squared error).
 double storeCoefficients(Model& model, CoeffPrecision precision);
 

@@ -207,7 +207,8 @@ void ModelRelighter::clusterLighting(const std::vector<T>& bases) {
             kernels::shadeChunk(bases.data() + basisOffset_[c] + static_cast<size_t>(first) * n,
                                 globalLightingRgb_.data(), n, zero, tile);
             for (int k = first; k < std::min(first + kChunkRows, activeRanks_[c]); ++k)
-              for (int ch = 0; ch < 3; ++ch) li[3 * k + ch] = tile[ch][k - first] * scale_[c];
+              for (int ch = 0; ch < 3; ++ch)
+                li[3 * k + ch] = tile[ch][k - first] * scale_[lightingOffset_[c] + k];
           }
           float* mean = meanTerm_.data() + 3 * c;
           if (hasMean_)

@@ -66,7 +66,7 @@ class ModelRelighter {
   std::vector<float> means_;             ///< C x N when the model has means
   std::vector<int> ranks_, activeRanks_;
   std::vector<long long> lightingOffset_;  ///< per cluster, into clusterLighting_ (x3)
-  std::vector<float> scale_;               ///< per cluster: i8 step, else 1
+  std::vector<float> scale_;               ///< per cluster basis: i8 step, else 1
 
   std::vector<Chunk> chunks_;
   std::vector<std::int32_t> chunkRows_;  ///< 16 per chunk, -1 for padding

@@ -72,7 +72,6 @@ struct ModelRow {
   int clusters = 0, globalBases = 0;
   double costPerPixel = 0, medianNormRatio = 0, maxNormRatio = 0;
   StoredError stored[3]{};
-  StoredError i8PerBasis{};  ///< 8 bits with one scale per basis, simulated in f32
 };
 
 double median(std::vector<double> v) {
@@ -83,24 +82,6 @@ double median(std::vector<double> v) {
 
 std::string dB(double v) {
   return formatFixed(v, 2);
-}
-
-/// The f32 coefficients of a model rounded to 8 bits with one scale per cluster
-/// basis (its largest |value| / 127) and kept decoded: what a per-basis scale
-/// in the file format would give.
-void roundToI8PerBasis(Model& m) {
-  for (int c = 0; c < m.clusters(); ++c) {
-    const int rank = m.ranks[c];
-    const long long rows = m.rowOffsets[c + 1] - m.rowOffsets[c];
-    float* u = m.coeffF32.data() + m.coefficientOffsets[c];
-    for (int b = 0; b < rank; ++b) {
-      float largest = 0;
-      for (long long r = 0; r < rows; ++r) largest = std::max(largest, std::abs(u[r * rank + b]));
-      const float scale = largest > 0 ? largest / 127.0f : 1.0f;
-      for (long long r = 0; r < rows; ++r)
-        u[r * rank + b] = std::clamp(std::round(u[r * rank + b] / scale), -127.0f, 127.0f) * scale;
-    }
-  }
 }
 
 void run(const QuantizationArgs& a) {
@@ -188,14 +169,6 @@ void run(const QuantizationArgs& a) {
             measure(data, relighter.bytesPerFrame(),
                     [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
       }
-      {
-        Model perBasis = exact;
-        roundToI8PerBasis(perBasis);
-        ModelRelighter relighter(perBasis);
-        row.i8PerBasis =
-            measure(data, row.stored[2].bytes,
-                    [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
-      }
       log(concat(method, ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ", dB(row.stored[1].psnr),
                  " i8 ", dB(row.stored[2].psnr), " dB; |u|/(|T|+|mean|) max ",
                  formatFixed(row.maxNormRatio, 3)));
@@ -207,8 +180,7 @@ void run(const QuantizationArgs& a) {
   std::ostringstream shCsv, modelCsv, md;
   shCsv << "n,fit,median_condition,max_condition,median_norm,max_norm,median_norm_to_bound,max_"
            "norm_to_bound,fit_seconds";
-  modelCsv << "method,clusters,global_bases,cost_per_pixel,median_norm_to_bound,max_norm_to_bound,"
-              "i8_per_basis_rel_l2,i8_per_basis_psnr";
+  modelCsv << "method,clusters,global_bases,cost_per_pixel,median_norm_to_bound,max_norm_to_bound";
   for (CoeffPrecision s : kStorages)
     for (std::ostringstream* csv : {&shCsv, &modelCsv})
       *csv << "," << coeffPrecisionName(s) << "_rel_l2," << coeffPrecisionName(s) << "_psnr,"
@@ -244,19 +216,15 @@ void run(const QuantizationArgs& a) {
   }
   for (const auto& r : modelRows) {
     modelCsv << r.method << "," << r.clusters << "," << r.globalBases << "," << r.costPerPixel
-             << "," << r.medianNormRatio << "," << r.maxNormRatio << "," << r.i8PerBasis.error
-             << "," << r.i8PerBasis.psnr;
+             << "," << r.medianNormRatio << "," << r.maxNormRatio;
     storedCsv(modelCsv, r.stored);
-    modelJson.push_back(
-        {{"method", r.method},
-         {"clusters", r.clusters},
-         {"global_bases", r.globalBases},
-         {"cost_per_pixel", r.costPerPixel},
-         {"median_norm_to_bound", r.medianNormRatio},
-         {"max_norm_to_bound", r.maxNormRatio},
-         {"stored", storedJson(r.stored)},
-         {"i8_per_basis",
-          {{"rel_l2", r.i8PerBasis.error}, {"psnr", finiteOrNull(r.i8PerBasis.psnr)}}}});
+    modelJson.push_back({{"method", r.method},
+                         {"clusters", r.clusters},
+                         {"global_bases", r.globalBases},
+                         {"cost_per_pixel", r.costPerPixel},
+                         {"median_norm_to_bound", r.medianNormRatio},
+                         {"max_norm_to_bound", r.maxNormRatio},
+                         {"stored", storedJson(r.stored)}});
   }
   writeTextFile((fs::path(a.out) / "sh.csv").string(), shCsv.str());
   writeTextFile((fs::path(a.out) / "models.csv").string(), modelCsv.str());
@@ -271,8 +239,8 @@ void run(const QuantizationArgs& a) {
      << "## Spherical harmonics (paper 004, Table III)\n\n"
      << "Rows grouped by normal on a 6x" << a.shGroups << "x" << a.shGroups
      << " cube; each group's Gram matrix over its support (hemisphere plus every lit texel). "
-        "|c|/sqrt(E_c) is the coefficient norm over the bound of eq. 17.\n\n"
-     << "| n | fit | cond (median) | cond (max) | |c|/sqrt(E_c) median | max | f32 dB | f16 dB "
+        "‖c‖/√E_c is the coefficient norm over the bound of eq. 17.\n\n"
+     << "| n | fit | cond (median) | cond (max) | ‖c‖/√E_c median | max | f32 dB | f16 dB "
         "| i8 dB | f32 err | i8 err |\n|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : shRows)
     md << "| " << r.n << " | " << shFitName(r.fit) << " | "
@@ -285,14 +253,14 @@ void run(const QuantizationArgs& a) {
   md << "\n## Our models\n\n"
      << "Tolerance " << a.tolerance << ", global energy " << a.globalEnergy << ", CPCA with "
      << a.cpcaClusters
-     << " clusters. |u|/(|T|+|m|): a pixel's coefficient norm over its transport row's norm plus "
-        "its cluster mean's (at most 1 with orthonormal bases; |u|/|T| without a mean). "
-        "i8/basis: 8 bits with one scale per basis instead of per cluster (simulated; "
-        "the file format stores one per cluster).\n\n"
-     << "| method | clusters | N | cost/pixel | |u|/(|T|+|m|) median | max | f32 dB | f16 dB | i8 "
+     << " clusters. ‖u‖/(‖T‖+‖m‖): a pixel's coefficient norm over its transport row's norm plus "
+        "its cluster mean's (at most 1 with orthonormal bases; ‖u‖/‖T‖ without a mean). i8 keeps "
+        "one "
+        "scale per cluster basis.\n\n"
+     << "| method | clusters | N | cost/pixel | ‖u‖/(‖T‖+‖m‖) median | max | f32 dB | f16 dB | i8 "
         "dB "
-        "| f32 err | f16 err | i8 err | i8/basis err | i8 MB |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "| f32 err | f16 err | i8 err | i8 MB |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : modelRows)
     md << "| " << r.method << " | " << r.clusters << " | " << r.globalBases << " | "
        << formatFixed(r.costPerPixel, 0) << " | " << formatFixed(r.medianNormRatio, 3) << " | "
@@ -301,7 +269,6 @@ void run(const QuantizationArgs& a) {
        << formatFixed(100 * r.stored[0].error, 3) << "% | "
        << formatFixed(100 * r.stored[1].error, 3) << "% | "
        << formatFixed(100 * r.stored[2].error, 3) << "% | "
-       << formatFixed(100 * r.i8PerBasis.error, 3) << "% | "
        << formatFixed(r.stored[2].bytes / 1e6, 1) << " |\n";
   md << "\n"
      << formatFixed(std::chrono::duration<double>(Clock::now() - start).count(), 0) << " s.\n";

@@ -81,7 +81,8 @@ Model randomModel(CoeffPrecision precision, bool mean, unsigned seed) {
     for (float v : u)
       if (precision == CoeffPrecision::I8)
         m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
-    m.coeffScale.push_back(precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
+    m.coeffScale.insert(m.coeffScale.end(), ranks[c],
+                        precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
     m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
   }
   return m;
@@ -204,7 +205,7 @@ TEST_F(RelightPlant, QuantizedCoefficientsStayWithinTheirStepBound) {
   // b_p = albedo_p sum_k u_pk L_ik, so a coefficient error |du_pk| moves the
   // pixel by at most albedo_p sum_k |du_pk| |L_ik|. Per coefficient, half keeps
   // 11 significant bits: |du| <= 2^-11 |u| (+ 2^-25 for subnormals); i8 rounds
-  // to the nearest step s_i = max|u| / 127: |du| <= s_i / 2.
+  // to the nearest step s_ik = max over the cluster's rows of |u_k| / 127: |du| <= s_ik / 2.
   const TransportReader t(path());
   CompressOptions o;
   o.method = Method::AdaptiveQuad;
@@ -241,7 +242,7 @@ TEST_F(RelightPlant, QuantizedCoefficientsStayWithinTheirStepBound) {
           for (int k = 0; k < f32.ranks[c]; ++k) {
             const double u = std::abs(f32.coefficient(c, r, k)), l = std::abs(li(k, ch));
             halfBound += (u * std::ldexp(1.0, -11) + std::ldexp(1.0, -25)) * l;
-            byteBound += 0.5 * i8.coeffScale[c] * l;
+            byteBound += 0.5 * i8.coeffScale[i8.firstBasisIndex(c) + k] * l;
           }
           const double a = f32.geometry.albedo[3 * row + ch];
           EXPECT_LE(std::abs(b16[3 * row + ch] - b32[3 * row + ch]), a * halfBound + rounding);
