@@ -28,6 +28,12 @@ double psnr(const std::vector<float>& b, const std::vector<float>& reference) {
   return rmse > 0 ? 20 * std::log10(peak / rmse) : INFINITY;
 }
 
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
 double aggregateError(const std::vector<double>& perMap) {
   double sum = 0;
   for (double e : perMap) sum += e * e;

@@ -9,6 +9,8 @@ namespace acpca {
 double relativeL2(const std::vector<float>& b, const std::vector<float>& reference);
 /// 20 log10(max ref / RMSE).
 double psnr(const std::vector<float>& b, const std::vector<float>& reference);
+/// The middle value (the upper one of an even count); 0 when empty.
+double median(std::vector<double> values);
 /// RMS of per-map relative L2 errors: the aggregate over an evaluation set.
 double aggregateError(const std::vector<double>& perMap);
 

@@ -11,18 +11,9 @@
 #include "precompute/transport/error.h"
 #include "precompute/transport/half.h"
 #include "precompute/transport/row_stream.h"
+#include "relight/evaluation.h"
 
 namespace acpca {
-
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
                          int normalResolution)

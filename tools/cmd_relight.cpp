@@ -10,6 +10,7 @@
 #include "precompute/transport/atomic_file.h"
 #include "precompute/transport/error.h"
 #include "relight/dense_relight.h"
+#include "relight/evaluation.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
@@ -56,11 +57,6 @@ std::vector<ImageFormat> formatsFor(const std::string& format, const fs::path& o
 
 std::string extensionOf(ImageFormat f) {
   return f == ImageFormat::Exr ? ".exr" : ".png";
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
 }
 
 std::string csvField(const std::string& s) {

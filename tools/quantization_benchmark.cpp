@@ -74,12 +74,6 @@ struct ModelRow {
   StoredError stored[3]{};
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 std::string dB(double v) {
   return formatFixed(v, 2);
 }

@@ -15,6 +15,12 @@ TEST(Evaluation, ErrorMeasures) {
   EXPECT_NEAR(aggregateError({0.03, 0.04}), std::sqrt((0.0009 + 0.0016) / 2), 1e-12);
 }
 
+TEST(Evaluation, MedianIsTheMiddleValueAndTheUpperOfAnEvenCount) {
+  EXPECT_EQ(median({3, 1, 2}), 2);
+  EXPECT_EQ(median({4, 1, 3, 2}), 3);
+  EXPECT_EQ(median({}), 0);
+}
+
 TEST(Evaluation, CostAtErrorInterpolatesTheParetoFrontInLogLog) {
   // cost = 100 / error on the front, plus a dominated setting that must be ignored.
   std::vector<ErrorCostPoint> points{{0.001, 100000}, {0.01, 10000}, {0.1, 1000}, {0.02, 50000}};
