@@ -4,6 +4,7 @@
 // within the energy bound at a small cost in residual; the transport baseline
 // covers every lit texel and stores coefficients as the paper does.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <random>
@@ -207,6 +208,21 @@ TEST_F(ShTransportTest, SupportsHoldEveryLitTexelAndOnlyUlsSuffersFromEightBits)
       EXPECT_LT(quantizedError, 1.05 * exactError) << shFitName(f);
   }
   EXPECT_GT(sh.costPerPixel(49), 49);
+}
+
+TEST_F(ShTransportTest, SameCoefficientsAndImageWithOneOrTwoThreads) {
+  const TransportReader transport(path());
+  const CubeLattice lattice(transport.header().cubemapResolution);
+  const LatticeLighting sun = computeLighting(*loadEnvironment("sun:50,30,8,1000"), lattice, {});
+  const auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    ShTransport sh(transport, 25, 4);
+    const ShCoefficients c = sh.fit(25, ShFit::Cls);
+    std::vector<float> image(3 * transport.rows());
+    sh.relight(c, sun, image.data());
+    return std::make_pair(c.values, image);
+  };
+  EXPECT_EQ(run(1), run(2));
 }
 
 }  // namespace
