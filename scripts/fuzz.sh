@@ -45,7 +45,7 @@ for t in "${targets[@]}"; do
   rss=2048
   [ "$t" = fuzz_environment ] && rss=4096
   if ! (cd "$findings" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
-        LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp" \
+        LSAN_OPTIONS="suppressions=$root/scripts/lsan-suppressions.txt" \
         UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         "../../fuzz/$t" -max_total_time="$seconds" -rss_limit_mb=$rss -timeout=30 \
         -print_final_stats=1 "../../../$corpus" "../../../$seeds/$t" \
