@@ -248,7 +248,8 @@ void registerEval(CLI::App& app) {
       ->delimiter(',');
   sub->add_option("--sh-fits", args->shFits, "SH fits of paper 004: uls, cls, ceb")->delimiter(',');
   sub->add_option("--sh-groups", args->shGroups,
-                  "Cube resolution the rows' normals are grouped on for the SH fits (1..64)");
+                  "Cube resolution the rows' normals are grouped on for the SH fits (1..64)")
+      ->check(CLI::Range(1, 64));
   sub->add_option("--frames", args->sweep.timingFrames, "Timed frames per setting (median)")
       ->check(CLI::PositiveNumber);
   args->common.add(*sub);

@@ -285,7 +285,8 @@ void registerQuantizationBenchmark(CLI::App& bench) {
   sub->add_option("--sh-orders", args->shOrders, "SH coefficient counts (squares of 1..16)")
       ->delimiter(',');
   sub->add_option("--sh-groups", args->shGroups,
-                  "Cube resolution the rows' normals are grouped on (1..64)");
+                  "Cube resolution the rows' normals are grouped on (1..64)")
+      ->check(CLI::Range(1, 64));
   sub->add_option("--methods", args->methods,
                   "Compression methods to quantize (global, block, cpca, adaptive-quad, "
                   "adaptive-binary)")

@@ -161,6 +161,8 @@ TEST_F(Reports, QuantizationTablesHoldTheBoundsTheFitsPromise) {
       runCli("bench quantization " + transport() + " --out " + report + "2 --sh-orders 50");
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.output.find("--sh-orders: 50"), std::string::npos) << bad.output;
+  expectFailure("bench quantization " + transport() + " --out " + report + "3 --sh-groups 0",
+                "--sh-groups");
 }
 
 TEST_F(Reports, AnalyzeReportsSlopesBlockCostsAndAConsistentOptimum) {
