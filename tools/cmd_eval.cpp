@@ -55,22 +55,6 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-/// Relights every map with `relight`, timing the first; fills errors and PSNR.
-void measureBaseline(const EvaluationData& data, SweepResult& r, int frames,
-                     const std::function<void(const LatticeLighting&, float*)>& relight,
-                     std::vector<float>& first) {
-  std::vector<float> image(3 * data.transport->rows());
-  for (size_t k = 0; k < data.lightings.size(); ++k) {
-    relight(data.lightings[k], image.data());
-    r.errors.push_back(relativeL2(image, data.truth[k]));
-    r.psnrs.push_back(psnr(image, data.truth[k]));
-    if (k == 0) first = image;
-  }
-  r.imageError = aggregateError(r.errors);
-  r.msPerFrame =
-      medianFrameMs([&] { relight(data.lightings[0], image.data()); }, std::max(1, frames));
-}
-
 void run(EvalArgs& a) {
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
@@ -112,10 +96,9 @@ void run(EvalArgs& a) {
     r.compressSeconds = secondsSince(t);
     r.costPerPixel = transport.latticeSize();
     r.modelBytes = dense.bytesPerFrame();
-    std::vector<float> first;
-    measureBaseline(
-        data, r, std::min(a.sweep.timingFrames, 5),
-        [&](const LatticeLighting& l, float* rgb) { dense.relight(l, rgb); }, first);
+    const std::vector<float> first =
+        measureMaps(data, r, std::min(a.sweep.timingFrames, 5),
+                    [&](const LatticeLighting& l, float* rgb) { dense.relight(l, rgb); });
     log(concat("dense: ", r.msPerFrame, " ms/frame, error ", r.imageError));
     keep(r, first, {});
     results.push_back(r);
@@ -137,15 +120,12 @@ void run(EvalArgs& a) {
       SweepResult r{"haar", concat("k=", k)};
       r.compressSeconds = buildSeconds;
       r.modelBytes = haar.bytes();
-      std::vector<float> first;
       double cost = 0;
-      measureBaseline(
-          data, r, a.sweep.timingFrames,
-          [&](const LatticeLighting& l, float* rgb) {
+      const std::vector<float> first =
+          measureMaps(data, r, a.sweep.timingFrames, [&](const LatticeLighting& l, float* rgb) {
             haar.relight(l, k, rgb);
             cost += haar.lastCostPerPixel();
-          },
-          first);
+          });
       // Its cost depends on which columns the lighting picks: the mean over the frames run.
       r.costPerPixel = cost / (data.lightings.size() + 1 + std::max(1, a.sweep.timingFrames));
       log(concat("haar k=", k, ": cost/pixel ", r.costPerPixel, ", ", r.msPerFrame,
@@ -169,10 +149,9 @@ void run(EvalArgs& a) {
         r.compressSeconds = buildSeconds + secondsSince(fitStart);
         r.costPerPixel = sh.costPerPixel(n);
         r.modelBytes = sh.frameBytes(c);
-        std::vector<float> first;
-        measureBaseline(
-            data, r, a.sweep.timingFrames,
-            [&](const LatticeLighting& l, float* rgb) { sh.relight(c, l, rgb); }, first);
+        const std::vector<float> first =
+            measureMaps(data, r, a.sweep.timingFrames,
+                        [&](const LatticeLighting& l, float* rgb) { sh.relight(c, l, rgb); });
         log(concat(r.method, " n=", n, ": cost/pixel ", r.costPerPixel, ", ", r.msPerFrame,
                    " ms/frame, error ", r.imageError));
         keep(r, first, {});

@@ -49,6 +49,21 @@ EvaluationData loadEvaluationData(const TransportReader& transport, std::vector<
   return d;
 }
 
+std::vector<float> measureMaps(const EvaluationData& data, SweepResult& r, int frames,
+                               const std::function<void(const LatticeLighting&, float*)>& relight) {
+  std::vector<float> image(3 * data.transport->rows()), first;
+  for (size_t k = 0; k < data.lightings.size(); ++k) {
+    relight(data.lightings[k], image.data());
+    r.errors.push_back(relativeL2(image, data.truth[k]));
+    r.psnrs.push_back(psnr(image, data.truth[k]));
+    if (k == 0) first = image;
+  }
+  r.imageError = aggregateError(r.errors);
+  if (frames > 0 && !data.lightings.empty())
+    r.msPerFrame = medianFrameMs([&] { relight(data.lightings[0], image.data()); }, frames);
+  return first;
+}
+
 double medianFrameMs(const std::function<void()>& relight, int frames) {
   relight();  // warm-up
   std::vector<double> ms;
@@ -72,24 +87,15 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
     return std::find(s.methods.begin(), s.methods.end(), method) != s.methods.end();
   };
   std::vector<SweepResult> results;
-  std::vector<float> image(3 * transport.rows());
 
   // Relights every map, records errors (and timing), tells the observer.
   const auto measure = [&](SweepResult r, ModelRelighter& relighter,
                            const std::vector<int>& clusterOfRow) {
-    std::vector<float> first;
-    for (size_t k = 0; k < data.lightings.size(); ++k) {
-      relighter.relight(data.lightings[k], image.data());
-      r.errors.push_back(relativeL2(image, data.truth[k]));
-      r.psnrs.push_back(psnr(image, data.truth[k]));
-      if (k == 0) first = image;
-    }
-    r.imageError = aggregateError(r.errors);
+    const std::vector<float> first =
+        measureMaps(data, r, s.timingFrames,
+                    [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
     r.modelBytes = relighter.bytesPerFrame();
     r.costPerPixel = relighter.costPerPixel();
-    if (s.timingFrames > 0 && !data.lightings.empty())
-      r.msPerFrame = medianFrameMs([&] { relighter.relight(data.lightings[0], image.data()); },
-                                   s.timingFrames);
     log(concat(r.method, " ", r.setting, " g=", r.globalEnergy, " tol=", r.tolerance, ": ",
                r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
                ", transport error ", r.transportError,

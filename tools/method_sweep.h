@@ -62,6 +62,12 @@ using SweepObserver = std::function<void(const SweepResult&, const std::vector<f
 std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSettings& settings,
                                       const SweepObserver& observe = {});
 
+/// Relights every map of the set with `relight`, filling r.errors, r.psnrs and
+/// r.imageError, and returns the first map's image; with frames > 0 also
+/// r.msPerFrame, the median of that many frames of the first map.
+std::vector<float> measureMaps(const EvaluationData& data, SweepResult& r, int frames,
+                               const std::function<void(const LatticeLighting&, float*)>& relight);
+
 /// Median ms per frame of `relight` over `frames` calls after one warm-up.
 double medianFrameMs(const std::function<void()>& relight, int frames);
 

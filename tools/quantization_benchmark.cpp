@@ -45,19 +45,14 @@ struct StoredError {
   long long bytes = 0;
 };
 
+/// The set's error and mean PSNR of one stored variant (no timing).
 StoredError measure(const EvaluationData& data, long long bytes,
                     const std::function<void(const LatticeLighting&, float*)>& relight) {
-  StoredError s;
-  s.bytes = bytes;
-  std::vector<double> errors;
-  std::vector<float> image(3 * data.transport->rows());
-  for (size_t k = 0; k < data.lightings.size(); ++k) {
-    relight(data.lightings[k], image.data());
-    errors.push_back(relativeL2(image, data.truth[k]));
-    s.psnr += psnr(image, data.truth[k]) / data.lightings.size();
-  }
-  s.error = aggregateError(errors);
-  return s;
+  SweepResult r;
+  measureMaps(data, r, 0, relight);
+  double meanPsnr = 0;
+  for (double p : r.psnrs) meanPsnr += p / r.psnrs.size();
+  return {r.imageError, meanPsnr, bytes};
 }
 
 struct ShRow {

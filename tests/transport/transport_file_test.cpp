@@ -39,6 +39,16 @@ std::vector<float> randomRows(int rows, int l) {
   return v;
 }
 
+/// A complete transport file of smallHeader(precision, rows) and randomRows.
+TransportHeader writeSmallTransport(const std::string& path, Precision precision, int rows) {
+  const TransportHeader header = smallHeader(precision, rows);
+  TransportWriter writer(path, header);
+  const auto values = randomRows(rows, header.latticeSize());
+  writer.writeRows(0, rows, values.data());
+  writer.finish();
+  return header;
+}
+
 TEST(Half, RoundTripsWithinHalfAnUlp) {
   std::vector<float> in;
   for (int i = -2000; i < 2000; ++i) in.push_back(i * 0.0137f);
@@ -105,13 +115,7 @@ TEST(TransportFile, RefusesMissingForeignAndTruncatedFiles) {
   EXPECT_THROW(TransportReader(dir.file("foreign.h5")), UserError);
 
   const std::string path = dir.file("t.h5");
-  const TransportHeader header = smallHeader(Precision::F32, 10);
-  {
-    TransportWriter writer(path, header);
-    const auto rows = randomRows(10, header.latticeSize());
-    writer.writeRows(0, 10, rows.data());
-    writer.finish();
-  }
+  const TransportHeader header = writeSmallTransport(path, Precision::F32, 10);
   const auto size = test::fs::file_size(path);
   for (double keep : {0.3, 0.6, 0.9}) {
     const std::string cut = dir.file("cut.h5");
@@ -135,13 +139,7 @@ TEST(TransportFile, RefusesMissingForeignAndTruncatedFiles) {
 TEST(TransportFile, DamagedBytesAreRefusedOrReadBackFinite) {
   TempDir dir;
   const std::string path = dir.file("t.h5");
-  const TransportHeader header = smallHeader(Precision::F16, 6);
-  {
-    TransportWriter writer(path, header);
-    const auto rows = randomRows(6, header.latticeSize());
-    writer.writeRows(0, 6, rows.data());
-    writer.finish();
-  }
+  writeSmallTransport(path, Precision::F16, 6);
   std::ifstream in(path, std::ios::binary);
   const std::string original((std::istreambuf_iterator<char>(in)), {});
   int refused = 0, read = 0;
@@ -185,12 +183,7 @@ TEST(TransportFile, FilesWithoutMetadataChecksumsAreRefusedByName) {
 TEST(TransportFile, AbsurdDeclaredShapesAreRefusedBeforeAllocation) {
   TempDir dir;
   const std::string path = dir.file("t.h5");
-  {
-    TransportWriter writer(path, smallHeader(Precision::F32, 2));
-    const auto rows = randomRows(2, 24);
-    writer.writeRows(0, 2, rows.data());
-    writer.finish();
-  }
+  writeSmallTransport(path, Precision::F32, 2);
   {
     h5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     const long long side = 16384, n = side * side;
