@@ -1,36 +1,20 @@
 #include "cluster/compress.h"
+#include "cluster/model_fit.h"
 
-#include <chrono>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
+#include "core/stopwatch.h"
 
 namespace acpca {
 
 Method parseMethod(const std::string& text) {
-  if (text == "global") return Method::Global;
-  if (text == "block") return Method::Block;
-  if (text == "cpca") return Method::Cpca;
-  if (text == "adaptive-quad") return Method::AdaptiveQuad;
-  if (text == "adaptive-binary") return Method::AdaptiveBinary;
-  throw UserError(concat("--method '", text,
-                         "' is not one of global, block, cpca, adaptive-quad, adaptive-binary"));
+  return kMethodNames.parse(text);
 }
 
 const char* methodName(Method m) {
-  switch (m) {
-    case Method::Global:
-      return "global";
-    case Method::Block:
-      return "block";
-    case Method::Cpca:
-      return "cpca";
-    case Method::AdaptiveQuad:
-      return "adaptive-quad";
-    default:
-      return "adaptive-binary";
-  }
+  return kMethodNames.name(m);
 }
 
 int blockSideFor(const CompressOptions& o) {
@@ -40,17 +24,15 @@ int blockSideFor(const CompressOptions& o) {
 
 Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
   if (!(o.tolerance > 0 && o.tolerance <= 1))
-    throw UserError(concat("--tolerance ", o.tolerance, " is outside (0, 1]"));
+    throw ParameterError("tolerance", o.tolerance, "is outside (0, 1]");
   if (!(o.globalEnergy > 0 && o.globalEnergy <= 1))
-    throw UserError(concat("--global-energy ", o.globalEnergy, " is outside (0, 1]"));
-  if (o.clusters < 1) throw UserError(concat("--clusters ", o.clusters, " must be >= 1"));
+    throw ParameterError("global energy", o.globalEnergy, "is outside (0, 1]");
+  if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
   const int block = blockSideFor(o);
-  if (block < 1) throw UserError(concat("--block ", block, " must be >= 1"));
-  const auto start = std::chrono::steady_clock::now();
+  if (block < 1) throw ParameterError("block side", block, "must be >= 1");
+  const Stopwatch watch;
   const auto log = [&](const std::string& s) {
-    const double t =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), t, " s] ", s));
+    if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));
   };
 
   const GlobalBasis basis = computeGlobalBasis(transport, {o.globalEnergy, o.sampleRows, o.seed});
@@ -119,8 +101,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
                                   {"mean", mean},
                                   {"source", transport.path()}}
                        .dump();
-  model.compressSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  model.compressSeconds = watch.seconds();
   return model;
 }
 

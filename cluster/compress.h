@@ -3,11 +3,17 @@
 #include <functional>
 #include <string>
 
-#include "cluster/model.h"
+#include "cluster/model_fit.h"
 
 namespace acpca {
 
 enum class Method { Global, Block, Cpca, AdaptiveQuad, AdaptiveBinary };
+inline constexpr EnumNames<Method, 5> kMethodNames{"method",
+                                                   {{{Method::Global, "global"},
+                                                     {Method::Block, "block"},
+                                                     {Method::Cpca, "cpca"},
+                                                     {Method::AdaptiveQuad, "adaptive-quad"},
+                                                     {Method::AdaptiveBinary, "adaptive-binary"}}}};
 Method parseMethod(const std::string& text);
 const char* methodName(Method m);
 

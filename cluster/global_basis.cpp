@@ -7,7 +7,7 @@
 #include <random>
 
 #include "cluster/symmetric_eigen.h"
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "precompute/transport/row_stream.h"
 
 namespace acpca {
@@ -52,7 +52,7 @@ Eigen::MatrixXd gramMatrix(const Eigen::MatrixXd& rows) {
 GlobalBasis computeGlobalBasis(const TransportReader& transport,
                                const GlobalBasisOptions& options) {
   if (!(options.energy > 0 && options.energy <= 1))
-    throw UserError(concat("--global-energy ", options.energy, " is outside (0, 1]"));
+    throw ParameterError("global energy", options.energy, "is outside (0, 1]");
   if (options.sampleRows < 1) throw UserError("the global-basis sample needs at least one row");
   const int l = transport.latticeSize();
   const long long total = transport.rows();

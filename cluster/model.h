@@ -5,22 +5,23 @@
 // of a row p in cluster i: albedo_p * (u_p . (W_i^T V_g^T L) + mu_i . V_g^T L).
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
-#include "cluster/global_basis.h"
-#include "cluster/partition.h"
+#include "core/enum_names.h"
 #include "precompute/transport/transport_file.h"
 
 namespace acpca {
 
+/// How coefficients (f32, f16, i8) and cluster bases (f32, f16) are stored.
 enum class CoeffPrecision { F32, F16, I8 };
+inline constexpr EnumNames<CoeffPrecision, 3> kCoeffPrecisionNames{
+    "coefficient precision",
+    {{{CoeffPrecision::F32, "f32"}, {CoeffPrecision::F16, "f16"}, {CoeffPrecision::I8, "i8"}}}};
 CoeffPrecision parseCoeffPrecision(const std::string& text);  // f32 | f16 | i8
 CoeffPrecision parseBasisPrecision(const std::string& text);  // f32 | f16
 const char* coeffPrecisionName(CoeffPrecision p);
-
-inline constexpr const char* kModelFormat = "adaptive-cpca model";
-inline constexpr int kModelVersion = 2;  // 2: one i8 scale per cluster basis
 
 struct Model {
   TransportHeader geometry;  ///< camera, lattice, pixels, albedo, coverage (normals unused)
@@ -75,51 +76,10 @@ struct Model {
   std::vector<int> clusterOfRow() const;
 };
 
-struct ModelOptions {
-  double tolerance = 0.999;
-  bool mean = false;
-  CoeffPrecision precision = CoeffPrecision::F32;
-  CoeffPrecision basisPrecision = CoeffPrecision::F32;  ///< F32 or F16
-  /// Instead of each cluster keeping `tolerance` of its own energy, spend one
-  /// error budget, (1 - tolerance) of all clusters' energy, where each basis
-  /// removes the most error per unit of cost (beyond the paper).
-  bool allocateRanks = false;
-  /// Clusters with more values (rows x N) than this are fitted from a blocked
-  /// Gram matrix instead of a double copy of their rows (memory, not results).
-  long long largeClusterValues = 1LL << 24;
-};
-
-/// Ranks for an error budget: starting from none, repeatedly add to the cluster
-/// whose next eigenvalue per unit cost, lambda / (p + N), is largest, until the
-/// dropped energy is at most `budget`. Spectra must be descending.
-std::vector<int> allocateRanks(const std::vector<Eigen::VectorXd>& spectra,
-                               const std::vector<long long>& clusterSizes, int globalBases,
-                               double budget);
-
-/// Fits each cluster of the partition (PCA to the tolerance, on G) and stores
-/// its coefficients. Sets transportError from the global residual, the
-/// clusters' residuals and the quantization error, all exact (with half bases,
-/// by reconstructing every row from the stored values).
-Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
-                 const GlobalProjection& projection, const Partition& partition,
-                 const ModelOptions& options);
-
-/// Stores a model's f32 coefficients as `precision` (f16, or i8 with one scale
-/// per cluster basis: the largest |value| of that basis's coefficients / 127,
-/// so a basis of small coefficients keeps its own fine step); returns the squared error this adds
-/// to the transport (orthonormal bases: the coefficients' squared error).
-double storeCoefficients(Model& model, CoeffPrecision precision);
-
-/// Writes atomically (temporary name, renamed when complete).
-void writeModel(const Model& model, const std::string& path);
-/// Reads and validates a model file; throws UserError naming the file.
-Model readModel(const std::string& path);
-/// True if the file is an HDF5 file whose format attribute says model.
-bool isModelFile(const std::string& path);
-
-/// Per-row RGB (albedo applied) for each lighting: the plain reference relight
-/// of a model (the fast relighter must match it).
-std::vector<std::vector<float>> relightModelReference(
-    const Model& model, const std::vector<std::vector<double>>& lightings);
+/// How many clusters have each rank.
+std::map<int, int> rankHistogram(const Model& model);
+/// The ranks in one short line: "min 1, median 8, max 143; 1: 40, 2-4: 12, ..."
+/// with buckets of powers of four.
+std::string rankSummary(const Model& model);
 
 }  // namespace acpca

@@ -13,7 +13,7 @@
 #include "cluster/symmetric_eigen.h"
 
 #include <Eigen/QR>
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 
@@ -84,7 +84,7 @@ Partition singleCluster(const ClusterInput& in) {
 }
 
 Partition fixedBlocks(const ClusterInput& in, int block) {
-  if (block < 1) throw UserError(concat("--block ", block, " must be >= 1"));
+  if (block < 1) throw ParameterError("block side", block, "must be >= 1");
   const std::vector<int> image = rowImage(in);
   Partition p;
   for (const Block& b : rootBlocks(in, block))
@@ -198,7 +198,7 @@ ClusterFit fitCluster(const Eigen::MatrixXd& rows, int rank) {
 }  // namespace
 
 Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const CpcaOptions& o) {
-  if (o.clusters < 1) throw UserError(concat("--clusters ", o.clusters, " must be >= 1"));
+  if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
   const int n = static_cast<int>(rowsIn.size());
   const int k = std::min(o.clusters, n);
   if (k <= 1) return n ? Partition{rowsIn} : Partition{};

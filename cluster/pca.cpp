@@ -1,7 +1,7 @@
 #include "cluster/pca.h"
 
 #include "cluster/symmetric_eigen.h"
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

@@ -5,7 +5,7 @@
 
 #include <mutex>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

@@ -9,6 +9,8 @@
 #include <hdf5.h>
 
 #include "cluster/model.h"
+#include "cluster/model_file.h"
+#include "cluster/quantization.h"
 #include "fuzz/fuzz_support.h"
 #include "precompute/transport/hdf5_handles.h"
 #include "precompute/transport/transport_file.h"

@@ -1,6 +1,7 @@
 // Raw bytes as a model file: refused with a UserError, or read and relit
 // under constant light with a finite result.
 #include "cluster/model.h"
+#include "cluster/model_file.h"
 #include "fuzz/fuzz_support.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"

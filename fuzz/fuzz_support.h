@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca::fuzz {
 

@@ -4,7 +4,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/environment.h"
 
 namespace acpca {

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/environment.h"
 #include "relight/envmap_export.h"
 

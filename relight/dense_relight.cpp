@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "precompute/transport/row_stream.h"
 
 namespace acpca {

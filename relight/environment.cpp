@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/spec_parsing.h"
 
 namespace acpca {
@@ -44,7 +44,7 @@ std::vector<double> parseNumbers(const std::string& list, const std::string& spe
   std::stringstream in(list);
   std::string part;
   while (std::getline(in, part, ','))
-    values.push_back(parseFiniteNumber(part, concat("--env '", spec, "'")));
+    values.push_back(parseFiniteNumber(part, "environment", spec));
   return values;
 }
 
@@ -59,24 +59,24 @@ std::unique_ptr<Environment> loadEnvironment(const std::string& spec) {
   if (spec.rfind("constant:", 0) == 0) {
     const auto v = parseNumbers(spec.substr(9), spec);
     if (v.size() != 1 && v.size() != 3)
-      throw UserError(concat("--env '", spec, "': expected constant:V or constant:R,G,B"));
+      throw ParameterError("environment", spec, "expected constant:V or constant:R,G,B");
     const Rgb radiance = v.size() == 1 ? Rgb::Constant(v[0]) : Rgb(v[0], v[1], v[2]);
     if ((radiance.array() < 0).any())
-      throw UserError(concat("--env '", spec, "': radiance must be >= 0"));
+      throw ParameterError("environment", spec, "radiance must be >= 0");
     return makeConstantEnvironment(radiance);
   }
   if (spec.rfind("sun:", 0) == 0) {
     const auto v = parseNumbers(spec.substr(4), spec);
     if (v.size() != 4)
-      throw UserError(concat("--env '", spec, "': expected sun:THETA,PHI,SIZE_DEG,INTENSITY"));
+      throw ParameterError("environment", spec, "expected sun:THETA,PHI,SIZE_DEG,INTENSITY");
     if (!(v[2] > 0 && v[2] <= 180))
-      throw UserError(concat("--env '", spec, "': SIZE_DEG must be in (0, 180]"));
-    if (v[3] < 0) throw UserError(concat("--env '", spec, "': INTENSITY must be >= 0"));
+      throw ParameterError("environment", spec, "SIZE_DEG must be in (0, 180]");
+    if (v[3] < 0) throw ParameterError("environment", spec, "INTENSITY must be >= 0");
     return makeSunEnvironment(v[0], v[1], v[2], Rgb::Constant(v[3]));
   }
   if (!std::filesystem::exists(spec))
-    throw UserError(concat("--env '", spec,
-                           "': no such file, and not constant:V, sun:THETA,PHI,SIZE,I or sky"));
+    throw ParameterError("environment", spec,
+                         "no such file, and not constant:V, sun:THETA,PHI,SIZE,I or sky");
   return loadEnvironmentImage(spec);
 }
 

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "precompute/transport/atomic_file.h"
-#include "precompute/transport/error.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 
 namespace acpca {
 
@@ -19,7 +19,7 @@ Background parseBackground(const std::string& text) {
   if (text == "env") return Background::Env;
   if (text == "black") return Background::Black;
   if (text == "alpha") return Background::Alpha;
-  throw UserError(concat("--background '", text, "' is not one of env, black, alpha"));
+  throw ParameterError("background", text, "is not one of env, black, alpha");
 }
 
 double linearToSrgb(double v) {

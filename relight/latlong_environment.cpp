@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/environment.h"
 
 namespace acpca {

@@ -1,6 +1,6 @@
 #include "relight/lighting.h"
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

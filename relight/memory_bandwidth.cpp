@@ -1,11 +1,12 @@
 #include "relight/memory_bandwidth.h"
 
+#include "core/stopwatch.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <chrono>
 #include <vector>
 
 namespace acpca {
@@ -39,15 +40,14 @@ BandwidthMeasurement measureStreamingRead(double bytes, int passes) {
   m.bytes = double(count) * sizeof(float);
   std::vector<double> rates;
   for (int pass = -1; pass < passes; ++pass) {
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     const double sum = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, count, 1 << 18), 0.0,
         [&](const tbb::blocked_range<size_t>& r, double acc) {
           return acc + laneSum(data.data(), r.begin(), r.end());
         },
         [](double a, double b) { return a + b; });
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = watch.seconds();
     m.checksum += sum;
     if (pass >= 0) rates.push_back(m.bytes / seconds / 1e9);
   }

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "precompute/transport/error.h"
-#include "precompute/transport/half.h"
+#include "core/error.h"
+#include "core/half.h"
 #include "relight/relight_kernels.h"
 
 namespace acpca {

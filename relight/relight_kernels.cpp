@@ -1,6 +1,6 @@
 #include "relight/relight_kernels.h"
 
-#include "precompute/transport/half.h"
+#include "core/half.h"
 
 #if defined(__AVX2__) && defined(__FMA__) && defined(__F16C__)
 #include <immintrin.h>

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/spec_parsing.h"
 
 namespace acpca {
@@ -23,7 +23,7 @@ std::string formatAngle(double degrees) {
 }
 
 double parseNumber(const std::string& text, const std::string& spec) {
-  return parseFiniteNumber(text, concat("--rotate '", spec, "'"));
+  return parseFiniteNumber(text, "rotation", spec);
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -53,20 +53,20 @@ Eigen::Matrix3d rotationMatrix(const EnvRotation& r) {
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   if (spec.find(':') != std::string::npos) {
     const auto parts = split(spec, ':');
-    if (parts.size() != 3) throw UserError(concat("--rotate '", spec, "': expected A:B:S"));
+    if (parts.size() != 3) throw ParameterError("rotation", spec, "expected A:B:S");
     const double a = parseNumber(parts[0], spec), b = parseNumber(parts[1], spec),
                  s = parseNumber(parts[2], spec);
-    if (s <= 0) throw UserError(concat("--rotate '", spec, "': the step must be > 0"));
-    if (b <= a) throw UserError(concat("--rotate '", spec, "': the end must exceed the start"));
+    if (s <= 0) throw ParameterError("rotation", spec, "the step must be > 0");
+    if (b <= a) throw ParameterError("rotation", spec, "the end must exceed the start");
     const double count = std::ceil((b - a) / s - 1e-9);
-    if (count > 100000) throw UserError(concat("--rotate '", spec, "': more than 100000 steps"));
+    if (count > 100000) throw ParameterError("rotation", spec, "more than 100000 steps");
     std::vector<EnvRotation> sweep;
     for (int i = 0; i < static_cast<int>(count); ++i) sweep.push_back({a + i * s, 0, 0});
     return sweep;
   }
   const auto parts = split(spec, ',');
   if (parts.size() != 1 && parts.size() != 3)
-    throw UserError(concat("--rotate '", spec, "': expected YAW or YAW,PITCH,ROLL or A:B:S"));
+    throw ParameterError("rotation", spec, "expected YAW or YAW,PITCH,ROLL or A:B:S");
   EnvRotation r;
   r.yaw = parseNumber(parts[0], spec);
   if (parts.size() == 3) {

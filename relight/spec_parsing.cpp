@@ -2,11 +2,12 @@
 
 #include <cmath>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 
-double parseFiniteNumber(const std::string& text, const std::string& context) {
+double parseFiniteNumber(const std::string& text, const std::string& parameter,
+                         const std::string& spec) {
   size_t used = 0;
   double value = 0;
   try {
@@ -15,7 +16,7 @@ double parseFiniteNumber(const std::string& text, const std::string& context) {
     used = 0;
   }
   if (used == 0 || used != text.size() || !std::isfinite(value))
-    throw UserError(concat(context, ": '", text, "' is not a finite number"));
+    throw ParameterError(parameter, spec, concat("'", text, "' is not a finite number"));
   return value;
 }
 

@@ -4,8 +4,9 @@
 
 namespace acpca {
 
-/// The whole of `text` as a finite number; otherwise a UserError that starts
-/// with `context` (e.g. "--rotate '1,x'") and names the bad part.
-double parseFiniteNumber(const std::string& text, const std::string& context);
+/// The whole of `text` as a finite number; otherwise a ParameterError naming
+/// the parameter, the whole spec it came from (e.g. rotation '1,x') and the bad part.
+double parseFiniteNumber(const std::string& text, const std::string& parameter,
+                         const std::string& spec);
 
 }  // namespace acpca

@@ -10,9 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
-#include "precompute/transport/atomic_file.h"
-#include "precompute/transport/error.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 #include "relight/environment.h"
 
 namespace acpca::cli {
@@ -80,13 +81,7 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
     std::cout << value.dump(2) << std::endl;
     return;
   }
-  AtomicOutput output(path);
-  {
-    std::ofstream out(output.tempPath());
-    out << value.dump(2) << "\n";
-    if (!out) throw UserError(concat(path, ": cannot write the JSON file"));
-  }
-  output.commit();
+  writeTextFile(path, value.dump(2) + "\n");
 }
 
 ImageSize parseSize(const std::string& text, const std::string& option) {
@@ -99,13 +94,52 @@ ImageSize parseSize(const std::string& text, const std::string& option) {
   return size;
 }
 
-std::string formatBytes(double bytes) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
-  int u = 0;
-  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, u ? "%.2f %s" : "%.0f %s", bytes, units[u]);
-  return buffer;
+std::string messageWithFlag(const ParameterError& error) {
+  // The libraries' names for what the flags set.
+  static const std::map<std::string, std::string> flags{
+      {"method", "--method"},
+      {"tolerance", "--tolerance"},
+      {"global energy", "--global-energy"},
+      {"clusters", "--clusters"},
+      {"block side", "--block"},
+      {"coefficient precision", "--coeffs"},
+      {"basis precision", "--bases"},
+      {"precision", "--precision"},
+      {"environment", "--env"},
+      {"rotation", "--rotate"},
+      {"background", "--background"},
+      {"cube-map resolution", "--cubemap"},
+      {"samples per pixel", "--spp"},
+      {"rays per texel", "--texel-rays"},
+      {"threads", "--threads"},
+      {"methods", "--methods"},
+      {"Haar terms", "--haar-terms"},
+      {"SH orders", "--sh-orders"},
+      {"SH groups", "--sh-groups"},
+      {"SH fit", "--sh-fits"},
+      {"patch centre", "--centre"},
+      {"block sides", "--blocks"},
+      {"dimensionality energy", "--energy"},
+      {"sizes", "--sizes"},
+      {"timed frames", "--frames"},
+      {"dense frames", "--dense-frames"},
+      {"stream size (GiB)", "--stream-gib"},
+      {"maximum rank", "--max-rank"},
+      {"image format", "--format"},
+      {"timing frames", "--frames"},
+  };
+  const auto it = flags.find(error.parameter());
+  return it == flags.end() ? error.what() : error.messageFor(it->second);
+}
+
+StudyLog stderrLog(const std::string& prefix, bool quiet) {
+  if (quiet) return {};
+  return [prefix](const std::string& line) { std::cerr << prefix << ": " << line << std::endl; };
+}
+
+void printStudy(const StudyOutput& output, const CommonOptions& common) {
+  if (!common.quiet) std::cout << output.summary << std::flush;
+  writeJson(common.jsonPath, output.json);
 }
 
 namespace {
@@ -126,7 +160,7 @@ std::vector<std::string> expandEnvironments(const std::vector<std::string>& spec
         if (entry.is_regular_file() && isImageFile(entry.path()))
           files.push_back(entry.path().string());
       if (files.empty())
-        throw UserError(concat("--env '", spec, "': the directory holds no .exr/.hdr maps"));
+        throw ParameterError("environment", spec, "the directory holds no .exr/.hdr maps");
       std::sort(files.begin(), files.end());
       out.insert(out.end(), files.begin(), files.end());
     } else {

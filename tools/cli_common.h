@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/text.h"
+#include "eval/study_output.h"
 #include "precompute/transport/camera.h"
 
 namespace acpca::cli {
@@ -60,7 +63,14 @@ ImageSize parseSize(const std::string& text, const std::string& option);
 /// empty directory.
 std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs);
 
-/// Human-readable byte count (e.g. "1.2 GiB").
-std::string formatBytes(double bytes);
+/// ParameterError's message with the flag that sets the parameter in place of
+/// the library's name for it (the message as is for parameters without a flag).
+std::string messageWithFlag(const ParameterError& error);
+
+/// A log callback printing "PREFIX: line" on stderr; none when quiet.
+StudyLog stderrLog(const std::string& prefix, bool quiet);
+
+/// Prints a study's summary on stdout (unless quiet) and writes its JSON.
+void printStudy(const StudyOutput& output, const CommonOptions& common);
 
 }  // namespace acpca::cli

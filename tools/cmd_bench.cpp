@@ -7,10 +7,6 @@
 #include "precompute/render/scene.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
-#include "tools/method_sweep.h"
-#include "tools/quantization_benchmark.h"
-#include "tools/relight_benchmark.h"
-#include "tools/scaling_benchmark.h"
 
 namespace acpca::cli {
 
@@ -69,10 +65,10 @@ void registerBench(CLI::App& app) {
   rays->add_option("--repeats", args->repeats, "Runs of each loop; the fastest counts");
   args->common.add(*rays);
   rays->callback([args] { runRays(*args); });
-  registerMethodSweep(*bench);
-  registerRelightBenchmark(*bench);
-  registerScalingBenchmark(*bench);
-  registerQuantizationBenchmark(*bench);
+  registerBenchMethods(*bench);
+  registerBenchRelight(*bench);
+  registerBenchScaling(*bench);
+  registerBenchQuantization(*bench);
 }
 
 }  // namespace acpca::cli

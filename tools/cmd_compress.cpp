@@ -3,6 +3,7 @@
 #include <map>
 
 #include "cluster/compress.h"
+#include "cluster/model_file.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -93,14 +94,6 @@ void registerCompress(CLI::App& app) {
   sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
-}
-
-std::string rankHistogramText(const Model& m) {
-  std::map<int, int> counts;
-  for (int r : m.ranks) ++counts[r];
-  std::string s;
-  for (auto [rank, count] : counts) s += " n=" + std::to_string(rank) + ":" + std::to_string(count);
-  return s;
 }
 
 }  // namespace acpca::cli

@@ -1,7 +1,7 @@
 // `adaptive-cpca envmap`: what the lattice sees of a lighting, as images.
 #include <iostream>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/envmap_export.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"

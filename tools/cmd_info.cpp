@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cluster/model_file.h"
 #include "precompute/transport/transport_file.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -13,6 +14,13 @@ namespace {
 struct InfoArgs {
   std::string file, jsonPath;
 };
+
+/// {"RANK": clusters, ...} for every rank the model's clusters have.
+nlohmann::json rankHistogramJson(const Model& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
+  return j;
+}
 
 void runModel(const InfoArgs& a) {
   const Model m = readModel(a.file);
@@ -33,6 +41,7 @@ void runModel(const InfoArgs& a) {
                             {"coeffs", coeffPrecisionName(m.precision)},
                             {"bases", coeffPrecisionName(m.basisPrecision)},
                             {"transport_error", m.transportError},
+                            {"rank_histogram", rankHistogramJson(m)},
                             {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
   if (!a.jsonPath.empty()) {
     writeJson(a.jsonPath, j);
@@ -43,8 +52,8 @@ void runModel(const InfoArgs& a) {
             << m.geometry.camera.size.height << ", " << m.rows() << " occupied pixels\n"
             << "  lattice      6x" << m.geometry.cubemapResolution << "x"
             << m.geometry.cubemapResolution << ", N = " << m.globalBases() << " global bases\n"
-            << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks"
-            << rankHistogramText(m) << "\n"
+            << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks "
+            << rankSummary(m) << "\n"
             << "  cost         " << m.totalCost() << " multiply-adds per frame, "
             << m.costPerPixel() << " per pixel\n"
             << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "

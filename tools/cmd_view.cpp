@@ -1,4 +1,4 @@
-// `adaptive-cpca view`: the interactive viewer (tools/viewer.h) behind a
+// `adaptive-cpca view`: the interactive viewer (viewer/viewer.h) behind a
 // command line, with a clear refusal where there is no display to open.
 #include <netdb.h>
 #include <sys/socket.h>
@@ -9,11 +9,12 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "precompute/transport/error.h"
+#include "cluster/model_file.h"
+#include "core/error.h"
 #include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
-#include "tools/viewer.h"
+#include "viewer/viewer.h"
 
 namespace acpca::cli {
 

@@ -2,8 +2,6 @@
 // Each subcommand registers itself on the CLI app (one file per subcommand).
 #include <CLI/CLI.hpp>
 
-#include "cluster/model.h"
-
 namespace acpca::cli {
 
 void registerPrecompute(CLI::App& app);
@@ -16,9 +14,11 @@ void registerBench(CLI::App& app);
 void registerView(CLI::App& app);
 void registerEval(CLI::App& app);
 void registerAnalyze(CLI::App& app);
-
-/// " n=R:COUNT" for each rank R a model's clusters have.
-std::string rankHistogramText(const Model& m);
+// `bench` groups these (cmd_bench_*.cpp).
+void registerBenchMethods(CLI::App& bench);
+void registerBenchRelight(CLI::App& bench);
+void registerBenchScaling(CLI::App& bench);
+void registerBenchQuantization(CLI::App& bench);
 
 /// Peak resident memory of this process so far, in bytes.
 long long peakMemoryBytes();

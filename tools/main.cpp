@@ -1,17 +1,59 @@
 // adaptive-cpca: the batch command line (docs: ../shared/docs/cli.md, README).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <iostream>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
+#include "tools/cli_common.h"
 #include "tools/commands.h"
 
 namespace acpca::cli {
+
 long long peakMemoryBytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
+
+namespace {
+
+/// Edits (insertions, deletions, substitutions) that turn a into b.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+/// CLI11 reads an unknown first word as a stray argument ("A subcommand is
+/// required"), and with --help prints the main help: name it instead.
+void refuseUnknownSubcommand(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return;
+  const std::string word = argv[1];
+  std::string closest;
+  size_t best = SIZE_MAX;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (sub->get_name() == word) return;
+    const size_t d = editDistance(word, sub->get_name());
+    if (d < best) best = d, closest = sub->get_name();
+  }
+  throw UserError(concat("unknown subcommand '", word, "'",
+                         best <= std::max<size_t>(2, closest.size() / 3)
+                             ? concat("; did you mean '", closest, "'?")
+                             : std::string(),
+                         " (adaptive-cpca --help lists them)"));
+}
+
+}  // namespace
 }  // namespace acpca::cli
 
 int main(int argc, char** argv) {
@@ -29,9 +71,13 @@ int main(int argc, char** argv) {
   acpca::cli::registerAnalyze(app);
   acpca::cli::registerView(app);
   try {
+    acpca::cli::refuseUnknownSubcommand(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const acpca::ParameterError& e) {
+    std::cerr << "adaptive-cpca: error: " << acpca::cli::messageWithFlag(e) << "\n";
+    return 1;
   } catch (const acpca::UserError& e) {
     std::cerr << "adaptive-cpca: error: " << e.what() << "\n";
     return 1;

@@ -4,8 +4,8 @@
 #include <functional>
 #include <numbers>
 
+#include "core/error.h"
 #include "precompute/render/scene.h"
-#include "precompute/transport/error.h"
 
 namespace acpca {
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <mutex>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

@@ -6,8 +6,8 @@
 #include <assimp/Importer.hpp>
 #include <filesystem>
 
+#include "core/error.h"
 #include "precompute/render/scene.h"
-#include "precompute/transport/error.h"
 
 namespace acpca {
 

@@ -1,22 +1,21 @@
 #include "precompute/render/ray_benchmark.h"
 
+#include "core/stopwatch.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
-#include <chrono>
 #include <limits>
 
+#include "core/error.h"
 #include "precompute/render/embree_scene.h"
 #include "precompute/render/transport_renderer.h"
-#include "precompute/transport/error.h"
 
 namespace acpca {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 /// The points (hit samples) and directions the loops trace.
 struct Workload {
@@ -149,7 +148,7 @@ RayRate timeLoop(const std::string& name, RTCScene scene, const Workload& w, int
   RayRate best{name, 0, std::numeric_limits<double>::infinity()};
   const size_t blocks = (w.points.size() + 15) / 16;
   for (int r = 0; r < repeats; ++r) {
-    const auto start = Clock::now();
+    const Stopwatch watch;
     const long long rays = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, blocks, 4), 0LL,
         [&](const tbb::blocked_range<size_t>& range, long long sum) {
@@ -157,7 +156,7 @@ RayRate timeLoop(const std::string& name, RTCScene scene, const Workload& w, int
                  loop(scene, w, range.begin() * 16, std::min(w.points.size(), range.end() * 16));
         },
         std::plus<>());
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const double seconds = watch.seconds();
     if (seconds < best.seconds) best = {name, rays, seconds};
   }
   return best;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "core/error.h"
 #include "precompute/render/scene.h"
-#include "precompute/transport/error.h"
 
 namespace acpca {
 

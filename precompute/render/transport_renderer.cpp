@@ -1,28 +1,23 @@
 #include "precompute/render/transport_renderer.h"
 
 #include <tbb/info.h>
-#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
 #include <array>
 #include <atomic>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
+#include "core/error.h"
+#include "core/ordered_pipeline.h"
+#include "core/stopwatch.h"
 #include "precompute/render/embree_scene.h"
-#include "precompute/transport/error.h"
 
 namespace acpca {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 /// Image rows per band: the unit of parallel work and of ordered writing.
 constexpr int kBandRows = 1;
@@ -217,12 +212,12 @@ class BandRenderer {
 
 void validateOptions(const PrecomputeOptions& o) {
   if (o.cubemapResolution < 1 || o.cubemapResolution > 256)
-    throw UserError(concat("--cubemap ", o.cubemapResolution, " is out of range 1..256"));
+    throw ParameterError("cube-map resolution", o.cubemapResolution, "is out of range 1..256");
   if (o.samplesPerPixel < 1 || o.samplesPerPixel > 256)
-    throw UserError(concat("--spp ", o.samplesPerPixel, " is out of range 1..256"));
+    throw ParameterError("samples per pixel", o.samplesPerPixel, "is out of range 1..256");
   if (o.texelRays < 1 || o.texelRays > 1024)
-    throw UserError(concat("--texel-rays ", o.texelRays, " is out of range 1..1024"));
-  if (o.threads < 0) throw UserError(concat("--threads ", o.threads, " must be >= 0"));
+    throw ParameterError("rays per texel", o.texelRays, "is out of range 1..1024");
+  if (o.threads < 0) throw ParameterError("threads", o.threads, "must be >= 0");
 }
 
 int arenaThreads(int threads) {
@@ -240,37 +235,25 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
     long long rays = 0;
     std::vector<float> rows;
   };
-  const int tokens = 2 * threads;
-  std::vector<Slot> slots(tokens);
   std::atomic<unsigned long long> threadMask{0};
   std::atomic<long long> rays{0};
   int next = firstBand;
-  const auto start = Clock::now();
-  tbb::parallel_pipeline(
-      tokens, tbb::make_filter<void, Slot*>(tbb::filter_mode::serial_in_order,
-                                            [&](tbb::flow_control& fc) -> Slot* {
-                                              if (next >= lastBand) {
-                                                fc.stop();
-                                                return nullptr;
-                                              }
-                                              Slot* slot = &slots[(next - firstBand) % tokens];
-                                              slot->y0 = kBandRows * next++;
-                                              return slot;
-                                            }) &
-                  tbb::make_filter<Slot*, Slot*>(tbb::filter_mode::parallel,
-                                                 [&](Slot* slot) {
-                                                   const int t =
-                                                       tbb::this_task_arena::current_thread_index();
-                                                   threadMask |= 1ull << (t & 63);
-                                                   slot->rays =
-                                                       renderer.render(slot->y0, slot->rows);
-                                                   rays += slot->rays;
-                                                   return slot;
-                                                 }) &
-                  tbb::make_filter<Slot*, void>(tbb::filter_mode::serial_in_order,
-                                                [&](Slot* slot) { sink(slot->rows); }));
+  const Stopwatch watch;
+  runOrderedPipeline<Slot>(
+      2 * threads,
+      [&](Slot& slot) {
+        if (next >= lastBand) return false;
+        slot.y0 = kBandRows * next++;
+        return true;
+      },
+      [&](Slot& slot) {
+        threadMask |= 1ull << (tbb::this_task_arena::current_thread_index() & 63);
+        slot.rays = renderer.render(slot.y0, slot.rows);
+        rays += slot.rays;
+      },
+      [&](Slot& slot) { sink(slot.rows); });
   PrecomputeStats stats;
-  stats.transportSeconds = secondsSince(start);
+  stats.transportSeconds = watch.seconds();
   stats.occlusionRays = rays;
   stats.threadsUsed = std::popcount(threadMask.load());
   return stats;
@@ -296,7 +279,7 @@ struct TransportPass {
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
                                     const PrecomputeOptions& options) {
   validateOptions(options);
-  const auto start = Clock::now();
+  const Stopwatch watch;
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);
   return arena.execute([&] {
@@ -349,7 +332,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     stats.degenerateTriangles = embree.degenerateTriangles();
     stats.occupiedPixels = header.rows();
     stats.bytesWritten = writer.bytesWritten();
-    stats.seconds = secondsSince(start);
+    stats.seconds = watch.seconds();
     return stats;
   });
 }

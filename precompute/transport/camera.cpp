@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

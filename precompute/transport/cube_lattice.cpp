@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 

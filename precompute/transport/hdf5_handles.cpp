@@ -3,7 +3,7 @@
 #include <fstream>
 #include <mutex>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca::h5 {
 
@@ -18,9 +18,22 @@ Handle& Handle::operator=(Handle&& other) noexcept {
 }
 
 void Handle::reset() {
-  if (id_ >= 0 && closer_) closer_(id_);
-  id_ = -1;
+  close();
 }
+
+herr_t Handle::close() {
+  herr_t status = 0;
+  if (id_ >= 0 && closer_) status = closer_(id_);
+  id_ = -1;
+  return status;
+}
+
+namespace {
+// HDF5's own exit handler closes files left open; after a failed write (full
+// disk) libhdf5 1.10 crashes doing so. Every file is closed explicitly, so the
+// handler is not needed; this must run before any other HDF5 call.
+[[maybe_unused]] const herr_t kNoExitHandler = H5dont_atexit();
+}  // namespace
 
 void silenceLibraryErrors() {
   static std::once_flag once;
@@ -59,6 +72,14 @@ Handle createFile(const std::string& path) {
   return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), path,
                         "cannot create the file (is the directory writable?)"),
                 H5Fclose);
+}
+
+void closeWrittenFile(Handle& file, const std::string& path) {
+  const bool flushed = H5Fflush(file.get(), H5F_SCOPE_GLOBAL) >= 0;
+  const bool closed = file.close() >= 0;
+  if (!flushed || !closed)
+    throw WriteError(
+        concat(path, ": cannot write the file (disk full, or its directory removed?)"));
 }
 
 Handle openFileReadOnly(const std::string& path) {
@@ -135,8 +156,9 @@ void writeWhole(hid_t file, const std::string& name, const std::vector<hsize_t>&
   hsize_t count = 1;
   for (hsize_t d : shape) count *= d;
   if (count > 0)
-    check(H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), ctx,
-          "cannot write dataset " + name);
+    if (H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+      throw WriteError(
+          concat(ctx, ": cannot write dataset ", name, " (disk full, or its directory removed?)"));
 }
 
 void readWhole(hid_t file, const std::string& name, hid_t type, void* data,

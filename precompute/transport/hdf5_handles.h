@@ -22,6 +22,8 @@ class Handle {
   ~Handle() { reset(); }
   hid_t get() const { return id_; }
   void reset();
+  /// Closes now and returns the closer's status (reset() ignores it).
+  herr_t close();
 
  private:
   hid_t id_ = -1;
@@ -39,6 +41,9 @@ hid_t checkId(hid_t id, const std::string& context, const std::string& what);
 Handle halfType();
 
 Handle createFile(const std::string& path);
+/// Flushes and closes a file being written; throws a WriteError naming it when
+/// the data did not reach the disk (disk full, directory removed).
+void closeWrittenFile(Handle& file, const std::string& path);
 Handle openFileReadOnly(const std::string& path);
 
 bool hasAttribute(hid_t object, const std::string& name);

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/error.h"
+#include "core/half.h"
 #include "precompute/transport/cube_lattice.h"
-#include "precompute/transport/error.h"
-#include "precompute/transport/half.h"
+#include "precompute/transport/image_header.h"
 
 namespace acpca {
 
@@ -55,15 +56,6 @@ hsize_t rowsPerChunk(int latticeSize, Precision p) {
   return std::clamp<hsize_t>((1u << 20) / rowBytes, 1, 4096);
 }
 
-std::vector<double> toVector(const Vec3& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-Vec3 toVec3(const std::vector<double>& v, const std::string& ctx, const std::string& name) {
-  if (v.size() != 3) throw UserError(concat(ctx, ": attribute '", name, "' must hold 3 numbers"));
-  return {v[0], v[1], v[2]};
-}
-
 }  // namespace
 
 TransportWriter::TransportWriter(const std::string& path, const TransportHeader& header)
@@ -74,24 +66,11 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   const hid_t f = file_.get();
   h5::writeAttribute(f, "format", std::string(kTransportFormat), ctx);
   h5::writeAttribute(f, "version", static_cast<long long>(kTransportVersion), ctx);
-  h5::writeAttribute(f, "width", static_cast<long long>(header.camera.size.width), ctx);
-  h5::writeAttribute(f, "height", static_cast<long long>(header.camera.size.height), ctx);
-  h5::writeAttribute(f, "cubemap", static_cast<long long>(header.cubemapResolution), ctx);
   h5::writeAttribute(f, "spp", static_cast<long long>(header.samplesPerPixel), ctx);
   h5::writeAttribute(f, "texel_rays", static_cast<long long>(header.texelRays), ctx);
   h5::writeAttribute(f, "precision", std::string(precisionName(header.precision)), ctx);
-  h5::writeAttribute(f, "scene", header.scene, ctx);
-  h5::writeAttribute(f, "occupied_pixels", header.rows(), ctx);
-  h5::writeAttribute(f, "camera_eye", toVector(header.camera.eye), ctx);
-  h5::writeAttribute(f, "camera_target", toVector(header.camera.target), ctx);
-  h5::writeAttribute(f, "camera_up", toVector(header.camera.up), ctx);
-  h5::writeAttribute(f, "camera_fov_deg", header.camera.fovDegrees, ctx);
-
+  writeImageHeader(f, header, true, ctx);
   const hsize_t n = header.rows();
-  h5::writeDataset(f, "pixels", {n}, header.pixels.data(), ctx);
-  h5::writeDataset(f, "albedo", {n, 3}, header.albedo.data(), ctx);
-  h5::writeDataset(f, "coverage", {n}, header.coverage.data(), ctx);
-  h5::writeDataset(f, "normal", {n, 3}, header.normals.data(), ctx);
 
   // The lattice itself, so that readers (h5py) need not re-derive it:
   // B = albedo * (T @ (radiance * solid_angle)).
@@ -143,7 +122,10 @@ void TransportWriter::writeRows(long long firstRow, long long count, const float
         H5Dwrite(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT, rows);
     bytesWritten_ += values * 4;
   }
-  h5::check(status, output_.finalPath(), "cannot write transport rows (disk full?)");
+  if (status < 0)
+    throw WriteError(
+        concat(output_.finalPath(),
+               ": cannot write transport rows (disk full, or its directory removed?)"));
   nextRow_ += count;
 }
 
@@ -152,8 +134,7 @@ void TransportWriter::finish() {
   rows_.reset();
   // The completion marker is written last: a file without it is never read.
   h5::writeAttribute(file_.get(), "complete", 1LL, output_.finalPath());
-  h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), output_.finalPath(), "flush");
-  file_.reset();
+  h5::closeWrittenFile(file_, output_.finalPath());
   output_.commit();
 }
 
@@ -171,48 +152,14 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
   if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
     throw UserError(concat(ctx, ": the file is incomplete (its precompute did not finish)"));
 
+  header_ = readImageHeader(f, true, ctx);
   auto& h = header_;
-  const long long width = h5::readIntAttribute(f, "width", ctx);
-  const long long height = h5::readIntAttribute(f, "height", ctx);
-  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
-    throw UserError(concat(ctx, ": image size ", width, "x", height, " is out of range"));
-  h.camera.size = {static_cast<int>(width), static_cast<int>(height)};
-  const long long cubemap = h5::readIntAttribute(f, "cubemap", ctx);
-  if (cubemap < 1 || cubemap > CubeLattice::kMaxResolution)
-    throw UserError(concat(ctx, ": cube-map resolution ", cubemap, " is out of range"));
-  h.cubemapResolution = static_cast<int>(cubemap);
   h.samplesPerPixel = static_cast<int>(h5::readIntAttribute(f, "spp", ctx));
   h.texelRays = static_cast<int>(h5::readIntAttribute(f, "texel_rays", ctx));
   h.precision = parsePrecision(h5::readStringAttribute(f, "precision", ctx));
-  h.scene = h5::readStringAttribute(f, "scene", ctx);
-  h.camera.eye = toVec3(h5::readDoubleArrayAttribute(f, "camera_eye", ctx), ctx, "camera_eye");
-  h.camera.target =
-      toVec3(h5::readDoubleArrayAttribute(f, "camera_target", ctx), ctx, "camera_target");
-  h.camera.up = toVec3(h5::readDoubleArrayAttribute(f, "camera_up", ctx), ctx, "camera_up");
-  h.camera.fovDegrees = h5::readDoubleAttribute(f, "camera_fov_deg", ctx);
-
-  // Check every shape against the header before allocating anything.
-  const long long n = h5::readIntAttribute(f, "occupied_pixels", ctx);
-  if (n < 0 || n > h.camera.size.pixels())
-    throw UserError(concat(ctx, ": ", n, " occupied pixels in a ", width, "x", height, " image"));
-  const hsize_t un = static_cast<hsize_t>(n), ul = static_cast<hsize_t>(h.latticeSize());
-  const auto expectShape = [&](const char* name, std::vector<hsize_t> want) {
-    if (h5::datasetShape(f, name, ctx) != want)
-      throw UserError(concat(ctx, ": dataset '", name, "' has the wrong shape"));
-  };
-  expectShape("pixels", {un});
-  expectShape("albedo", {un, 3});
-  expectShape("coverage", {un});
-  expectShape("normal", {un, 3});
-  expectShape(kRowsDataset, {un, ul});
-  h.pixels.resize(n);
-  h.albedo.resize(3 * n);
-  h.coverage.resize(n);
-  h.normals.resize(3 * n);
-  h5::readDataset(f, "pixels", h.pixels.data(), ctx);
-  h5::readDataset(f, "albedo", h.albedo.data(), ctx);
-  h5::readDataset(f, "coverage", h.coverage.data(), ctx);
-  h5::readDataset(f, "normal", h.normals.data(), ctx);
+  if (h5::datasetShape(f, kRowsDataset, ctx) !=
+      std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.latticeSize())})
+    throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));
   h.validate(ctx);
 
   rows_ = h5::Handle(h5::checkId(H5Dopen2(f, kRowsDataset, H5P_DEFAULT), ctx, "transport rows"),

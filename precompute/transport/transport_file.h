@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "precompute/transport/atomic_file.h"
+#include "core/atomic_file.h"
 #include "precompute/transport/camera.h"
 #include "precompute/transport/hdf5_handles.h"
 

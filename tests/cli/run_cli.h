@@ -14,11 +14,10 @@ struct RunResult {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `prefix adaptive-cpca args`; the prefix may set the environment or
-/// wrap the binary (e.g. "xvfb-run -a").
-inline RunResult runCli(const std::string& args, const std::string& prefix = "") {
-  const std::string command =
-      (prefix.empty() ? "" : prefix + " ") + std::string(ACPCA_CLI_PATH) + " " + args + " 2>&1";
+/// Runs a shell command line (/bin/sh), stdout and stderr together; status -1
+/// when it did not exit normally (a crash).
+inline RunResult runShell(const std::string& commandLine) {
+  const std::string command = commandLine + " 2>&1";
   RunResult r;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;
@@ -28,6 +27,12 @@ inline RunResult runCli(const std::string& args, const std::string& prefix = "")
   const int raw = pclose(pipe);
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return r;
+}
+
+/// Runs `prefix adaptive-cpca args`; the prefix may set the environment or
+/// wrap the binary (e.g. "xvfb-run -a").
+inline RunResult runCli(const std::string& args, const std::string& prefix = "") {
+  return runShell((prefix.empty() ? "" : prefix + " ") + std::string(ACPCA_CLI_PATH) + " " + args);
 }
 
 inline void expectFailure(const std::string& args, const std::string& needle,

@@ -12,15 +12,15 @@
 #include <random>
 
 #include "cluster/compress.h"
+#include "eval/error_measures.h"
+#include "eval/haar_transport.h"
+#include "eval/sh_transport.h"
 #include "precompute/render/scene.h"
 #include "precompute/render/transport_renderer.h"
 #include "relight/dense_relight.h"
-#include "relight/evaluation.h"
-#include "relight/haar_transport.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
-#include "relight/sh_transport.h"
-#include "tests/test_support.h"
+#include "tests/render_support.h"
 
 namespace acpca {
 namespace {

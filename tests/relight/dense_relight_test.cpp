@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "precompute/render/scene.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "tests/test_support.h"
@@ -13,16 +12,8 @@ namespace {
 
 class DenseRelight : public ::testing::Test {
  protected:
-  void SetUp() override {
-    Scene scene = makeBuiltinScene("grid2d");
-    scene.camera.size = {40, 30};
-    PrecomputeOptions o;
-    o.cubemapResolution = 8;
-    path_ = dir_.file("t.h5");
-    precomputeTransport(scene, path_, o);
-  }
-  test::TempDir dir_;
-  std::string path_;
+  // The grid2d scene at 40x30 on a 6x8x8 lattice, made by the build.
+  std::string path_ = test::fixture("grid2d");
 };
 
 TEST_F(DenseRelight, EqualsAPlainLoopOverTheFile) {

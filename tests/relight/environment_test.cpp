@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 #include "relight/envmap_export.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"

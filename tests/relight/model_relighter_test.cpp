@@ -11,13 +11,14 @@
 
 #include "cluster/compress.h"
 #include "cluster/global_basis.h"
+#include "cluster/model_file.h"
+#include "cluster/model_fit.h"
+#include "cluster/model_reference.h"
 #include "cluster/partition.h"
-#include "precompute/render/scene.h"
-#include "precompute/transport/half.h"
+#include "core/half.h"
+#include "core/statistics.h"
 #include "relight/dense_relight.h"
-#include "relight/evaluation.h"
 #include "relight/lighting.h"
-#include "relight/sparse_transport.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -161,6 +162,28 @@ class RelightPlant : public test::SmallPlantSuite {
   }
 };
 
+TEST_F(RelightPlant, KeepingEverythingMatchesTheDenseRelight) {
+  const TransportReader t(path());
+  const CubeLattice lattice(8);
+  std::vector<LatticeLighting> lightings;
+  for (const char* env : {"sky", "sun:50,30,4,1000"})
+    lightings.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
+  const auto dense = denseRelight(t, lightings);
+  for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad,
+                        Method::AdaptiveBinary}) {
+    CompressOptions o;
+    o.method = method;
+    o.globalEnergy = 1;
+    o.tolerance = 1;
+    o.clusters = 4;
+    const Model m = compressTransport(t, o);
+    EXPECT_LT(m.transportError, 1e-4) << methodName(method);
+    const auto relit = relightModelReference(m, lightings);
+    for (size_t k = 0; k < lightings.size(); ++k)
+      EXPECT_LT(relativeL2(relit[k], dense[k]), 1e-4) << methodName(method);
+  }
+}
+
 TEST_F(RelightPlant, KeepingEverythingEqualsTheDenseRelight) {
   const TransportReader t(path());
   const auto all = lightings();
@@ -303,27 +326,6 @@ TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
       EXPECT_LT(maxRelativeDifference(ModelRelighter(blocked).relight(lighting),
                                       ModelRelighter(direct).relight(lighting)),
                 1e-4);
-  }
-}
-
-TEST_F(RelightPlant, SparseDenseRelightSkipsZerosAndMatchesTheFile) {
-  const TransportReader t(path());
-  const auto all = lightings();
-  const auto dense = denseRelight(t, all);
-  SparseTransport sparse(t);
-  // Every row is zero below its horizon, so at most about half plus the
-  // segments that straddle it are kept.
-  EXPECT_GT(sparse.keptFraction(), 0.05);
-  EXPECT_LT(sparse.keptFraction(), 0.75);
-  for (size_t k = 0; k < all.size(); ++k) {
-    std::vector<float> one, two = sparse.relight(all[k]);
-    {
-      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-      one = sparse.relight(all[k]);
-    }
-    EXPECT_EQ(one, two);
-    // The file is f32; the sparse copy rounds T to half: 2^-11 relative per entry.
-    EXPECT_LT(relativeL2(two, dense[k]), std::ldexp(1.0, -11));
   }
 }
 

@@ -2,9 +2,9 @@
 
 #include <fstream>
 
+#include "core/error.h"
 #include "precompute/render/scene.h"
-#include "precompute/transport/error.h"
-#include "tests/test_support.h"
+#include "tests/render_support.h"
 
 namespace acpca {
 namespace {

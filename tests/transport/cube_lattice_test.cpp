@@ -6,7 +6,7 @@
 #include <numbers>
 #include <random>
 
-#include "precompute/transport/error.h"
+#include "core/error.h"
 
 namespace acpca {
 namespace {

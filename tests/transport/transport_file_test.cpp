@@ -6,8 +6,8 @@
 #include <fstream>
 #include <random>
 
-#include "precompute/transport/error.h"
-#include "precompute/transport/half.h"
+#include "core/error.h"
+#include "core/half.h"
 #include "precompute/transport/hdf5_handles.h"
 #include "tests/test_support.h"
 

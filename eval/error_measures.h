@@ -1,0 +1,30 @@
+#pragma once
+// Error measures over an evaluation set and equal-error comparison (design.md
+// section 7). relativeL2 and median live in core/statistics.h.
+#include <string>
+#include <vector>
+
+#include "core/statistics.h"
+
+namespace acpca {
+
+/// 20 log10(max ref / RMSE).
+double psnr(const std::vector<float>& b, const std::vector<float>& reference);
+/// RMS of per-map relative L2 errors: the aggregate over an evaluation set.
+double aggregateError(const std::vector<double>& perMap);
+
+/// One setting of a method: its aggregate image error and its cost.
+struct ErrorCostPoint {
+  double error = 0;
+  double cost = 0;
+};
+/// Cost of reaching `targetError`, interpolating the method's Pareto front
+/// (cheapest cost for at most a given error) linearly in log-log between the
+/// two settings that bracket the target. Negative when no two settings bracket it.
+double costAtError(std::vector<ErrorCostPoint> points, double targetError);
+
+/// The default evaluation set: sky, sun:50,30,4,1000, and (when Debian's
+/// blender-data is installed) three of its studio-light HDRIs.
+std::vector<std::string> defaultEvaluationSet();
+
+}  // namespace acpca

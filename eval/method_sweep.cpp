@@ -1,0 +1,189 @@
+#include "eval/method_sweep.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "cluster/compress.h"
+#include "cluster/model_fit.h"
+#include "core/error.h"
+#include "core/stopwatch.h"
+#include "eval/error_measures.h"
+#include "relight/dense_relight.h"
+#include "relight/lighting.h"
+
+namespace acpca {
+
+namespace {
+
+const std::vector<std::string> kMethods{
+    "global", "block", "adaptive-quad", "adaptive-quad-exact", "adaptive-binary", "cpca"};
+
+}  // namespace
+
+const std::vector<std::string>& sweepMethodNames() {
+  return kMethods;
+}
+
+void checkSweepMethods(const std::vector<std::string>& methods) {
+  for (const auto& m : methods)
+    if (std::find(kMethods.begin(), kMethods.end(), m) == kMethods.end())
+      throw ParameterError("methods", m,
+                           "is not one of global, block, adaptive-quad, adaptive-quad-exact, "
+                           "adaptive-binary, cpca");
+}
+
+EvaluationData loadEvaluationData(const TransportReader& transport, std::vector<std::string> envs) {
+  EvaluationData d;
+  d.transport = &transport;
+  d.envs = envs.empty() ? defaultEvaluationSet() : std::move(envs);
+  const CubeLattice lattice(transport.header().cubemapResolution);
+  for (const auto& e : d.envs)
+    d.lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
+  d.truth = denseRelight(transport, d.lightings);
+  return d;
+}
+
+std::vector<float> measureMaps(const EvaluationData& data, SweepResult& r, int frames,
+                               const std::function<void(const LatticeLighting&, float*)>& relight) {
+  std::vector<float> image(3 * data.transport->rows()), first;
+  for (size_t k = 0; k < data.lightings.size(); ++k) {
+    relight(data.lightings[k], image.data());
+    r.errors.push_back(relativeL2(image, data.truth[k]));
+    r.psnrs.push_back(psnr(image, data.truth[k]));
+    if (k == 0) first = image;
+  }
+  r.imageError = aggregateError(r.errors);
+  if (frames > 0 && !data.lightings.empty())
+    r.msPerFrame = medianMilliseconds([&] { relight(data.lightings[0], image.data()); }, frames);
+  return first;
+}
+
+std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSettings& s,
+                                      const SweepObserver& observe) {
+  checkSweepMethods(s.methods);
+  const TransportReader& transport = *data.transport;
+  const auto log = [&](const std::string& text) {
+    if (s.log) s.log(text);
+  };
+  const auto wanted = [&](const std::string& method) {
+    return std::find(s.methods.begin(), s.methods.end(), method) != s.methods.end();
+  };
+  std::vector<SweepResult> results;
+
+  // Relights every map, records errors (and timing), tells the observer.
+  const auto measure = [&](SweepResult r, ModelRelighter& relighter,
+                           const std::vector<int>& clusterOfRow) {
+    const std::vector<float> first =
+        measureMaps(data, r, s.timingFrames,
+                    [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
+    r.modelBytes = relighter.bytesPerFrame();
+    r.costPerPixel = relighter.costPerPixel();
+    log(concat(r.method, " ", r.setting, " g=", r.globalEnergy, " tol=", r.tolerance, ": ",
+               r.clusters, " clusters, cost/pixel ", r.costPerPixel, ", image error ", r.imageError,
+               ", transport error ", r.transportError,
+               std::isnan(r.msPerFrame) ? std::string() : concat(", ", r.msPerFrame, " ms/frame")));
+    if (observe) observe(r, first, clusterOfRow);
+    results.push_back(r);
+  };
+
+  for (double g : s.globalEnergies) {
+    const Stopwatch basisWatch;
+    const GlobalBasis basis = computeGlobalBasis(transport, {g, 16384, 1});
+    const GlobalProjection projection = projectOntoBasis(transport, basis);
+    const double basisSeconds = basisWatch.seconds();
+    log(concat("global energy ", g, ": N = ", basis.globalBases(), " (", basisSeconds, " s)"));
+
+    const auto evaluate = [&](const std::string& method, const std::string& setting, double tol,
+                              const std::function<Partition()>& makePartition, bool mean) {
+      const Stopwatch watch;
+      const Partition partition = makePartition();
+      std::unique_ptr<ModelRelighter> relighter;
+      SweepResult r{method, setting, g, tol};
+      r.globalBases = basis.globalBases();
+      r.basisSeconds = basisSeconds;
+      std::vector<int> clusterOfRow;
+      std::vector<int> ranks;
+      {
+        ModelOptions options;
+        options.tolerance = tol;
+        options.mean = mean;
+        const Model m = buildModel(transport.header(), basis, projection, partition, options);
+        relighter = std::make_unique<ModelRelighter>(m);
+        r.clusters = m.clusters();
+        r.transportError = m.transportError;
+        ranks = m.ranks;
+        if (observe) clusterOfRow = m.clusterOfRow();
+      }  // the relighter holds its own copy
+      r.compressSeconds = watch.seconds();
+      measure(r, *relighter, clusterOfRow);
+      // PCA bases are nested: the first k of them are the best rank-k fit, so
+      // global PCA at lower ranks comes from the same model (--max-rank).
+      if (method == "global" && !ranks.empty() && ranks[0] > 8)
+        for (int divisor : {8, 4, 2}) {
+          const int k = ranks[0] / divisor;
+          relighter->setMaxRank(k);
+          SweepResult t = r;
+          t.setting = concat("first ", k, " bases");
+          t.transportError = NAN;
+          measure(t, *relighter, clusterOfRow);
+        }
+      return r.clusters;
+    };
+
+    const bool highestEnergy =
+        g == *std::max_element(s.globalEnergies.begin(), s.globalEnergies.end());
+    const double highestTolerance = *std::max_element(s.tolerances.begin(), s.tolerances.end());
+    for (double tol : s.tolerances) {
+      for (bool mean : {false, true}) {
+        const ClusterInput in{&projection.coefficients, &transport.header().pixels,
+                              transport.header().camera.size, tol, mean};
+        if (!mean) {
+          // Global PCA once per basis: its nested truncations cover the lower tolerances.
+          if (wanted("global") && tol == highestTolerance)
+            evaluate(
+                "global", "N", tol, [&] { return singleCluster(in); }, false);
+          if (wanted("block"))
+            for (int b : s.blockSizes)
+              evaluate(
+                  "block", concat("B=", b), tol, [&] { return fixedBlocks(in, b); }, false);
+          if (wanted("adaptive-quad"))
+            evaluate(
+                "adaptive-quad", "greedy", tol,
+                [&] {
+                  return adaptiveQuadTree(in, {64, 2, false});
+                },
+                false);
+          if (wanted("adaptive-quad-exact"))
+            evaluate(
+                "adaptive-quad-exact", "bottom-up", tol,
+                [&] {
+                  return adaptiveQuadTree(in, {64, 2, true});
+                },
+                false);
+        } else if (wanted("adaptive-binary") || wanted("cpca")) {
+          std::vector<int> all(in.rows());
+          std::iota(all.begin(), all.end(), 0);
+          BinaryOptions b;
+          b.initialClusters = 8;
+          const bool cpcaHere = wanted("cpca") && (highestEnergy || !s.cpcaAtHighestEnergyOnly);
+          std::vector<int> ks = cpcaHere ? s.cpcaClusters : std::vector<int>{};
+          if (wanted("adaptive-binary")) {
+            const int found = evaluate(
+                "adaptive-binary", "K0=8", tol, [&] { return adaptiveBinary(in, b); }, true);
+            // CPCA with as many clusters as the adaptive split found: the paper's comparison.
+            if (wanted("cpca") && s.cpcaMatchingBinary) ks.push_back(found);
+          }
+          for (int k : ks) {
+            CpcaOptions o;
+            o.clusters = k;
+            evaluate(
+                "cpca", concat("K=", k), tol, [&] { return cpca(in, all, o); }, true);
+          }
+        }
+      }
+    }
+  }
+  return results;
+}
+
+}  // namespace acpca

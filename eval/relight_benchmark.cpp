@@ -1,0 +1,174 @@
+#include "eval/relight_benchmark.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <functional>
+
+#include "cluster/model.h"
+#include "cluster/model_file.h"
+#include "core/error.h"
+#include "core/stopwatch.h"
+#include "core/text.h"
+#include "eval/error_measures.h"
+#include "eval/sparse_transport.h"
+#include "relight/lighting.h"
+#include "relight/memory_bandwidth.h"
+#include "relight/model_relighter.h"
+
+namespace acpca {
+
+namespace {
+
+struct FrameTimes {
+  double median = 0, p10 = 0, p90 = 0;
+};
+
+/// Times `frames` calls after two warm-up calls.
+FrameTimes timeFrames(int frames, const std::function<void()>& frame) {
+  for (int i = 0; i < 2; ++i) frame();
+  std::vector<double> ms;
+  for (int i = 0; i < frames; ++i) {
+    const Stopwatch watch;
+    frame();
+    ms.push_back(watch.milliseconds());
+  }
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[static_cast<size_t>(q * (ms.size() - 1) + 0.5)]; };
+  return {at(0.5), at(0.1), at(0.9)};
+}
+
+struct Measured {
+  std::string name, file, coeffs;
+  FrameTimes times;
+  double bytes = 0, costPerPixel = 0, error = -1;
+  std::vector<std::vector<float>> images;  ///< one per lighting
+  double gbPerSecond() const { return times.median > 0 ? bytes / (times.median * 1e6) : 0; }
+};
+
+/// Times the first lighting; relights the others once, for the errors.
+Measured measureModel(const std::string& path, const std::vector<LatticeLighting>& lightings,
+                      int frames) {
+  const Model model = readModel(path);
+  ModelRelighter relighter(model);
+  Measured m;
+  m.name = model.method;
+  m.file = path;
+  m.coeffs =
+      concat(coeffPrecisionName(model.precision), "/", coeffPrecisionName(model.basisPrecision));
+  for (const auto& lighting : lightings) m.images.push_back(relighter.relight(lighting));
+  m.times = timeFrames(frames, [&] { relighter.relight(lightings[0], m.images[0].data()); });
+  m.bytes = double(relighter.bytesPerFrame());
+  m.costPerPixel = relighter.costPerPixel();
+  return m;
+}
+
+}  // namespace
+
+void validateRelightBenchmarkOptions(const RelightBenchmarkOptions& a) {
+  if (a.frames < 1) throw ParameterError("timed frames", a.frames, "must be >= 1");
+  if (a.denseFrames < 1) throw ParameterError("dense frames", a.denseFrames, "must be >= 1");
+  if (!(a.streamGiB > 0 && a.streamGiB <= 64))
+    throw ParameterError("stream size (GiB)", a.streamGiB, "must be in (0, 64]");
+}
+
+StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
+  validateRelightBenchmarkOptions(a);
+  std::string out;
+  const std::vector<std::string> envs = a.envs.empty() ? defaultEvaluationSet() : a.envs;
+
+  if (!isModelFile(a.model)) throw UserError(concat(a.model, ": not an adaptive-cpca model file"));
+  // The bandwidth of this machine drifts (shared hosts): measure it before and
+  // after the relighters and use the mean of the two medians.
+  const BandwidthMeasurement before = measureStreamingRead(a.streamGiB * (1 << 30), 5);
+  std::vector<Measured> models;
+  Measured main;
+  {
+    const Model header = readModel(a.model);
+    const CubeLattice lattice(header.geometry.cubemapResolution);
+    std::vector<LatticeLighting> lightings;
+    for (const auto& e : envs)
+      lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
+    main = measureModel(a.model, lightings, a.frames);
+    for (const auto& path : a.baselines) models.push_back(measureModel(path, lightings, a.frames));
+    models.insert(models.begin(), main);
+
+    if (!a.transport.empty()) {
+      const TransportReader reader(a.transport);
+      if (reader.rows() != static_cast<long long>(main.images[0].size() / 3))
+        throw UserError(concat(a.transport, ": ", reader.rows(), " rows, but the model has ",
+                               main.images[0].size() / 3, ": not the same image"));
+      const Stopwatch load;
+      SparseTransport sparse(reader);
+      const double loadSeconds = load.seconds();
+      Measured dense;
+      dense.name = "dense (f16, zero segments skipped)";
+      dense.file = a.transport;
+      dense.coeffs = "f16 T";
+      for (const auto& lighting : lightings) dense.images.push_back(sparse.relight(lighting));
+      dense.times =
+          timeFrames(a.denseFrames, [&] { sparse.relight(lightings[0], dense.images[0].data()); });
+      dense.bytes = double(sparse.bytesPerFrame());
+      dense.costPerPixel = sparse.keptFraction() * reader.latticeSize();
+      out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n",
+                       loadSeconds, 100 * sparse.keptFraction());
+      // Image error over the lightings as the evaluation defines it (design.md 7).
+      for (auto& m : models) {
+        std::vector<double> errors;
+        for (size_t k = 0; k < lightings.size(); ++k)
+          errors.push_back(relativeL2(m.images[k], dense.images[k]));
+        m.error = aggregateError(errors);
+      }
+      models.push_back(std::move(dense));
+    }
+  }
+
+  const BandwidthMeasurement after = measureStreamingRead(a.streamGiB * (1 << 30), 5);
+  BandwidthMeasurement stream = before;
+  stream.gbPerSecondMedian = (before.gbPerSecondMedian + after.gbPerSecondMedian) / 2;
+  out += formatted(
+      "streaming read, %.2f GiB array, %d threads: %.1f GB/s (median before %.1f, after %.1f)\n",
+      stream.bytes / double(1 << 30), a.threads, stream.gbPerSecondMedian, before.gbPerSecondMedian,
+      after.gbPerSecondMedian);
+  out += formatted("timed under %s; error: aggregate relative L2 over %zu lighting(s)\n",
+                   envs[0].c_str(), envs.size());
+  out += formatted("%-36s %8s %10s %9s %9s %10s %8s %7s %9s %8s\n", "relighter", "u/bases",
+                   "ms median", "p10", "p90", "MB/frame", "GB/s", "stream", "cost/px", "error");
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& m : models) {
+    char error[32] = "-";
+    if (m.error >= 0) std::snprintf(error, sizeof error, "%.3f%%", 100 * m.error);
+    out += formatted("%-36s %8s %10.3f %9.3f %9.3f %10.1f %8.1f %6.0f%% %9.1f %8s\n",
+                     m.name.c_str(), m.coeffs.c_str(), m.times.median, m.times.p10, m.times.p90,
+                     m.bytes / 1e6, m.gbPerSecond(),
+                     100 * m.gbPerSecond() / stream.gbPerSecondMedian, m.costPerPixel, error);
+    rows.push_back(
+        {{"name", m.name},
+         {"file", m.file},
+         {"coeffs", m.coeffs},
+         {"ms_per_frame_median", m.times.median},
+         {"ms_per_frame_p10", m.times.p10},
+         {"ms_per_frame_p90", m.times.p90},
+         {"bytes_per_frame", m.bytes},
+         {"gb_per_s", m.gbPerSecond()},
+         {"fraction_of_stream", m.gbPerSecond() / stream.gbPerSecondMedian},
+         {"cost_per_pixel", m.costPerPixel},
+         {"relative_l2_vs_dense", m.error < 0 ? nlohmann::json() : nlohmann::json(m.error)}});
+  }
+  nlohmann::json speedups = nlohmann::json::object();
+  for (size_t i = 1; i < models.size(); ++i) {
+    const double ratio = models[i].times.median / models[0].times.median;
+    out += formatted("speed-up of %s over %s: %.2fx\n", a.model.c_str(), models[i].name.c_str(),
+                     ratio);
+    speedups[models[i].file] = ratio;
+  }
+  return {{{"threads", a.threads},
+           {"envs", envs},
+           {"frames", a.frames},
+           {"stream_bytes", stream.bytes},
+           {"stream_gb_per_s", stream.gbPerSecondMedian},
+           {"relighters", rows},
+           {"speedup_over", speedups}},
+          out};
+}
+
+}  // namespace acpca

@@ -1,0 +1,267 @@
+#include "relight/batch_relight.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "cluster/model.h"
+#include "cluster/model_file.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/statistics.h"
+#include "core/stopwatch.h"
+#include "core/table.h"
+#include "core/text.h"
+#include "relight/dense_relight.h"
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+#include "relight/model_relighter.h"
+#include "relight/spec_parsing.h"
+
+namespace acpca {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// One environment argument after expanding directories.
+struct EnvInput {
+  std::string spec;
+  std::unique_ptr<Environment> env;
+  std::string error;  // non-empty: could not be loaded
+};
+
+std::string extensionOf(ImageFormat f) {
+  return f == ImageFormat::Exr ? ".exr" : ".png";
+}
+
+/// What is relit: a transport file (dense ground truth) or a model.
+struct RelightSource {
+  TransportHeader header;
+  std::string method;
+  /// Bytes of model read per frame; for a transport, per pass over T (a pass
+  /// relights a whole group of frames).
+  long long bytesPerPass = 0;
+  bool dense = false;
+  /// Relights the group; ms[k] is the time spent on frame k.
+  std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
+                                                std::vector<double>& ms)>
+      relight;
+};
+
+RelightSource openSource(const std::string& path, const std::string& maxRank) {
+  RelightSource s;
+  if (isModelFile(path)) {
+    std::shared_ptr<ModelRelighter> relighter;
+    {
+      const Model model = readModel(path);
+      s.method = model.method;
+      relighter = std::make_shared<ModelRelighter>(model);
+    }  // the relighter keeps its own packed copy
+    applyRankLimit(maxRank, *relighter);
+    s.header = relighter->geometry();
+    s.bytesPerPass = relighter->bytesPerFrame();
+    s.relight = [relighter](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
+      std::vector<std::vector<float>> out;
+      ms.clear();
+      for (const auto& lighting : l) {
+        const Stopwatch watch;
+        out.push_back(relighter->relight(lighting));
+        ms.push_back(watch.milliseconds());
+      }
+      return out;
+    };
+    return s;
+  }
+  if (!maxRank.empty())
+    throw ParameterError("maximum rank", maxRank,
+                         concat(path, " is a transport file, which has no ranks"));
+  auto transport = std::make_shared<TransportReader>(path);
+  s.header = transport->header();
+  s.method = "dense";
+  s.dense = true;
+  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
+                   (transport->header().precision == Precision::F16 ? 2 : 4);
+  s.relight = [transport](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
+    const Stopwatch watch;
+    auto out = denseRelight(*transport, l);
+    ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
+    return out;
+  };
+  return s;
+}
+
+}  // namespace
+
+void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
+  if (text.empty()) return;
+  const bool percent = text.back() == '%';
+  const double value =
+      parseFiniteNumber(percent ? text.substr(0, text.size() - 1) : text, "maximum rank", text);
+  if (percent) {
+    if (value < 0 || value > 100)
+      throw ParameterError("maximum rank", text, "a percentage is 0..100");
+    relighter.setRankFraction(value / 100);
+  } else if (value == std::floor(value)) {
+    if (value < 0) throw ParameterError("maximum rank", text, "a rank is >= 0");
+    relighter.setMaxRank(static_cast<int>(std::min(value, 1e9)));
+  } else {
+    if (value < 0 || value > 1)
+      throw ParameterError("maximum rank", text, "a fraction is in (0, 1)");
+    relighter.setRankFraction(value);
+  }
+}
+
+std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
+                                         bool batch) {
+  if (format == "both") return {ImageFormat::Exr, ImageFormat::Png};
+  if (format == "exr") return {ImageFormat::Exr};
+  if (format == "png") return {ImageFormat::Png};
+  if (!format.empty()) throw ParameterError("image format", format, "is not exr, png or both");
+  if (batch) return {ImageFormat::Exr};
+  const std::string ext = fs::path(out).extension().string();
+  if (ext == ".exr") return {ImageFormat::Exr};
+  if (ext == ".png") return {ImageFormat::Png};
+  throw ParameterError("output path", out,
+                       "cannot tell the format from the extension; use .exr/.png or a format");
+}
+
+void validateBatchRelight(const BatchRelightOptions& a) {
+  if (a.timingRepeats < 0) throw ParameterError("timing frames", a.timingRepeats, "must be >= 0");
+  if (a.envs.empty()) throw ParameterError("environment", "", "give at least one lighting");
+  if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
+  imageFormatsFor(a.format, a.out, a.batch());
+}
+
+BatchRelightResult relightBatch(const BatchRelightOptions& a) {
+  validateBatchRelight(a);
+  const bool batch = a.batch();
+  const fs::path out(a.out);
+  const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, batch);
+  const std::vector<EnvRotation>& rotations = a.rotations;
+  const RelightSource source = openSource(a.input, a.maxRank);
+  const CubeLattice lattice(source.header.cubemapResolution);
+  if (batch) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (!fs::is_directory(out))
+      throw UserError(concat(a.out, ": cannot create the output directory"));
+  }
+
+  std::vector<EnvInput> inputs;
+  for (const auto& spec : a.envs) {
+    EnvInput in{spec, nullptr, ""};
+    try {
+      in.env = loadEnvironment(spec);
+    } catch (const UserError& e) {
+      if (!batch) throw;
+      in.error = e.what();
+      if (a.warn) a.warn(concat("skipping: ", e.what()));
+    }
+    inputs.push_back(std::move(in));
+  }
+
+  // Frames in groups: each group streams T once; memory stays flat for any count.
+  struct Frame {
+    const EnvInput* input;
+    EnvRotation rotation;
+  };
+  std::vector<Frame> frames;
+  for (const auto& in : inputs)
+    if (in.env)
+      for (const auto& r : rotations) frames.push_back({&in, r});
+  constexpr size_t kGroup = 32;
+  Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output", "ms"});
+  std::vector<double> msPerFrame;
+  nlohmann::json outputs = nlohmann::json::array();
+  for (size_t g = 0; g < frames.size(); g += kGroup) {
+    const size_t count = std::min(kGroup, frames.size() - g);
+    std::vector<LatticeLighting> lightings;
+    for (size_t k = 0; k < count; ++k)
+      lightings.push_back(computeLighting(*frames[g + k].input->env, lattice,
+                                          frames[g + k].rotation, a.rotationMode));
+    // Timing mode: one untimed warm-up, then the timed repeats.
+    std::vector<double> ms;
+    std::vector<std::vector<float>> results = source.relight(lightings, ms);
+    std::vector<double> frameMs = ms;
+    if (a.timingRepeats > 0) {
+      frameMs.assign(count, 0.0);
+      std::vector<std::vector<double>> repeats(count);
+      for (int rep = 0; rep < a.timingRepeats; ++rep) {
+        results = source.relight(lightings, ms);
+        for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
+        msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+      }
+      for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
+    } else {
+      msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+    }
+    for (size_t k = 0; k < count; ++k) {
+      const Frame& f = frames[g + k];
+      const Image image = composeImage(source.header, results[k], a.background, *f.input->env,
+                                       rotationMatrix(f.rotation));
+      std::vector<std::string> paths;
+      for (ImageFormat format : formats) {
+        fs::path path = out;
+        if (batch)
+          path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
+        else if (formats.size() > 1)
+          path = out.parent_path() / (out.stem().string() + extensionOf(format));
+        writeImage(image, path.string(), format, a.exposure, a.exrFloat);
+        paths.push_back(path.string());
+      }
+      const double ms = frameMs[k];
+      std::string joined;
+      for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
+      manifest.add({a.input, f.input->spec, f.rotation.yaw, f.rotation.pitch, f.rotation.roll,
+                    a.exposure, joined, ms});
+      outputs.push_back({{"env", f.input->spec},
+                         {"yaw", f.rotation.yaw},
+                         {"pitch", f.rotation.pitch},
+                         {"roll", f.rotation.roll},
+                         {"paths", paths}});
+    }
+    if (a.progress)
+      a.progress(static_cast<long long>(g + count), static_cast<long long>(frames.size()));
+  }
+  if (batch) manifest.writeCsv((out / "manifest.csv").string());
+
+  BatchRelightResult result;
+  std::vector<std::string>& failed = result.failed;
+  for (const auto& in : inputs)
+    if (!in.env) failed.push_back(in.error);
+  const double med = median(msPerFrame);
+  const auto [lowest, highest] = std::minmax_element(msPerFrame.begin(), msPerFrame.end());
+  const double fastest = msPerFrame.empty() ? 0 : *lowest,
+               slowest = msPerFrame.empty() ? 0 : *highest;
+  // Dense passes share one read of T among the frames of a group; the model is
+  // read once per frame.
+  const double bytesPerFrame = frames.empty() ? 0
+                               : source.dense
+                                   ? double(source.bytesPerPass) / std::min(kGroup, frames.size())
+                                   : double(source.bytesPerPass);
+  const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
+  result.summary =
+      concat("relit ", frames.size(), " frame(s) from ", a.input, " (", source.method,
+             "): ", msPerFrame.size(), " timed, median ", med, " ms/frame (min ", fastest, ", max ",
+             slowest, "), ", formatBytes(bytesPerFrame), " read per frame, ", gbPerSecond, " GB/s");
+  result.method = source.method;
+  result.frames = static_cast<long long>(frames.size());
+  result.bytesPerFrame = bytesPerFrame;
+  result.json = {{"input", a.input},
+                 {"method", source.method},
+                 {"frames", frames.size()},
+                 {"timed_frames", msPerFrame.size()},
+                 {"ms_per_frame_median", med},
+                 {"ms_per_frame_min", fastest},
+                 {"ms_per_frame_max", slowest},
+                 {"bytes_per_frame", bytesPerFrame},
+                 {"gb_per_s", gbPerSecond},
+                 {"outputs", outputs},
+                 {"failed", failed}};
+  result.msPerFrame = std::move(msPerFrame);
+  return result;
+}
+
+}  // namespace acpca

@@ -1,0 +1,63 @@
+#pragma once
+// Batch relighting: a model (or a transport, the dense ground truth) under
+// every pair of lighting and rotation, written as images (one file, or a
+// directory with one image per pair and a manifest.csv), with optional timing.
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+#include "relight/model_relighter.h"
+#include "relight/rotation.h"
+
+namespace acpca {
+
+/// A limit on each cluster's rank: "K" keeps the first K bases, a fraction in
+/// (0, 1) or a percentage ("50%") that share of each cluster's. Throws a
+/// ParameterError ("maximum rank") for anything else.
+void applyRankLimit(const std::string& text, ModelRelighter& relighter);
+
+/// The image formats to write: "exr", "png" or "both"; empty picks EXR for a
+/// batch and otherwise the output's extension (ParameterError when it has none).
+std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
+                                         bool batch);
+
+struct BatchRelightOptions {
+  std::string input;              ///< model or transport file
+  std::vector<std::string> envs;  ///< lighting specs or image files
+  std::vector<EnvRotation> rotations{EnvRotation{}};
+  std::string out;     ///< an image, or a directory when batch
+  std::string format;  ///< exr, png, both; empty: see imageFormatsFor
+  Background background = Background::Env;
+  RotationMode rotationMode = RotationMode::Exact;
+  double exposure = 0;
+  bool exrFloat = false;
+  std::string maxRank;    ///< see applyRankLimit; models only
+  int timingRepeats = 0;  ///< > 0: after a warm-up, time that many repeats
+  std::function<void(long long done, long long total)> progress;
+  std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
+  bool batch() const { return envs.size() > 1 || rotations.size() > 1; }
+};
+
+struct BatchRelightResult {
+  std::string method;  ///< the model's, or "dense"
+  long long frames = 0;
+  std::vector<double> msPerFrame;  ///< every timed frame
+  double bytesPerFrame = 0;
+  std::vector<std::string> failed;  ///< maps that could not be loaded (batch only)
+  nlohmann::json json;              ///< what `relight --json` writes
+  std::string summary;              ///< one line: frames, median ms, bytes, GB/s
+};
+
+/// Checks the options that cost nothing to check (ParameterError).
+void validateBatchRelight(const BatchRelightOptions& options);
+
+/// Relights and writes every frame. Frames go in groups of 32, each group one
+/// pass over T for a transport, so memory stays flat for any count. In a batch
+/// a map that cannot be loaded is skipped (and listed in `failed`); the images
+/// of the others are written.
+BatchRelightResult relightBatch(const BatchRelightOptions& options);
+
+}  // namespace acpca

@@ -1,0 +1,105 @@
+// The shared helpers: tables as CSV and JSON, enum name tables, parameter
+// errors, the ordered pipeline, statistics and atomic text files.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include <tbb/global_control.h>
+
+#include "core/atomic_file.h"
+#include "core/enum_names.h"
+#include "core/error.h"
+#include "core/ordered_pipeline.h"
+#include "core/statistics.h"
+#include "core/table.h"
+#include "core/text.h"
+#include "tests/temp_dir.h"
+
+namespace acpca {
+namespace {
+
+TEST(Table, CsvAndJsonHoldTheSameRows) {
+  Table t({"name", "value", "count"});
+  t.add({std::string("a b"), 0.5, 3LL});
+  t.add({std::string("x,\"y\""), NAN, -1LL});
+  EXPECT_EQ(t.csv(), "name,value,count\n\"a b\",0.5,3\n\"x,\"\"y\"\"\",,-1\n");
+  const auto j = t.json();
+  ASSERT_EQ(j.size(), 2u);
+  EXPECT_EQ(j[0]["name"], "a b");
+  EXPECT_EQ(j[0]["value"], 0.5);
+  EXPECT_EQ(j[0]["count"], 3);
+  EXPECT_TRUE(j[1]["value"].is_null());
+  EXPECT_THROW(t.add({1.0}), std::logic_error);  // one cell per column
+}
+
+TEST(Table, WritesAtomicallyAndNamesAPathItCannotWrite) {
+  test::TempDir dir;
+  Table t({"a"});
+  t.add({1.0});
+  t.writeCsv(dir.file("t.csv"));
+  std::ifstream in(dir.file("t.csv"));
+  std::string all((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(all, "a\n1\n");
+  try {
+    t.writeCsv(dir.file("missing/t.csv"));
+    FAIL() << "wrote into a directory that does not exist";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
+}
+
+enum class Colour { Red, Green };
+constexpr EnumNames<Colour, 2> kColours{"colour",
+                                        {{{Colour::Red, "red"}, {Colour::Green, "green"}}}};
+
+TEST(EnumNames, ParsesPrintsAndRefusesByName) {
+  EXPECT_EQ(kColours.parse("green"), Colour::Green);
+  EXPECT_STREQ(kColours.name(Colour::Red), "red");
+  try {
+    kColours.parse("blue");
+    FAIL();
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(e.parameter(), "colour");
+    EXPECT_EQ(e.value(), "blue");
+    EXPECT_STREQ(e.what(), "colour 'blue': is not one of red, green");
+    EXPECT_EQ(e.messageFor("--colour"), "--colour 'blue': is not one of red, green");
+  }
+}
+
+TEST(OrderedPipeline, ConsumesInOrderForAnyThreadCount) {
+  for (int threads : {1, 2, 4}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    struct Slot {
+      int index = 0, square = 0;
+    };
+    int next = 0;
+    std::vector<int> seen;
+    runOrderedPipeline<Slot>(
+        3,
+        [&](Slot& s) {
+          if (next == 100) return false;
+          s.index = next++;
+          return true;
+        },
+        [](Slot& s) { s.square = s.index * s.index; },
+        [&](Slot& s) {
+          EXPECT_EQ(s.square, s.index * s.index);
+          seen.push_back(s.index);
+        });
+    ASSERT_EQ(seen.size(), 100u);
+    for (int i = 0; i < 100; ++i) EXPECT_EQ(seen[i], i);
+  }
+}
+
+TEST(Statistics, MedianAndRelativeL2) {
+  EXPECT_EQ(median({3, 1, 2}), 2);
+  EXPECT_EQ(median({}), 0);
+  EXPECT_NEAR(relativeL2({1, 2, 2}, {1, 2, 3}), 1 / std::sqrt(14.0), 1e-12);
+  EXPECT_EQ(formatted("%d-%s", 7, "x"), "7-x");
+  EXPECT_EQ(formatBytes(1536), "1.50 KiB");
+}
+
+}  // namespace
+}  // namespace acpca

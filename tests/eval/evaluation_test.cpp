@@ -1,0 +1,34 @@
+#include "eval/error_measures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace acpca {
+namespace {
+
+TEST(Evaluation, ErrorMeasures) {
+  const std::vector<float> ref{1, 2, 3, 4}, same = ref, off{1, 2, 3, 5};
+  EXPECT_EQ(relativeL2(same, ref), 0);
+  EXPECT_NEAR(relativeL2(off, ref), 1 / std::sqrt(30.0), 1e-12);
+  EXPECT_NEAR(psnr(off, ref), 20 * std::log10(4 / std::sqrt(0.25)), 1e-9);
+  EXPECT_NEAR(aggregateError({0.03, 0.04}), std::sqrt((0.0009 + 0.0016) / 2), 1e-12);
+}
+
+TEST(Evaluation, MedianIsTheMiddleValueAndTheUpperOfAnEvenCount) {
+  EXPECT_EQ(median({3, 1, 2}), 2);
+  EXPECT_EQ(median({4, 1, 3, 2}), 3);
+  EXPECT_EQ(median({}), 0);
+}
+
+TEST(Evaluation, CostAtErrorInterpolatesTheParetoFrontInLogLog) {
+  // cost = 100 / error on the front, plus a dominated setting that must be ignored.
+  std::vector<ErrorCostPoint> points{{0.001, 100000}, {0.01, 10000}, {0.1, 1000}, {0.02, 50000}};
+  EXPECT_NEAR(costAtError(points, 0.01), 10000, 1e-6);
+  EXPECT_NEAR(costAtError(points, 0.03), 100.0 / 0.03, 1e-6);  // on the line cost = 100 / error
+  EXPECT_LT(costAtError(points, 0.5), 0);                      // beyond the sweep
+  EXPECT_LT(costAtError(points, 0.0001), 0);                   // below the sweep
+}
+
+}  // namespace
+}  // namespace acpca

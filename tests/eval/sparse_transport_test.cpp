@@ -1,0 +1,52 @@
+// The in-memory dense relight (the yardstick of speed-ups) against the file.
+#include "eval/sparse_transport.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <tbb/global_control.h>
+
+#include "core/statistics.h"
+#include "relight/dense_relight.h"
+#include "relight/environment.h"
+#include "relight/lighting.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+class SparsePlant : public test::SmallPlantSuite {
+ protected:
+  static std::vector<LatticeLighting> lightings() {
+    const CubeLattice lattice(8);
+    std::vector<LatticeLighting> out;
+    for (const char* env : {"sky", "sun:50,30,4,1000", "constant:1"})
+      out.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
+    return out;
+  }
+};
+
+TEST_F(SparsePlant, SparseDenseRelightSkipsZerosAndMatchesTheFile) {
+  const TransportReader t(path());
+  const auto all = lightings();
+  const auto dense = denseRelight(t, all);
+  SparseTransport sparse(t);
+  // Every row is zero below its horizon, so at most about half plus the
+  // segments that straddle it are kept.
+  EXPECT_GT(sparse.keptFraction(), 0.05);
+  EXPECT_LT(sparse.keptFraction(), 0.75);
+  for (size_t k = 0; k < all.size(); ++k) {
+    std::vector<float> one, two = sparse.relight(all[k]);
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = sparse.relight(all[k]);
+    }
+    EXPECT_EQ(one, two);
+    // The file is f32; the sparse copy rounds T to half: 2^-11 relative per entry.
+    EXPECT_LT(relativeL2(two, dense[k]), std::ldexp(1.0, -11));
+  }
+}
+
+}  // namespace
+}  // namespace acpca

@@ -1,0 +1,43 @@
+#pragma once
+// Helpers for the suites that render (render, extreme): a scene precomputed
+// and read back whole.
+#include "precompute/render/scene.h"
+#include "precompute/render/transport_renderer.h"
+#include "tests/test_support.h"
+
+namespace acpca::test {
+
+/// A transport precomputed and read back whole (small scenes only).
+struct LoadedTransport {
+  TransportHeader header;
+  std::vector<float> rows;  // rows x l
+  PrecomputeStats stats;
+  int l = 0;
+  const float* row(long long r) const { return rows.data() + r * l; }
+};
+
+inline LoadedTransport precomputeInMemory(const Scene& scene, const PrecomputeOptions& options) {
+  TempDir dir;
+  const std::string path = dir.file("t.h5");
+  LoadedTransport t;
+  t.stats = precomputeTransport(scene, path, options);
+  const TransportReader reader(path);
+  t.header = reader.header();
+  t.l = reader.latticeSize();
+  t.rows.resize(static_cast<size_t>(reader.rows()) * t.l);
+  reader.readRows(0, reader.rows(), t.rows.data());
+  return t;
+}
+
+/// The small plant the compression and relighting suites share: 40x40 pixels,
+/// a 6x8x8 lattice, f32 rows, written to `path`.
+inline void precomputeSmallPlant(const std::string& path) {
+  Scene scene = makePlantScene();
+  scene.camera.size = {40, 40};
+  PrecomputeOptions o;
+  o.cubemapResolution = 8;
+  o.precision = Precision::F32;
+  precomputeTransport(scene, path, o);
+}
+
+}  // namespace acpca::test

@@ -1,0 +1,57 @@
+// `adaptive-cpca bench methods`: every method's cost at equal image error.
+#include <filesystem>
+#include <iostream>
+
+#include "eval/method_comparison.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct MethodsArgs {
+  CommonOptions common;
+  std::string input, out;
+  SweepSettings settings;
+  std::vector<std::string> envs;
+};
+
+void run(MethodsArgs& a) {
+  if (a.settings.methods.empty()) a.settings.methods = sweepMethodNames();
+  checkSweepMethods(a.settings.methods);
+  ThreadLimit limit(a.common.threads);
+  const TransportReader transport(a.input);
+  a.settings.log = stderrLog("bench methods", a.common.quiet);
+  const EvaluationData data = loadEvaluationData(transport, a.envs);
+  const std::vector<SweepResult> rows = sweepMethods(data, a.settings);
+  std::filesystem::create_directories(a.out);
+  const std::string csv = (std::filesystem::path(a.out) / "methods.csv").string();
+  methodsTable(rows).writeCsv(csv);
+  std::cout << methodComparisonText(rows, a.settings.cpcaClusters) << "\nall settings: " << csv
+            << "\n";
+}
+
+}  // namespace
+
+void registerBenchMethods(CLI::App& bench) {
+  auto args = std::make_shared<MethodsArgs>();
+  auto* sub = bench.add_subcommand("methods", "Cost of every method at equal image error");
+  sub->add_option("input", args->input, "Transport file")->required();
+  sub->add_option("--out", args->out, "Directory for methods.csv")->required();
+  sub->add_option("--global-energies", args->settings.globalEnergies, "Global energies to sweep")
+      ->delimiter(',');
+  sub->add_option("--tolerances", args->settings.tolerances, "Cluster tolerances to sweep")
+      ->delimiter(',');
+  sub->add_option("--cpca-clusters", args->settings.cpcaClusters, "CPCA cluster counts")
+      ->delimiter(',');
+  sub->add_option("--env", args->envs, "Evaluation lightings (default: the evaluation set)");
+  sub->add_option("--methods", args->settings.methods,
+                  "Methods to run: global, block, adaptive-quad, adaptive-quad-exact, "
+                  "adaptive-binary, cpca (default all)")
+      ->delimiter(',');
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli

@@ -1,0 +1,427 @@
+#include "viewer/viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <opencv2/highgui.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "cluster/model.h"
+#include "cluster/model_file.h"
+#include "core/error.h"
+#include "eval/report_images.h"
+#include "relight/envmap_export.h"
+
+namespace acpca {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr const char* kWindow = "adaptive-cpca view";
+constexpr const char* kExposureBar = "exposure";
+constexpr const char* kRankBar = "rank %";
+constexpr const char* kEnvBar = "env map";
+// The exposure trackbar runs over -10..+10 stops in quarter stops.
+constexpr int kExposureSteps = 80;
+constexpr double kExposureStep = 0.25, kExposureMin = -10;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+EnvRotation rotationOf(const ViewState& s) {
+  return EnvRotation{s.yaw, s.pitch, 0};
+}
+
+bool sameRelight(const ViewState& a, const ViewState& b) {
+  return a.env == b.env && a.yaw == b.yaw && a.pitch == b.pitch && a.rankPercent == b.rankPercent;
+}
+
+}  // namespace
+
+Viewer::Viewer(const ViewerOptions& options) : options_(options) {
+  {
+    const Model model = readModel(options.modelPath);
+    relighter_ = std::make_unique<ModelRelighter>(model);
+    const TransportHeader& g = model.geometry;
+    width_ = g.camera.size.width;
+    height_ = g.camera.size.height;
+    clusterOfPixel_ = clusterOfPixel(g, model.clusterOfRow());
+    maxRank_ = model.ranks.empty() ? 0 : *std::max_element(model.ranks.begin(), model.ranks.end());
+  }  // the relighter keeps its own packed copy of the model
+  for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
+  if (envs_.empty()) throw UserError("view: give at least one --env");
+  lattice_ = std::make_unique<CubeLattice>(relighter_->geometry().cubemapResolution);
+  ui_ = options.initial;
+  ui_.env = std::clamp(ui_.env, 0, static_cast<int>(envs_.size()) - 1);
+}
+
+Viewer::~Viewer() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+// ---- worker thread ---------------------------------------------------------
+
+void Viewer::workerLoop() {
+  long long done = 0;
+  for (;;) {
+    ViewState state;
+    long long serial;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || requested_ > done; });
+      if (stop_) return;
+      state = state_;
+      serial = requested_;  // older requests are superseded, not drawn
+    }
+    Frame frame = render(state, serial);
+    {
+      std::lock_guard lock(mutex_);
+      latest_ = std::move(frame);
+    }
+    finished_.notify_all();
+    done = serial;
+  }
+}
+
+Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
+  if (!linear_ || !sameRelight(state, relitFor_)) {
+    const Environment& env = *envs_[state.env];
+    const EnvRotation rotation = rotationOf(state);
+    auto t = Clock::now();
+    lighting_ = computeLighting(env, *lattice_, rotation, options_.rotationMode);
+    lightingMs_ = msSince(t);
+    relighter_->setRankFraction(state.rankPercent / 100.0);
+    t = Clock::now();
+    const std::vector<float> rgb = relighter_->relight(lighting_);
+    relightMs_ = msSince(t);
+    t = Clock::now();
+    linear_ = std::make_shared<const Image>(composeImage(
+        relighter_->geometry(), rgb, options_.background, env, rotationMatrix(rotation)));
+    composeMs_ = msSince(t);
+    relitFor_ = state;
+  }
+  const auto drawStart = Clock::now();
+  cv::Mat image = toneMappedBgr(*linear_, state.exposure);
+  drawOverlays(state, image);
+  Frame frame;
+  drawStatus(state, composeMs_ + msSince(drawStart), image);
+  frame.canvas = image;
+  frame.linear = linear_;
+  frame.state = state;
+  frame.serial = serial;
+  return frame;
+}
+
+void Viewer::drawOverlays(const ViewState& state, cv::Mat& image) const {
+  if (state.rankHeatMap) {
+    // Ranks in use (after the rank limit) on a perceptual colour scale.
+    const std::vector<int>& active = relighter_->activeRanks();
+    cv::Mat level(height_, width_, CV_8UC1, cv::Scalar(0));
+    for (int p = 0; p < width_ * height_; ++p)
+      if (const int c = clusterOfPixel_[p]; c >= 0)
+        level.data[p] =
+            static_cast<unsigned char>(std::lround(255.0 * active[c] / std::max(1, maxRank_)));
+    cv::Mat colours;
+    cv::applyColorMap(level, colours, cv::COLORMAP_VIRIDIS);
+    for (int p = 0; p < width_ * height_; ++p)
+      if (clusterOfPixel_[p] >= 0)
+        image.at<cv::Vec3b>(p / width_, p % width_) = colours.at<cv::Vec3b>(p / width_, p % width_);
+  }
+  if (state.clusterOverlay) drawClusterBoundaries(image, clusterOfPixel_, {0, 230, 255});
+  if (state.lightingInset) {
+    // What the lattice holds of the rotated lighting, as a small lat-long.
+    const int w = std::clamp(width_ / 3, 16, 256), h = w / 2;
+    const Image inset = latticeToLatLong(lighting_, *lattice_, w, h);
+    const cv::Mat picture = toneMappedBgr(inset, state.exposure);
+    if (w + 2 <= width_ && h + 2 <= height_) {
+      image(cv::Rect(0, 0, w + 2, h + 2)).setTo(cv::Scalar(255, 255, 255));
+      picture.copyTo(image(cv::Rect(1, 1, w, h)));
+    }
+  }
+}
+
+void Viewer::drawStatus(const ViewState& state, double drawMs, cv::Mat& canvas) const {
+  const double yaw = std::fmod(std::fmod(state.yaw, 360.0) + 360.0, 360.0);
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%s (%d/%zu)  yaw %.1f pitch %.1f  EV %+.2f  rank %d%%%s  |  relight %.1f ms, "
+                "lighting %.1f ms, draw %.1f ms: %.0f fps",
+                envs_[state.env]->name().c_str(), state.env + 1, envs_.size(), yaw, state.pitch,
+                state.exposure, state.rankPercent,
+                state.rankHeatMap ? concat(" (heat map 0..", maxRank_, ")").c_str() : "",
+                relightMs_, lightingMs_, drawMs, 1000.0 / (relightMs_ + lightingMs_ + drawMs));
+  // The strip grows a line per chunk of text that would not fit the width.
+  const int font = cv::FONT_HERSHEY_SIMPLEX;
+  const double scale = 0.45;
+  int baseline = 0;
+  const std::string all = text;
+  std::vector<std::string> lines;
+  for (std::string rest = all; !rest.empty();) {
+    // Break at the last space that fits (or mid-word when no space does).
+    size_t take = rest.size();
+    auto fits = [&](size_t n) {
+      return cv::getTextSize(rest.substr(0, n), font, scale, 1, &baseline).width <= canvas.cols - 8;
+    };
+    while (take > 1 && !fits(take)) {
+      const size_t space = rest.rfind(' ', take - 1);
+      take = space != std::string::npos && space > 0 ? space : take - 1;
+    }
+    lines.push_back(rest.substr(0, take));
+    rest = rest.substr(std::min(rest.size(), take + (take < rest.size() && rest[take] == ' ')));
+  }
+  const int lineHeight = 18;
+  cv::Mat strip(lineHeight * static_cast<int>(lines.size()) + 4, canvas.cols, CV_8UC3,
+                cv::Scalar(32, 32, 32));
+  for (size_t i = 0; i < lines.size(); ++i)
+    cv::putText(strip, lines[i], {4, 14 + lineHeight * static_cast<int>(i)}, font, scale,
+                cv::Scalar(235, 235, 235), 1, cv::LINE_AA);
+  cv::vconcat(canvas, strip, canvas);
+}
+
+// ---- UI thread ---------------------------------------------------------------
+
+void Viewer::request() {
+  {
+    std::lock_guard lock(mutex_);
+    state_ = ui_;
+    ++requested_;
+  }
+  wake_.notify_all();
+}
+
+void Viewer::showLatest() {
+  {
+    std::lock_guard lock(mutex_);
+    if (latest_.serial == onScreen_.serial) return;
+    onScreen_ = latest_;  // shares the finished canvas; the worker draws the next into a new one
+  }
+  cv::imshow(kWindow, onScreen_.canvas);
+}
+
+void Viewer::waitForLatestRequest() {
+  {
+    std::unique_lock lock(mutex_);
+    finished_.wait(lock, [&] { return latest_.serial >= requested_; });
+  }
+  showLatest();
+  cv::waitKey(1);  // lets the window draw it
+}
+
+void Viewer::applyDrag(int dx, int dy) {
+  // A full window width turns the lighting once around; height is half a turn.
+  ui_.yaw += dx * 360.0 / width_;
+  ui_.pitch = std::clamp(ui_.pitch + dy * 180.0 / height_, -90.0, 90.0);
+  request();
+}
+
+bool Viewer::applyKey(int key) {
+  const int envs = static_cast<int>(envs_.size());
+  switch (key) {
+    case 27:
+    case 'q':
+      return false;
+    case 'n':
+    case ' ':
+      ui_.env = (ui_.env + 1) % envs;
+      break;
+    case 'p':
+      ui_.env = (ui_.env + envs - 1) % envs;
+      break;
+    case 'c':
+      ui_.clusterOverlay = !ui_.clusterOverlay;
+      break;
+    case 'h':
+      ui_.rankHeatMap = !ui_.rankHeatMap;
+      break;
+    case 'l':
+      ui_.lightingInset = !ui_.lightingInset;
+      break;
+    case 'a':
+    case 'd':
+      ui_.yaw += key == 'a' ? -10 : 10;
+      break;
+    case 'r':
+      ui_.yaw = ui_.pitch = 0;
+      break;
+    case '+':
+    case '=':
+      ui_.exposure = std::min(ui_.exposure + 0.5, -kExposureMin);
+      break;
+    case '-':
+      ui_.exposure = std::max(ui_.exposure - 0.5, kExposureMin);
+      break;
+    case 's':
+      savePictures("");
+      return true;
+    default:
+      return true;
+  }
+  syncTrackbars();
+  request();
+  return true;
+}
+
+void Viewer::applyEvent(const ScriptEvent& e) {
+  using Kind = ScriptEvent::Kind;
+  switch (e.kind) {
+    case Kind::Key:
+      applyKey(static_cast<int>(e.a));
+      break;
+    case Kind::Drag:
+      applyDrag(static_cast<int>(e.a), static_cast<int>(e.b));
+      break;
+    case Kind::Rotate:
+      ui_.yaw = e.a;
+      ui_.pitch = e.b;
+      request();
+      break;
+    case Kind::Exposure:
+      ui_.exposure = e.a;
+      request();
+      break;
+    case Kind::Rank:
+      ui_.rankPercent = static_cast<int>(std::lround(e.a));
+      request();
+      break;
+    case Kind::Env:
+      if (e.a < 0 || e.a >= envs_.size())
+        throw UserError(
+            concat("--script: env ", e.a, " is not one of the ", envs_.size(), " maps (0-based)"));
+      ui_.env = static_cast<int>(e.a);
+      request();
+      break;
+    case Kind::Save:
+      waitForLatestRequest();
+      savePictures(e.path);
+      break;
+    case Kind::Screenshot:
+      waitForLatestRequest();
+      writeScreenshot(e.path);
+      break;
+    case Kind::Wait: {
+      const auto until = Clock::now() + std::chrono::duration<double, std::milli>(e.a);
+      while (Clock::now() < until) {
+        showLatest();
+        cv::waitKey(10);
+      }
+      break;
+    }
+  }
+  syncTrackbars();
+  waitForLatestRequest();
+}
+
+void Viewer::savePictures(const std::string& stem) const {
+  if (!onScreen_.linear) return;
+  namespace fs = std::filesystem;
+  const ViewState& s = onScreen_.state;
+  const fs::path base = stem.empty()
+                            ? fs::path(options_.saveDir) /
+                                  concat("view_", envs_[s.env]->name(), "_", rotationOf(s).label())
+                            : fs::path(stem);
+  for (ImageFormat format : {ImageFormat::Exr, ImageFormat::Png}) {
+    const std::string path = base.string() + (format == ImageFormat::Exr ? ".exr" : ".png");
+    writeImage(*onScreen_.linear, path, format, s.exposure);
+    if (!options_.quiet) std::cerr << "view: saved " << path << "\n";
+  }
+}
+
+void Viewer::writeScreenshot(const std::string& path) const {
+  writePng(onScreen_.canvas, path);
+  if (!options_.quiet) std::cerr << "view: screenshot " << path << "\n";
+}
+
+void Viewer::createTrackbars() {
+  cv::createTrackbar(kExposureBar, kWindow, nullptr, kExposureSteps, &Viewer::onTrackbar, this);
+  cv::createTrackbar(kRankBar, kWindow, nullptr, 100, &Viewer::onTrackbar, this);
+  if (envs_.size() > 1)
+    cv::createTrackbar(kEnvBar, kWindow, nullptr, static_cast<int>(envs_.size()) - 1,
+                       &Viewer::onTrackbar, this);
+  syncTrackbars();
+}
+
+void Viewer::syncTrackbars() {
+  // Setting a position calls onTrackbar, which would read the bars not yet set.
+  syncing_ = true;
+  const int exposure = static_cast<int>(std::lround((ui_.exposure - kExposureMin) / kExposureStep));
+  cv::setTrackbarPos(kExposureBar, kWindow, std::clamp(exposure, 0, kExposureSteps));
+  cv::setTrackbarPos(kRankBar, kWindow, ui_.rankPercent);
+  if (envs_.size() > 1) cv::setTrackbarPos(kEnvBar, kWindow, ui_.env);
+  syncing_ = false;
+}
+
+void Viewer::onTrackbar(int, void* self) {
+  auto* v = static_cast<Viewer*>(self);
+  if (v->syncing_) return;
+  ViewState next = v->ui_;
+  const int exposure = cv::getTrackbarPos(kExposureBar, kWindow);
+  // A position that merely rounds the current exposure leaves it alone.
+  const int current = static_cast<int>(std::lround((next.exposure - kExposureMin) / kExposureStep));
+  if (exposure >= 0 && exposure != current) next.exposure = kExposureMin + exposure * kExposureStep;
+  if (const int rank = cv::getTrackbarPos(kRankBar, kWindow); rank >= 0) next.rankPercent = rank;
+  if (v->envs_.size() > 1)
+    if (const int env = cv::getTrackbarPos(kEnvBar, kWindow); env >= 0) next.env = env;
+  if (next.exposure == v->ui_.exposure && next.rankPercent == v->ui_.rankPercent &&
+      next.env == v->ui_.env)
+    return;
+  v->ui_ = next;
+  v->request();
+}
+
+void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
+  auto* v = static_cast<Viewer*>(self);
+  if (event == cv::EVENT_LBUTTONDOWN && y < v->height_) {
+    v->dragging_ = true;
+    v->dragX_ = x;
+    v->dragY_ = y;
+  } else if (event == cv::EVENT_LBUTTONUP) {
+    v->dragging_ = false;
+  } else if (event == cv::EVENT_MOUSEMOVE && v->dragging_ && (flags & cv::EVENT_FLAG_LBUTTON)) {
+    v->applyDrag(x - v->dragX_, y - v->dragY_);
+    v->dragX_ = x;
+    v->dragY_ = y;
+  }
+}
+
+void Viewer::run() {
+  cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
+  createTrackbars();
+  cv::setMouseCallback(kWindow, &Viewer::onMouse, this);
+  worker_ = std::thread([this] { workerLoop(); });
+  request();
+  waitForLatestRequest();
+
+  std::vector<ScriptEvent> script = options_.script;
+  for (int k = 0; k < options_.frames; ++k)
+    script.push_back({ScriptEvent::Kind::Rotate, options_.initial.yaw + k * options_.rotateStep,
+                      options_.initial.pitch});
+  if (!options_.screenshot.empty())
+    script.push_back({ScriptEvent::Kind::Screenshot, 0, 0, options_.screenshot});
+  const bool scripted = !options_.script.empty() || options_.frames > 0;
+  if (!scripted) script.clear();  // interactive: the screenshot is taken on quitting
+  if (scripted) {
+    for (const auto& event : script) applyEvent(event);
+  } else {
+    if (!options_.quiet)
+      std::cerr << "view: drag to turn the lighting; keys: n/p env map, c clusters, h rank heat "
+                   "map, l lighting inset, a/d yaw, r reset, +/- exposure, s save, q quit\n";
+    for (;;) {
+      showLatest();
+      const int key = cv::waitKey(8);
+      if (key >= 0 && !applyKey(key & 0xff)) break;
+      if (cv::getWindowProperty(kWindow, cv::WND_PROP_VISIBLE) < 1) break;  // closed
+    }
+    if (!options_.screenshot.empty()) writeScreenshot(options_.screenshot);
+  }
+  cv::destroyAllWindows();
+}
+
+}  // namespace acpca

@@ -1,0 +1,109 @@
+#pragma once
+// `adaptive-cpca view`: a window (OpenCV highgui) that relights a model live as
+// the user turns the lighting. A worker thread relights and draws each frame
+// into a new canvas; the UI thread only shows the latest finished canvas, so it
+// never stalls on a relight and never shows a half-drawn frame.
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <opencv2/core.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "relight/environment.h"
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+#include "relight/model_relighter.h"
+#include "viewer/viewer_script.h"
+
+namespace acpca {
+
+/// What a frame shows; the UI thread edits it, the worker draws it.
+struct ViewState {
+  int env = 0;
+  double yaw = 0, pitch = 0;  ///< degrees
+  double exposure = 0;        ///< stops
+  int rankPercent = 100;      ///< share of each cluster's bases used
+  bool clusterOverlay = false, rankHeatMap = false, lightingInset = false;
+};
+
+struct ViewerOptions {
+  std::string modelPath;
+  std::vector<std::string> envSpecs;
+  ViewState initial;
+  RotationMode rotationMode = RotationMode::Exact;
+  Background background = Background::Env;
+  std::string saveDir = ".";
+  /// Self-driving runs (tests, demos): a script of events, or `frames` frames
+  /// turning the yaw by rotateStep each; then `screenshot` (if set) and quit.
+  std::vector<ScriptEvent> script;
+  int frames = 0;
+  double rotateStep = 0;
+  std::string screenshot;
+  bool quiet = false;
+};
+
+class Viewer {
+ public:
+  explicit Viewer(const ViewerOptions& options);
+  ~Viewer();
+  /// Opens the window and runs until the user quits (or the script ends).
+  void run();
+
+ private:
+  /// A finished frame; nothing in it changes once published.
+  struct Frame {
+    cv::Mat canvas;                       ///< BGR: the image with its overlays, then a status strip
+    std::shared_ptr<const Image> linear;  ///< the relit image (for saving)
+    ViewState state;
+    long long serial = 0;
+  };
+  // Worker side.
+  void workerLoop();
+  Frame render(const ViewState& state, long long serial);
+  void drawOverlays(const ViewState& state, cv::Mat& image) const;
+  void drawStatus(const ViewState& state, double totalMs, cv::Mat& canvas) const;
+  // UI side.
+  void request();
+  void showLatest();
+  void waitForLatestRequest();
+  bool applyKey(int key);  ///< false: quit
+  void applyDrag(int dx, int dy);
+  void applyEvent(const ScriptEvent& event);
+  void savePictures(const std::string& stem) const;
+  void writeScreenshot(const std::string& path) const;
+  void createTrackbars();
+  void syncTrackbars();
+  static void onMouse(int event, int x, int y, int flags, void* self);
+  static void onTrackbar(int position, void* self);
+
+  ViewerOptions options_;
+  std::unique_ptr<ModelRelighter> relighter_;
+  std::vector<std::unique_ptr<Environment>> envs_;
+  std::unique_ptr<CubeLattice> lattice_;
+  int width_ = 0, height_ = 0, maxRank_ = 0;
+  std::vector<int> clusterOfPixel_;  ///< -1 for background
+
+  // Worker cache: the last relit image and what it was relit for.
+  std::shared_ptr<const Image> linear_;
+  LatticeLighting lighting_;
+  ViewState relitFor_;
+  double relightMs_ = 0, lightingMs_ = 0, composeMs_ = 0;
+
+  std::mutex mutex_;
+  std::condition_variable wake_, finished_;
+  ViewState state_;          ///< guarded: the latest request
+  long long requested_ = 0;  ///< guarded: serial of the latest request
+  Frame latest_;             ///< guarded: the latest finished frame
+  bool stop_ = false;
+  std::thread worker_;
+
+  // UI thread only.
+  Frame onScreen_;
+  ViewState ui_;
+  int dragX_ = 0, dragY_ = 0;
+  bool dragging_ = false, syncing_ = false;
+};
+
+}  // namespace acpca

@@ -1,0 +1,30 @@
+#pragma once
+// Scripted input for `view --script FILE`: the events a user would produce,
+// one per line, so that tests and demos can drive the window without a person.
+//   key C            a key press: one character, or esc / space
+//   drag DX DY       a left-button drag by DX, DY pixels
+//   rotate YAW[,PITCH]   set the lighting's rotation in degrees
+//   exposure EV | rank PERCENT | env INDEX (0-based)   as the trackbars do
+//   save STEM        write STEM.exr and STEM.png of the current frame
+//   screenshot FILE  write the window's canvas (image and status strip) as PNG
+//   wait MS          keep the window up for MS milliseconds
+// Blank lines and lines starting with # are skipped.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace acpca {
+
+struct ScriptEvent {
+  enum class Kind { Key, Drag, Rotate, Exposure, Rank, Env, Save, Screenshot, Wait };
+  ScriptEvent(Kind kind, double a = 0, double b = 0, std::string path = {})
+      : kind(kind), a(a), b(b), path(std::move(path)) {}
+  Kind kind;
+  double a, b;       ///< numbers (key code in a for Key)
+  std::string path;  ///< Save, Screenshot
+};
+
+/// Reads a script; throws UserError naming the file and line of anything wrong.
+std::vector<ScriptEvent> readViewerScript(const std::string& path);
+
+}  // namespace acpca
