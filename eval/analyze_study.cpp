@@ -18,6 +18,7 @@
 #include "cluster/partition.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/table.h"
 #include "eval/dimensionality_study.h"
 #include "eval/eval_report.h"
 
@@ -98,17 +99,16 @@ StudyOutput runAnalysis(const TransportReader& transport, const AnalyzeOptions& 
   const ClusterInput in{&projection.coefficients, &transport.header().pixels,
                         transport.header().camera.size, a.tolerance, false};
   const std::vector<BlockCost> costs = blockCosts(in, a.blocks);
-  std::ostringstream csv;
-  csv << "block_side,block_pixels,clusters,global_bases,global_to_local,local_to_pixel,cost_per_"
-         "pixel\n";
+  Table csv({"block_side", "block_pixels", "clusters", "global_bases", "global_to_local",
+             "local_to_pixel", "cost_per_pixel"});
   const BlockCost* best = nullptr;
   for (const auto& c : costs) {
-    csv << c.side << "," << c.side * c.side << "," << c.clusters << "," << n << ","
-        << c.globalToLocal << "," << c.localToPixel << "," << c.total() << "\n";
+    csv.add({(long long)c.side, (long long)c.side * c.side, (long long)c.clusters, (long long)n,
+             c.globalToLocal, c.localToPixel, c.total()});
     if (!best || c.total() < best->total()) best = &c;
     log(concat("blocks of ", c.side, ": cost/pixel ", c.total()));
   }
-  writeTextFile((fs::path(outDir) / "block_cost.csv").string(), csv.str());
+  csv.writeCsv((fs::path(outDir) / "block_cost.csv").string());
   const std::string plotProblem = drawPlots("analyze", outDir);
 
   // 3. mu, N, p* beside the measured optimum.

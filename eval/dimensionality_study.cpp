@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/table.h"
 #include "eval/eval_report.h"
 #include "relight/spec_parsing.h"
 
@@ -98,7 +99,8 @@ DimensionalityAnalysis analyzeDimensionality(const TransportReader& transport,
   const int w = h.camera.size.width, ht = h.camera.size.height;
   for (const auto& [x, y] : centres)
     if (x >= w || y >= ht)
-      throw UserError(concat("--centre ", x, ",", y, ": outside the ", w, "x", ht, " image"));
+      throw ParameterError("patch centre", concat(x, ",", y),
+                           concat("outside the ", w, "x", ht, " image"));
   if (centres.empty() && !h.pixels.empty()) centres = defaultCentres(transport, energy);
   DimensionalityAnalysis out;
   double slopeSum = 0, largeSum = 0;
@@ -136,21 +138,19 @@ DimensionalityAnalysis analyzeDimensionality(const TransportReader& transport,
 }
 
 void writeDimensionalityCsv(const DimensionalityAnalysis& analysis, const std::string& dir) {
-  std::ostringstream dims, slopes;
-  dims << "centre,x,y,area,dimensionality\n";
-  slopes << "centre,x,y,slope,scale,points,large_patch_slope\n";
+  Table dims({"centre", "x", "y", "area", "dimensionality"});
+  Table slopes({"centre", "x", "y", "slope", "scale", "points", "large_patch_slope"});
   for (size_t i = 0; i < analysis.centres.size(); ++i) {
     const auto& c = analysis.centres[i];
+    const long long centre = static_cast<long long>(i), x = c.x, y = c.y;
     for (size_t k = 0; k < c.area.size(); ++k)
-      dims << i << "," << c.x << "," << c.y << "," << c.area[k] << "," << c.dimensionality[k]
-           << "\n";
-    slopes << i << "," << c.x << "," << c.y << "," << formatFixed(c.fit.slope, 4) << ","
-           << formatFixed(c.fit.scale, 4) << "," << c.fit.points << ","
-           << formatFixed(c.largeFit.slope, 4) << "\n";
+      dims.add({centre, x, y, c.area[k], c.dimensionality[k]});
+    slopes.add({centre, x, y, formatFixed(c.fit.slope, 4), formatFixed(c.fit.scale, 4),
+                (long long)c.fit.points, formatFixed(c.largeFit.slope, 4)});
   }
   namespace fs = std::filesystem;
-  writeTextFile((fs::path(dir) / "dimensionality.csv").string(), dims.str());
-  writeTextFile((fs::path(dir) / "slopes.csv").string(), slopes.str());
+  dims.writeCsv((fs::path(dir) / "dimensionality.csv").string());
+  slopes.writeCsv((fs::path(dir) / "slopes.csv").string());
 }
 
 }  // namespace acpca

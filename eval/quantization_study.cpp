@@ -10,6 +10,7 @@
 #include "cluster/quantization.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/table.h"
 #include "eval/dimensionality_study.h"
 #include "eval/error_measures.h"
 #include "eval/eval_report.h"
@@ -155,16 +156,18 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   }
 
   // CSV, JSON and the summary's two tables.
-  std::ostringstream shCsv, modelCsv, md;
-  shCsv << "n,fit,median_condition,max_condition,median_norm,max_norm,median_norm_to_bound,max_"
-           "norm_to_bound,fit_seconds";
-  modelCsv << "method,clusters,global_bases,cost_per_pixel,median_norm_to_bound,max_norm_to_bound";
-  for (CoeffPrecision s : kStorages)
-    for (std::ostringstream* csv : {&shCsv, &modelCsv})
-      *csv << "," << coeffPrecisionName(s) << "_rel_l2," << coeffPrecisionName(s) << "_psnr,"
-           << coeffPrecisionName(s) << "_bytes";
-  shCsv << "\n";
-  modelCsv << "\n";
+  std::ostringstream md;
+  // Each table's own columns, then error, PSNR and bytes per storage.
+  const auto withStored = [](std::vector<std::string> columns) {
+    for (CoeffPrecision s : kStorages)
+      for (const char* what : {"_rel_l2", "_psnr", "_bytes"})
+        columns.push_back(coeffPrecisionName(s) + std::string(what));
+    return columns;
+  };
+  Table shCsv(withStored({"n", "fit", "median_condition", "max_condition", "median_norm",
+                          "max_norm", "median_norm_to_bound", "max_norm_to_bound", "fit_seconds"}));
+  Table modelCsv(withStored({"method", "clusters", "global_bases", "cost_per_pixel",
+                             "median_norm_to_bound", "max_norm_to_bound"}));
   const auto storedJson = [](const StoredError(&stored)[3]) {
     nlohmann::json j;
     for (int s = 0; s < 3; ++s)
@@ -173,17 +176,16 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
                                              {"bytes", stored[s].bytes}};
     return j;
   };
-  const auto storedCsv = [](std::ostringstream& csv, const StoredError(&stored)[3]) {
-    for (const auto& s : stored) csv << "," << s.error << "," << s.psnr << "," << s.bytes;
-    csv << "\n";
+  const auto storedCells = [](std::vector<Table::Cell> cells, const StoredError(&stored)[3]) {
+    for (const auto& s : stored) cells.insert(cells.end(), {s.error, s.psnr, s.bytes});
+    return cells;
   };
   nlohmann::json shJson = nlohmann::json::array(), modelJson = nlohmann::json::array();
   for (const auto& r : shRows) {
-    shCsv << r.n << "," << shFitName(r.fit) << "," << r.stats.medianCondition << ","
-          << r.stats.maxCondition << "," << r.stats.medianNorm << "," << r.stats.maxNorm << ","
-          << r.stats.medianNormToBound << "," << r.stats.maxNormToBound << ","
-          << r.stats.fitSeconds;
-    storedCsv(shCsv, r.stored);
+    shCsv.add(storedCells({(long long)r.n, std::string(shFitName(r.fit)), r.stats.medianCondition,
+                           r.stats.maxCondition, r.stats.medianNorm, r.stats.maxNorm,
+                           r.stats.medianNormToBound, r.stats.maxNormToBound, r.stats.fitSeconds},
+                          r.stored));
     shJson.push_back({{"n", r.n},
                       {"fit", shFitName(r.fit)},
                       {"median_condition", finiteOrNull(r.stats.medianCondition)},
@@ -193,9 +195,9 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
                       {"stored", storedJson(r.stored)}});
   }
   for (const auto& r : modelRows) {
-    modelCsv << r.method << "," << r.clusters << "," << r.globalBases << "," << r.costPerPixel
-             << "," << r.medianNormRatio << "," << r.maxNormRatio;
-    storedCsv(modelCsv, r.stored);
+    modelCsv.add(storedCells({r.method, (long long)r.clusters, (long long)r.globalBases,
+                              r.costPerPixel, r.medianNormRatio, r.maxNormRatio},
+                             r.stored));
     modelJson.push_back({{"method", r.method},
                          {"clusters", r.clusters},
                          {"global_bases", r.globalBases},
@@ -204,8 +206,8 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
                          {"max_norm_to_bound", r.maxNormRatio},
                          {"stored", storedJson(r.stored)}});
   }
-  writeTextFile((fs::path(outDir) / "sh.csv").string(), shCsv.str());
-  writeTextFile((fs::path(outDir) / "models.csv").string(), modelCsv.str());
+  shCsv.writeCsv((fs::path(outDir) / "sh.csv").string());
+  modelCsv.writeCsv((fs::path(outDir) / "models.csv").string());
 
   md << "# Coefficient quantization: " << fs::path(transport.path()).filename().string() << "\n\n"
      << "PSNR (dB) of the relit images against the dense relight, mean over " << data.envs.size()

@@ -8,6 +8,7 @@
 #include "cluster/compress.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/table.h"
 #include "eval/dimensionality_study.h"
 #include "eval/eval_report.h"
 #include "eval/method_sweep.h"
@@ -139,18 +140,16 @@ StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) 
   }
   if (!a.keepTransports && !previousPath.empty()) fs::remove(previousPath);
 
-  std::ostringstream csv;
-  csv << "size,pixels,occupied_pixels,global_bases,clusters,total_cost,cost_per_pixel,ms_per_"
-         "frame,model_bytes,slope,mu,cost_ratio,predicted_ratio,precompute_seconds,compress_"
-         "seconds,same_patch_growth\n";
+  Table csv({"size", "pixels", "occupied_pixels", "global_bases", "clusters", "total_cost",
+             "cost_per_pixel", "ms_per_frame", "model_bytes", "slope", "mu", "cost_ratio",
+             "predicted_ratio", "precompute_seconds", "compress_seconds", "same_patch_growth"});
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& r : results) {
-    csv << r.size << "," << r.pixels << "," << r.occupied << "," << r.globalBases << ","
-        << r.clusters << "," << r.totalCost << "," << r.costPerPixel << "," << r.msPerFrame << ","
-        << r.modelBytes << "," << formatFixed(r.slope, 4) << "," << formatFixed(r.mu, 4) << ","
-        << formatFixed(r.costRatio, 4) << "," << formatFixed(r.predicted, 4) << ","
-        << r.precomputeSeconds << "," << r.compressSeconds << ","
-        << formatFixed(r.samePatchGrowth, 4) << "\n";
+    csv.add({(long long)r.size, r.pixels, r.occupied, (long long)r.globalBases,
+             (long long)r.clusters, r.totalCost, r.costPerPixel, r.msPerFrame, r.modelBytes,
+             formatFixed(r.slope, 4), formatFixed(r.mu, 4), formatFixed(r.costRatio, 4),
+             formatFixed(r.predicted, 4), r.precomputeSeconds, r.compressSeconds,
+             formatFixed(r.samePatchGrowth, 4)});
     rows.push_back({{"size", r.size},
                     {"pixels", r.pixels},
                     {"occupied_pixels", r.occupied},
@@ -168,7 +167,7 @@ StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) 
                     {"precompute_seconds", r.precomputeSeconds},
                     {"compress_seconds", r.compressSeconds}});
   }
-  writeTextFile((fs::path(outDir) / "scaling.csv").string(), csv.str());
+  csv.writeCsv((fs::path(outDir) / "scaling.csv").string());
   const std::string plotProblem = drawPlots("scaling", outDir);
 
   std::ostringstream md;

@@ -127,6 +127,8 @@ std::string messageWithFlag(const ParameterError& error) {
       {"maximum rank", "--max-rank"},
       {"image format", "--format"},
       {"timing frames", "--frames"},
+      {"viewer script", "--script"},
+      {"output path", "--out"},
   };
   const auto it = flags.find(error.parameter());
   return it == flags.end() ? error.what() : error.messageFor(it->second);
@@ -135,6 +137,12 @@ std::string messageWithFlag(const ParameterError& error) {
 StudyLog stderrLog(const std::string& prefix, bool quiet) {
   if (quiet) return {};
   return [prefix](const std::string& line) { std::cerr << prefix << ": " << line << std::endl; };
+}
+
+nlohmann::json rankHistogramJson(const Model& m) {
+  nlohmann::json j = nlohmann::json::object();  // JSON keys are strings
+  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
+  return j;
 }
 
 void printStudy(const StudyOutput& output, const CommonOptions& common) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cluster/model.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "eval/study_output.h"
@@ -69,6 +70,9 @@ std::string messageWithFlag(const ParameterError& error);
 
 /// A log callback printing "PREFIX: line" on stderr; none when quiet.
 StudyLog stderrLog(const std::string& prefix, bool quiet);
+
+/// {"RANK": clusters, ...} for every rank a model's clusters have.
+nlohmann::json rankHistogramJson(const Model& model);
 
 /// Prints a study's summary on stdout (unless quiet) and writes its JSON.
 void printStudy(const StudyOutput& output, const CommonOptions& common);

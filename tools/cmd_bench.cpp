@@ -24,31 +24,18 @@ void runRays(const RaysArgs& a) {
   ThreadLimit limit(a.common.threads);
   const RayBenchmarkReport r =
       runRayBenchmark(scene, a.cubemap, limit.threads(), a.rows, std::max(1, a.repeats));
-  const RayRate& best = r.bestRawLoop();
   std::printf("scene %s: %lld triangles, %s image, middle %d rows, 6x%dx%d lattice, %d threads\n",
               scene.name.c_str(), r.triangles, a.size.c_str(), a.rows, a.cubemap, a.cubemap,
               r.threads);
-  std::printf("%-58s %14s %12s %10s\n", "loop", "rays", "M rays/s", "per core");
-  auto row = [&](const RayRate& rate) {
-    std::printf("%-58s %14lld %12.2f %10.2f\n", rate.name.c_str(), rate.rays,
-                rate.raysPerSecond() / 1e6, rate.raysPerSecond() / 1e6 / r.threads);
-  };
-  row(r.precompute);
-  for (const auto& raw : r.rawLoops) row(raw);
-  const double ratio = r.precompute.raysPerSecond() / best.raysPerSecond();
-  std::printf("precompute / best raw loop (%s): %.3f\n", best.name.c_str(), ratio);
-  nlohmann::json loops = nlohmann::json::array();
-  for (const auto& raw : r.rawLoops)
-    loops.push_back(
-        {{"name", raw.name}, {"rays", raw.rays}, {"rays_per_second", raw.raysPerSecond()}});
+  std::printf("%s", r.table().c_str());
   writeJson(a.common.jsonPath, {{"scene", scene.name},
                                 {"triangles", r.triangles},
                                 {"threads", r.threads},
                                 {"cubemap", a.cubemap},
                                 {"precompute_rays_per_second", r.precompute.raysPerSecond()},
-                                {"raw_loops", loops},
-                                {"best_raw_loop", best.name},
-                                {"ratio_to_best", ratio}});
+                                {"raw_loops", r.rawLoopTable().json()},
+                                {"best_raw_loop", r.bestRawLoop().name},
+                                {"ratio_to_best", r.ratioToBest()}});
 }
 
 }  // namespace

@@ -20,14 +20,6 @@ struct CompressArgs {
   bool exactQuadTree = false, allocateRanks = false;
 };
 
-nlohmann::json histogram(const Model& m) {
-  std::map<int, int> counts;
-  for (int r : m.ranks) ++counts[r];
-  nlohmann::json h = nlohmann::json::object();
-  for (auto [rank, count] : counts) h[std::to_string(rank)] = count;
-  return h;
-}
-
 void run(const CompressArgs& a) {
   CompressOptions o;
   o.method = parseMethod(a.method);
@@ -63,7 +55,7 @@ void run(const CompressArgs& a) {
                                 {"transport_error", model.transportError},
                                 {"global_energy_kept", model.globalEnergyKept},
                                 {"bytes_per_frame", model.frameBytes()},
-                                {"rank_histogram", histogram(model)},
+                                {"rank_histogram", rankHistogramJson(model)},
                                 {"seconds", model.compressSeconds},
                                 {"peak_memory_bytes", model.peakMemoryBytes}});
 }

@@ -15,13 +15,6 @@ struct InfoArgs {
   std::string file, jsonPath;
 };
 
-/// {"RANK": clusters, ...} for every rank the model's clusters have.
-nlohmann::json rankHistogramJson(const Model& m) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
-  return j;
-}
-
 void runModel(const InfoArgs& a) {
   const Model m = readModel(a.file);
   std::error_code ec;

@@ -293,8 +293,8 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       break;
     case Kind::Env:
       if (e.a < 0 || e.a >= envs_.size())
-        throw UserError(
-            concat("--script: env ", e.a, " is not one of the ", envs_.size(), " maps (0-based)"));
+        throw ParameterError("viewer script", concat("env ", e.a),
+                             concat("is not one of the ", envs_.size(), " maps (0-based)"));
       ui_.env = static_cast<int>(e.a);
       request();
       break;

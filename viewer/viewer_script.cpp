@@ -21,7 +21,7 @@ int keyCode(const std::string& word, const std::string& where) {
 
 std::vector<ScriptEvent> readViewerScript(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw UserError(concat("--script '", path, "': cannot open the file"));
+  if (!in) throw ParameterError("viewer script", path, "cannot open the file");
   std::vector<ScriptEvent> events;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

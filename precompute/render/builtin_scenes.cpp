@@ -64,7 +64,8 @@ Scene concaveScene() {
   for (int i = 0; i < rings; ++i)
     for (int k = 0; k < segments; ++k) {
       const int a = i * segments + k, b = i * segments + (k + 1) % segments;
-      bowl.triangles.emplace_back(a, a + segments, b);
+      // Ring 0 is the bottom point, repeated: a fan there, not a quad strip.
+      if (i > 0) bowl.triangles.emplace_back(a, a + segments, b);
       bowl.triangles.emplace_back(b, a + segments, b + segments);
     }
   s.meshes.push_back(std::move(bowl));

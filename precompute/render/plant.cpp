@@ -74,7 +74,9 @@ void addLeaf(TriangleMesh& mesh, const Vec3& base, const Vec3& axis, double leng
     for (int k = 0; k < kAcrossSegments; ++k) {
       const int a = first + i * stride + k, b = a + stride;
       mesh.triangles.emplace_back(a, b, a + 1);
-      mesh.triangles.emplace_back(a + 1, b, b + 1);
+      // The tip row has zero width: its points coincide, and a second triangle
+      // there would have no area.
+      if (i + 1 < kAlongSegments) mesh.triangles.emplace_back(a + 1, b, b + 1);
     }
 }
 

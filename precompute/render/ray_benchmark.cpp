@@ -1,6 +1,7 @@
 #include "precompute/render/ray_benchmark.h"
 
 #include "core/stopwatch.h"
+#include "core/text.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
@@ -204,6 +205,29 @@ RayBenchmarkReport runRayBenchmark(const Scene& scene, int cubemapResolution, in
                                        embree.handle(), w, repeats, loopTexelBlocks));
   });
   return report;
+}
+
+double RayBenchmarkReport::ratioToBest() const {
+  return precompute.raysPerSecond() / bestRawLoop().raysPerSecond();
+}
+
+std::string RayBenchmarkReport::table() const {
+  std::string out = formatted("%-58s %14s %12s %10s\n", "loop", "rays", "M rays/s", "per core");
+  const auto row = [&](const RayRate& rate) {
+    out += formatted("%-58s %14lld %12.2f %10.2f\n", rate.name.c_str(), rate.rays,
+                     rate.raysPerSecond() / 1e6, rate.raysPerSecond() / 1e6 / threads);
+  };
+  row(precompute);
+  for (const auto& raw : rawLoops) row(raw);
+  out += formatted("precompute / best raw loop (%s): %.3f\n", bestRawLoop().name.c_str(),
+                   ratioToBest());
+  return out;
+}
+
+Table RayBenchmarkReport::rawLoopTable() const {
+  Table t({"name", "rays", "rays_per_second"});
+  for (const auto& raw : rawLoops) t.add({raw.name, raw.rays, raw.raysPerSecond()});
+  return t;
 }
 
 }  // namespace acpca

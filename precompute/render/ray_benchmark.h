@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/table.h"
 #include "precompute/render/scene.h"
 
 namespace acpca {
@@ -22,6 +23,12 @@ struct RayBenchmarkReport {
   RayRate precompute;             ///< the real transport pass (BRDF, accumulation, all)
   std::vector<RayRate> rawLoops;  ///< bare Embree loops
   const RayRate& bestRawLoop() const;
+  /// precompute rays/s over the best raw loop's.
+  double ratioToBest() const;
+  /// A row per loop (rays, M rays/s, per core) and the ratio, as text.
+  std::string table() const;
+  /// The raw loops: name, rays, rays_per_second.
+  Table rawLoopTable() const;
 };
 
 /// Runs each loop over the middle `imageRows` rows of the scene's image with

@@ -57,5 +57,20 @@ TEST(FullDisk, EveryWriterFailsCleanlyAndLeavesNothing) {
   }
 }
 
+TEST(FullDisk, AnOutputDirectoryRemovedMidwayIsAClearError) {
+  test::TempDir dir;
+  const std::string out = (dir.path() / "out").string();
+  fs::create_directories(out);
+  // Remove the directory once the precompute has started writing into it.
+  const RunResult r = runShell(
+      std::string(ACPCA_CLI_PATH) + " precompute --scene plant --size 256x256 --cubemap 16 " +
+      "--quiet --out " + out + "/t.h5 & pid=$!; " + "for i in $(seq 600); do ls " + out +
+      "/.t.partial-* >/dev/null 2>&1 && break; sleep 0.01; " + "done; rm -rf " + out +
+      "; wait $pid");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("t.h5: cannot"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace acpca

@@ -17,7 +17,7 @@ struct RunResult {
 /// Runs a shell command line (/bin/sh), stdout and stderr together; status -1
 /// when it did not exit normally (a crash).
 inline RunResult runShell(const std::string& commandLine) {
-  const std::string command = commandLine + " 2>&1";
+  const std::string command = "( " + commandLine + " ) 2>&1";
   RunResult r;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;

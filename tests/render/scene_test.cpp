@@ -22,6 +22,21 @@ TEST(BuiltinScenes, AllExistAndAreValid) {
   EXPECT_THROW(makeBuiltinScene("teapot"), UserError);
 }
 
+TEST(BuiltinScenes, MakeNoZeroAreaTriangles) {
+  // The loader leaves such triangles out; a generator should not make them.
+  for (const auto& info : builtinScenes()) {
+    const Scene s = makeBuiltinScene(info.name);
+    long long degenerate = 0;
+    for (const auto& mesh : s.meshes)
+      for (const auto& t : mesh.triangles) {
+        const Eigen::Vector3f e1 = mesh.vertices[t[1]] - mesh.vertices[t[0]];
+        const Eigen::Vector3f e2 = mesh.vertices[t[2]] - mesh.vertices[t[0]];
+        if (e1.cross(e2).norm() == 0) ++degenerate;
+      }
+    EXPECT_EQ(degenerate, 0) << info.name;
+  }
+}
+
 TEST(BuiltinScenes, PlantIsDetailedAndTheSameEveryTime) {
   const Scene a = makePlantScene(), b = makePlantScene();
   EXPECT_GE(a.triangleCount(), 50000);
