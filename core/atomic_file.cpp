@@ -73,6 +73,13 @@ void AtomicOutput::commit() {
   committed_ = true;
 }
 
+void createOutputDirectory(const std::string& path) {
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  if (!fs::is_directory(path, ec))
+    throw WriteError(concat(path, ": cannot create the output directory"));
+}
+
 void writeTextFile(const std::string& path, const std::string& text) {
   AtomicOutput file(path);
   {

@@ -26,6 +26,10 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+/// Creates a directory (and its parents) for outputs; throws WriteError naming
+/// it when that fails.
+void createOutputDirectory(const std::string& path);
+
 /// Writes a whole text file atomically; throws WriteError naming the path when
 /// the disk is full or the directory is gone.
 void writeTextFile(const std::string& path, const std::string& text);

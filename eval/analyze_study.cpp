@@ -1,12 +1,7 @@
 #include "eval/analyze_study.h"
 
-// The paper's analyses on a transport file
-// (paper 003 sec. 3-5): dimensionality against patch area with log-log slopes,
-// cost against block size with the global basis count N, mu and the optimal
-// patch size p* of eq. 27 beside the measured optimum.
 #include <tbb/parallel_for.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -16,6 +11,7 @@
 #include "cluster/dimensionality.h"
 #include "cluster/global_basis.h"
 #include "cluster/partition.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "core/table.h"
@@ -78,10 +74,7 @@ StudyOutput runAnalysis(const TransportReader& transport, const AnalyzeOptions& 
                         const std::string& outDir) {
   validateAnalyzeOptions(a);
   const Stopwatch watch;
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (!fs::is_directory(outDir))
-    throw UserError(concat(outDir, ": cannot create the report directory"));
+  createOutputDirectory(outDir);
   const auto log = [&](const std::string& s) {
     if (a.log) a.log(s);
   };

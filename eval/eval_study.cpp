@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "eval/error_measures.h"
@@ -95,10 +96,7 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
   const auto log = [&](const std::string& text) {
     if (o.log) o.log(text);
   };
-  std::error_code ec;
-  fs::create_directories(fs::path(dir) / "images", ec);
-  if (!fs::is_directory(fs::path(dir) / "images"))
-    throw UserError(concat(dir, ": cannot create the report directory"));
+  createOutputDirectory((fs::path(dir) / "images").string());
 
   const Stopwatch watch;
   const EvaluationData data = loadEvaluationData(transport, o.envs);

@@ -8,6 +8,7 @@
 
 #include "cluster/compress.h"
 #include "cluster/quantization.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "core/table.h"
@@ -72,7 +73,7 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   const auto log = [&](const std::string& text) {
     if (a.log) a.log(text);
   };
-  fs::create_directories(outDir);
+  createOutputDirectory(outDir);
   const EvaluationData data = loadEvaluationData(transport, a.envs);
 
   std::vector<ShRow> shRows;

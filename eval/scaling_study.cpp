@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cluster/compress.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "core/table.h"
@@ -70,10 +71,7 @@ void validateScalingOptions(const ScalingOptions& a) {
 StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) {
   validateScalingOptions(a);
   const Stopwatch watch;
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (!fs::is_directory(outDir))
-    throw UserError(concat(outDir, ": cannot create the report directory"));
+  createOutputDirectory(outDir);
   const auto log = [&](const std::string& s) {
     if (a.log) a.log(s);
   };

@@ -142,12 +142,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const std::vector<EnvRotation>& rotations = a.rotations;
   const RelightSource source = openSource(a.input, a.maxRank);
   const CubeLattice lattice(source.header.cubemapResolution);
-  if (batch) {
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (!fs::is_directory(out))
-      throw UserError(concat(a.out, ": cannot create the output directory"));
-  }
+  if (batch) createOutputDirectory(a.out);
 
   std::vector<EnvInput> inputs;
   for (const auto& spec : a.envs) {

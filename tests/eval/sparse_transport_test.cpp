@@ -11,6 +11,7 @@
 #include "relight/dense_relight.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
+#include "tests/lighting_support.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -18,13 +19,7 @@ namespace {
 
 class SparsePlant : public test::SmallPlantSuite {
  protected:
-  static std::vector<LatticeLighting> lightings() {
-    const CubeLattice lattice(8);
-    std::vector<LatticeLighting> out;
-    for (const char* env : {"sky", "sun:50,30,4,1000", "constant:1"})
-      out.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
-    return out;
-  }
+  static std::vector<LatticeLighting> lightings() { return test::plantLightings(); }
 };
 
 TEST_F(SparsePlant, SparseDenseRelightSkipsZerosAndMatchesTheFile) {

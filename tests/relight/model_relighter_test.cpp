@@ -19,6 +19,7 @@
 #include "core/statistics.h"
 #include "relight/dense_relight.h"
 #include "relight/lighting.h"
+#include "tests/lighting_support.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -153,13 +154,7 @@ TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
 
 class RelightPlant : public test::SmallPlantSuite {
  protected:
-  static std::vector<LatticeLighting> lightings() {
-    const CubeLattice lattice(8);
-    std::vector<LatticeLighting> out;
-    for (const char* env : {"sky", "sun:50,30,4,1000", "constant:1"})
-      out.push_back(computeLighting(*loadEnvironment(env), lattice, {}));
-    return out;
-  }
+  static std::vector<LatticeLighting> lightings() { return test::plantLightings(); }
 };
 
 TEST_F(RelightPlant, KeepingEverythingMatchesTheDenseRelight) {
