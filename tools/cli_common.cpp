@@ -35,9 +35,10 @@ ThreadLimit::ThreadLimit(int threads)
 ThreadLimit::~ThreadLimit() = default;
 
 Progress::Progress(std::string label, std::string unit, bool quiet)
-    : label_(std::move(label)), unit_(std::move(unit)), quiet_(quiet), tty_(isatty(STDERR_FILENO)) {
-  start_ = lastPrint_ = std::chrono::steady_clock::now();
-}
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      quiet_(quiet),
+      tty_(isatty(STDERR_FILENO)) {}
 
 namespace {
 std::string formatDuration(double seconds) {
@@ -56,11 +57,9 @@ std::string formatDuration(double seconds) {
 
 void Progress::update(long long done, long long total) {
   if (quiet_) return;
-  const auto now = std::chrono::steady_clock::now();
-  const double sinceLast = std::chrono::duration<double>(now - lastPrint_).count();
-  if (done < total && sinceLast < (tty_ ? 0.25 : 5.0)) return;
-  lastPrint_ = now;
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  if (done < total && sinceLastPrint_.seconds() < (tty_ ? 0.25 : 5.0)) return;
+  sinceLastPrint_.restart();
+  const double elapsed = sinceStart_.seconds();
   const double rate = elapsed > 0 ? done / elapsed : 0;
   const double eta = rate > 0 ? (total - done) / rate : NAN;
   char line[256];

@@ -4,7 +4,6 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +11,7 @@
 
 #include "cluster/model.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
 #include "eval/study_output.h"
 #include "precompute/transport/camera.h"
@@ -49,7 +49,7 @@ class Progress {
  private:
   std::string label_, unit_;
   bool quiet_, tty_;
-  std::chrono::steady_clock::time_point start_, lastPrint_;
+  Stopwatch sinceStart_, sinceLastPrint_;
   bool printed_ = false;
 };
 

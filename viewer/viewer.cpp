@@ -1,7 +1,6 @@
 #include "viewer/viewer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +10,7 @@
 #include "cluster/model.h"
 #include "cluster/model_file.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "eval/report_images.h"
 #include "relight/envmap_export.h"
 
@@ -18,7 +18,6 @@ namespace acpca {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr const char* kWindow = "adaptive-cpca view";
 constexpr const char* kExposureBar = "exposure";
 constexpr const char* kRankBar = "rank %";
@@ -26,10 +25,6 @@ constexpr const char* kEnvBar = "env map";
 // The exposure trackbar runs over -10..+10 stops in quarter stops.
 constexpr int kExposureSteps = 80;
 constexpr double kExposureStep = 0.25, kExposureMin = -10;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 EnvRotation rotationOf(const ViewState& s) {
   return EnvRotation{s.yaw, s.pitch, 0};
@@ -95,24 +90,24 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   if (!linear_ || !sameRelight(state, relitFor_)) {
     const Environment& env = *envs_[state.env];
     const EnvRotation rotation = rotationOf(state);
-    auto t = Clock::now();
+    Stopwatch t;
     lighting_ = computeLighting(env, *lattice_, rotation, options_.rotationMode);
-    lightingMs_ = msSince(t);
+    lightingMs_ = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
-    t = Clock::now();
+    t.restart();
     const std::vector<float> rgb = relighter_->relight(lighting_);
-    relightMs_ = msSince(t);
-    t = Clock::now();
+    relightMs_ = t.milliseconds();
+    t.restart();
     linear_ = std::make_shared<const Image>(composeImage(
         relighter_->geometry(), rgb, options_.background, env, rotationMatrix(rotation)));
-    composeMs_ = msSince(t);
+    composeMs_ = t.milliseconds();
     relitFor_ = state;
   }
-  const auto drawStart = Clock::now();
+  const Stopwatch drawWatch;
   cv::Mat image = toneMappedBgr(*linear_, state.exposure);
   drawOverlays(state, image);
   Frame frame;
-  drawStatus(state, composeMs_ + msSince(drawStart), image);
+  drawStatus(state, composeMs_ + drawWatch.milliseconds(), image);
   frame.canvas = image;
   frame.linear = linear_;
   frame.state = state;
@@ -307,8 +302,8 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       writeScreenshot(e.path);
       break;
     case Kind::Wait: {
-      const auto until = Clock::now() + std::chrono::duration<double, std::milli>(e.a);
-      while (Clock::now() < until) {
+      const Stopwatch waiting;
+      while (waiting.milliseconds() < e.a) {
         showLatest();
         cv::waitKey(10);
       }
