@@ -61,14 +61,11 @@ Eigen::MatrixXd shOnLattice(const CubeLattice& lattice, int bands) {
 }
 
 ShFit parseShFit(const std::string& text) {
-  if (text == "uls") return ShFit::Uls;
-  if (text == "cls") return ShFit::Cls;
-  if (text == "ceb") return ShFit::Ceb;
-  throw ParameterError("SH fit", text, "is not one of uls, cls, ceb");
+  return kShFitNames.parse(text);
 }
 
 const char* shFitName(ShFit fit) {
-  return fit == ShFit::Uls ? "uls" : fit == ShFit::Cls ? "cls" : "ceb";
+  return kShFitNames.name(fit);
 }
 
 ShSupportFit::ShSupportFit(const Eigen::MatrixXd& gram) {

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "core/enum_names.h"
 #include "precompute/transport/cube_lattice.h"
 
 namespace acpca {
@@ -31,6 +32,8 @@ enum class ShFit {
   Cls,  ///< constrained least squares: the smallest ridge lambda meeting |c|^2 <= E_c (eq. 19-25)
   Ceb,  ///< constrained eigen basis: leading eigen-directions while |c|^2 <= E_c (eq. 35)
 };
+inline constexpr EnumNames<ShFit, 3> kShFitNames{
+    "SH fit", {{{ShFit::Uls, "uls"}, {ShFit::Cls, "cls"}, {ShFit::Ceb, "ceb"}}}};
 ShFit parseShFit(const std::string& text);  // uls | cls | ceb
 const char* shFitName(ShFit fit);
 

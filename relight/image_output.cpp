@@ -16,10 +16,7 @@
 namespace acpca {
 
 Background parseBackground(const std::string& text) {
-  if (text == "env") return Background::Env;
-  if (text == "black") return Background::Black;
-  if (text == "alpha") return Background::Alpha;
-  throw ParameterError("background", text, "is not one of env, black, alpha");
+  return kBackgroundNames.parse(text);
 }
 
 double linearToSrgb(double v) {

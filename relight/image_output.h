@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "precompute/transport/transport_file.h"
 #include "relight/environment.h"
 
@@ -21,6 +22,9 @@ struct Image {
 };
 
 enum class Background { Env, Black, Alpha };
+inline constexpr EnumNames<Background, 3> kBackgroundNames{
+    "background",
+    {{{Background::Env, "env"}, {Background::Black, "black"}, {Background::Alpha, "alpha"}}}};
 Background parseBackground(const std::string& text);  // env | black | alpha
 
 enum class ImageFormat { Exr, Png };

@@ -12,13 +12,11 @@
 namespace acpca {
 
 Precision parsePrecision(const std::string& text) {
-  if (text == "f16") return Precision::F16;
-  if (text == "f32") return Precision::F32;
-  throw UserError(concat("precision '", text, "' is not one of f16, f32"));
+  return kPrecisionNames.parse(text);
 }
 
 const char* precisionName(Precision p) {
-  return p == Precision::F16 ? "f16" : "f32";
+  return kPrecisionNames.name(p);
 }
 
 void TransportHeader::validate(const std::string& context) const {
@@ -156,7 +154,10 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
   auto& h = header_;
   h.samplesPerPixel = static_cast<int>(h5::readIntAttribute(f, "spp", ctx));
   h.texelRays = static_cast<int>(h5::readIntAttribute(f, "texel_rays", ctx));
-  h.precision = parsePrecision(h5::readStringAttribute(f, "precision", ctx));
+  const std::string precision = h5::readStringAttribute(f, "precision", ctx);
+  if (precision != "f16" && precision != "f32")
+    throw UserError(concat(ctx, ": attribute 'precision' is '", precision, "', not f16 or f32"));
+  h.precision = parsePrecision(precision);
   if (h5::datasetShape(f, kRowsDataset, ctx) !=
       std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.latticeSize())})
     throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));

@@ -8,12 +8,15 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/enum_names.h"
 #include "precompute/transport/camera.h"
 #include "precompute/transport/hdf5_handles.h"
 
 namespace acpca {
 
 enum class Precision { F16, F32 };
+inline constexpr EnumNames<Precision, 2> kPrecisionNames{
+    "precision", {{{Precision::F16, "f16"}, {Precision::F32, "f32"}}}};
 Precision parsePrecision(const std::string& text);  // "f16" | "f32"
 const char* precisionName(Precision p);
 
