@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "core/error.h"
@@ -47,19 +48,35 @@ double costAtError(std::vector<ErrorCostPoint> points, double target) {
   return -1;
 }
 
+std::vector<std::string> hdriSearchPath() {
+  std::vector<std::string> dirs;
+  const char* path = std::getenv("ACPCA_HDRI_PATH");
+  if (!path) return {"/usr/share/blender/datafiles/studiolights/world"};
+  std::string dir;
+  for (const char* c = path;; ++c) {
+    if (*c == ':' || *c == 0) {
+      if (!dir.empty()) dirs.push_back(dir);
+      dir.clear();
+      if (*c == 0) break;
+    } else {
+      dir += *c;
+    }
+  }
+  return dirs;
+}
+
 std::vector<std::string> defaultEvaluationSet() {
   std::vector<std::string> set{"sky", "sun:50,30,4,1000"};
-  std::vector<std::string> hdris;
-  std::error_code ec;
-  for (const char* root : {"/usr/share/blender"}) {
-    if (!std::filesystem::is_directory(root, ec)) continue;
-    for (const auto& e : std::filesystem::recursive_directory_iterator(root, ec))
-      if (e.path().extension() == ".exr" &&
-          e.path().string().find("studiolights/world") != std::string::npos)
-        hdris.push_back(e.path().string());
+  for (const auto& dir : hdriSearchPath()) {
+    std::vector<std::string> maps;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+      if (e.path().extension() == ".exr" || e.path().extension() == ".hdr")
+        maps.push_back(e.path().string());
+    std::sort(maps.begin(), maps.end());
+    for (const auto& m : maps)
+      if (set.size() < 5) set.push_back(m);
   }
-  std::sort(hdris.begin(), hdris.end());
-  for (size_t i = 0; i < std::min<size_t>(3, hdris.size()); ++i) set.push_back(hdris[i]);
   return set;
 }
 

@@ -23,8 +23,13 @@ struct ErrorCostPoint {
 /// two settings that bracket the target. Negative when no two settings bracket it.
 double costAtError(std::vector<ErrorCostPoint> points, double targetError);
 
-/// The default evaluation set: sky, sun:50,30,4,1000, and (when Debian's
-/// blender-data is installed) three of its studio-light HDRIs.
+/// Where the evaluation set's HDRIs are looked for: the directories of
+/// $ACPCA_HDRI_PATH (colon-separated) when set, else the world maps of Debian's
+/// blender-data (/usr/share/blender/datafiles/studiolights/world).
+std::vector<std::string> hdriSearchPath();
+
+/// The default evaluation set: sky, sun:50,30,4,1000, and the first three
+/// .exr/.hdr maps (by name) found along hdriSearchPath().
 std::vector<std::string> defaultEvaluationSet();
 
 }  // namespace acpca

@@ -35,8 +35,14 @@ class Environment {
 /// `sun:THETA,PHI,SIZE_DEG,INTENSITY`, `sky`, or a lat-long image file (.exr, .hdr,
 /// anything OpenImageIO reads). Throws UserError naming the argument.
 std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
-/// Loads an environment image (OpenImageIO): RGB, finite, non-negative; a
-/// horizontal cube cross when its aspect is 4:3, else a lat-long map.
+/// Negative values are ringing from filtering when they hold at most this share
+/// of a map's summed magnitude (all channels): they are clamped to 0 with a
+/// warning. Debian's blender-data world maps hold up to a few millionths.
+inline constexpr double kMaxNegativeShare = 0.01;
+
+/// Loads an environment image (OpenImageIO): RGB, finite; tiny negative values
+/// clamped (kMaxNegativeShare); a horizontal cube cross when its aspect is 4:3,
+/// else a lat-long map.
 std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
 /// True if spec names an analytic map rather than a file.
 bool isAnalyticEnvironment(const std::string& spec);

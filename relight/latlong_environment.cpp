@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/warning.h"
 #include "relight/environment.h"
 
 namespace acpca {
@@ -129,14 +130,31 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
     throw UserError(concat(path, ": cannot read the environment map pixels: ", in->geterror()));
   std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * 3);
+  // Filtered and resampled HDRIs carry tiny negative texels (ringing); they
+  // are clamped to 0, as renderers do, unless they hold a real share of the
+  // map's energy. NaN and Inf are refused.
+  long long negatives = 0;
+  float mostNegative = 0;
+  double negativeSum = 0, absoluteSum = 0;
   for (size_t p = 0; p < rgb.size() / 3; ++p)
     for (int c = 0; c < 3; ++c) {
       const float v = all[p * channels + std::min(c, channels < 3 ? 0 : c)];
-      if (!std::isfinite(v) || v < 0)
+      if (!std::isfinite(v))
         throw UserError(concat(path, ": pixel (", p % spec.width, ", ", p / spec.width,
-                               ") channel ", c, " is ", v, "; radiance must be finite and >= 0"));
-      rgb[3 * p + c] = v;
+                               ") channel ", c, " is ", v, "; radiance must be finite"));
+      absoluteSum += std::abs(v);
+      if (v < 0) ++negatives, negativeSum -= v, mostNegative = std::min(mostNegative, v);
+      rgb[3 * p + c] = std::max(v, 0.0f);
     }
+  if (negatives > 0) {
+    const double share = negativeSum / absoluteSum;
+    if (share > kMaxNegativeShare)
+      throw UserError(concat(path, ": ", negatives, " negative values (down to ", mostNegative,
+                             ") hold ", 100 * share, "% of the map's summed magnitude; more than ",
+                             100 * kMaxNegativeShare, "% is not ringing but a broken map"));
+    warn(concat(path, ": ", negatives, " negative values clamped to 0 (the most negative ",
+                mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
+  }
   std::string name = std::filesystem::path(path).stem().string();
   // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
   if (spec.width * 3 == spec.height * 4 && spec.width % 4 == 0)

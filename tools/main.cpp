@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/warning.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -70,6 +71,9 @@ int main(int argc, char** argv) {
   acpca::cli::registerEval(app);
   acpca::cli::registerAnalyze(app);
   acpca::cli::registerView(app);
+  // Imperfect input that was accepted (e.g. a map's clamped negative texels).
+  acpca::setWarningHandler(
+      [](const std::string& text) { std::cerr << "adaptive-cpca: warning: " << text << "\n"; });
   try {
     acpca::cli::refuseUnknownSubcommand(app, argc, argv);
     app.parse(argc, argv);

@@ -3,9 +3,33 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "tests/temp_dir.h"
 
 namespace acpca {
 namespace {
+
+TEST(Evaluation, TheDefaultSetFindsItsHdrisAlongTheSearchPath) {
+  test::TempDir a, b;
+  for (const char* name : {"b.exr", "a.hdr", "notes.txt"}) std::ofstream(a.file(name)) << "x";
+  std::ofstream(b.file("c.exr")) << "x";
+  const char* saved = std::getenv("ACPCA_HDRI_PATH");
+  const std::string previous = saved ? saved : "";
+  setenv("ACPCA_HDRI_PATH", (a.path().string() + ":" + b.path().string()).c_str(), 1);
+  EXPECT_EQ(hdriSearchPath(), (std::vector<std::string>{a.path().string(), b.path().string()}));
+  // Two analytic maps, then the first three maps along the path, by name.
+  EXPECT_EQ(defaultEvaluationSet(),
+            (std::vector<std::string>{"sky", "sun:50,30,4,1000", a.file("a.hdr"), a.file("b.exr"),
+                                      b.file("c.exr")}));
+  setenv("ACPCA_HDRI_PATH", "", 1);
+  EXPECT_EQ(defaultEvaluationSet(), (std::vector<std::string>{"sky", "sun:50,30,4,1000"}));
+  if (saved)
+    setenv("ACPCA_HDRI_PATH", previous.c_str(), 1);
+  else
+    unsetenv("ACPCA_HDRI_PATH");
+}
 
 TEST(Evaluation, ErrorMeasures) {
   const std::vector<float> ref{1, 2, 3, 4}, same = ref, off{1, 2, 3, 5};

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/warning.h"
 #include "relight/envmap_export.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
@@ -141,24 +142,66 @@ TEST(Environment, MapsDeclaringMorePixelsThanTheyHoldAreRefusedBeforeReading) {
   }
 }
 
-TEST(Environment, FilesWithNaNInfOrNegativeTexelsAreRefused) {
+/// A 16x8 float EXR of 0.5 everywhere with `changes` applied (value index, value).
+std::string writeSmallMap(const test::TempDir& dir, const std::string& name,
+                          const std::vector<std::pair<int, float>>& changes) {
+  const std::string path = dir.file(name);
+  std::vector<float> pixels(3 * 16 * 8, 0.5f);
+  for (const auto& [index, value] : changes) pixels[index] = value;
+  auto out = OIIO::ImageOutput::create(path);
+  EXPECT_TRUE(out->open(path, OIIO::ImageSpec(16, 8, 3, OIIO::TypeDesc::FLOAT)));
+  EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  out->close();
+  return path;
+}
+
+TEST(Environment, FilesWithNaNOrInfTexelsAreRefusedNamingThePixel) {
   test::TempDir dir;
-  for (float bad : {NAN, INFINITY, -1.0f}) {
-    const std::string path = dir.file("bad.exr");
-    std::vector<float> pixels(3 * 16 * 8, 0.5f);
-    pixels[3 * 20 + 1] = bad;
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(16, 8, 3, OIIO::TypeDesc::FLOAT)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    out->close();
+  for (float bad : {NAN, INFINITY, -INFINITY}) {
+    const std::string path = writeSmallMap(dir, "bad.exr", {{3 * 20 + 1, bad}});
     try {
       loadEnvironment(path);
       FAIL() << "accepted a texel of " << bad;
     } catch (const UserError& e) {
       EXPECT_NE(std::string(e.what()).find("(4, 1)"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.exr"), std::string::npos) << e.what();
     }
   }
   EXPECT_THROW(loadEnvironment(dir.file("missing.exr")), UserError);
+}
+
+TEST(Environment, TinyNegativeTexelsAreClampedWithOneWarning) {
+  test::TempDir dir;
+  // Ringing as filtered HDRIs have it: a few values just below zero.
+  const std::string ringing =
+      writeSmallMap(dir, "ringing.exr", {{5, -4.5e-6f}, {100, -0.004f}, {201, -1e-7f}});
+  const std::string clean = writeSmallMap(dir, "clean.exr", {{5, 0}, {100, 0}, {201, 0}});
+  std::vector<std::string> warnings;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string& w) { warnings.push_back(w); });
+  const auto env = loadEnvironment(ringing);
+  setWarningHandler(previous);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("3 negative values clamped to 0"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("-0.004"), std::string::npos) << warnings[0];
+  // Clamped means exactly the map with zeros there.
+  const CubeLattice lattice(4);
+  EXPECT_EQ(computeLighting(*env, lattice, {}),
+            computeLighting(*loadEnvironment(clean), lattice, {}));
+}
+
+TEST(Environment, MapsWhoseNegativeValuesHoldRealEnergyAreRefused) {
+  test::TempDir dir;
+  std::vector<std::pair<int, float>> changes;
+  for (int i = 0; i < 40; ++i) changes.push_back({3 * i, -0.5f});  // 40 of 384 values
+  const std::string path = writeSmallMap(dir, "broken.exr", changes);
+  try {
+    loadEnvironment(path);
+    FAIL() << "accepted a map with 10% negative magnitude";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.exr: 40 negative values"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Environment, SpecsParseOrFailClearly) {

@@ -1,0 +1,29 @@
+#include "core/warning.h"
+
+#include <mutex>
+
+namespace acpca {
+
+namespace {
+std::mutex& handlerMutex() {
+  static std::mutex m;
+  return m;
+}
+WarningHandler& currentHandler() {
+  static WarningHandler h;
+  return h;
+}
+}  // namespace
+
+WarningHandler setWarningHandler(WarningHandler handler) {
+  std::lock_guard lock(handlerMutex());
+  std::swap(currentHandler(), handler);
+  return handler;
+}
+
+void warn(const std::string& message) {
+  std::lock_guard lock(handlerMutex());
+  if (currentHandler()) currentHandler()(message);
+}
+
+}  // namespace acpca
