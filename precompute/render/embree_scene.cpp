@@ -50,17 +50,23 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     // Zero-area triangles (repeated or collinear corners) have no normal and
     // cover nothing: they are left out rather than risk a NaN normal on a hit.
     std::vector<Eigen::Vector3i> kept;
+    std::vector<Eigen::Vector3f> keptNormals;  // three per kept triangle
     kept.reserve(mesh.triangles.size());
-    for (const auto& tri : mesh.triangles) {
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto& tri = mesh.triangles[i];
       const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>(),
                             b = mesh.vertices[tri[1]].cast<double>(),
                             c = mesh.vertices[tri[2]].cast<double>();
       const double twiceArea = (b - a).cross(c - a).norm();
       const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
-      if (twiceArea > 1e-12 * longest * longest)
+      if (twiceArea > 1e-12 * longest * longest) {
         kept.push_back(tri);
-      else
+        if (!mesh.normals.empty())
+          keptNormals.insert(keptNormals.end(), mesh.normals.begin() + 3 * i,
+                             mesh.normals.begin() + 3 * i + 3);
+      } else {
         ++degenerateTriangles_;
+      }
     }
     auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), kept.size()));
@@ -72,6 +78,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     ACPCA_CHECK(id == materials_.size(), "geometry id ", id);
     materials_.push_back(mesh.material);
     sphereOfGeometry_.push_back(nullptr);
+    cornerNormals_.push_back(std::move(keptNormals));
   }
   for (const auto& sphere : scene.spheres) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -85,6 +92,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     ACPCA_CHECK(id == materials_.size(), "geometry id ", id);
     materials_.push_back(sphere.material);
     sphereOfGeometry_.push_back(&sphere);
+    cornerNormals_.emplace_back();
   }
   rtcCommitScene(scene_);
   checkDevice(device_, "building the scene");
@@ -117,10 +125,23 @@ EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& directio
     // Exact normal, and the hit point snapped back onto the true sphere.
     hit.normal = (hit.position - sphere->center).normalized();
     hit.position = sphere->center + sphere->radius * hit.normal;
+    hit.shadingNormal = hit.normal;
   } else {
     hit.normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+    hit.shadingNormal = hit.normal;
+    const auto& corners = cornerNormals_[rh.hit.geomID];
+    if (!corners.empty()) {
+      // Embree's barycentrics: p = (1 - u - v) p0 + u p1 + v p2.
+      const double u = rh.hit.u, v = rh.hit.v;
+      const size_t first = 3 * static_cast<size_t>(rh.hit.primID);
+      const Vec3 n = (1 - u - v) * corners[first].cast<double>() +
+                     u * corners[first + 1].cast<double>() + v * corners[first + 2].cast<double>();
+      if (n.norm() > 1e-12) hit.shadingNormal = n.normalized();
+    }
   }
   if (hit.normal.dot(direction) > 0) hit.normal = -hit.normal;  // two-sided: face the viewer
+  // The shading normal lies on the side of the surface the viewer sees.
+  if (hit.shadingNormal.dot(hit.normal) < 0) hit.shadingNormal = -hit.shadingNormal;
   return hit;
 }
 
@@ -163,9 +184,11 @@ GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int sample
               g.samples[(static_cast<size_t>(y) * camera.size.width + x) * samplesPerPixel + s];
           ps.material = hit.material;
           if (hit.material < 0) continue;
-          ps.normal = hit.normal.cast<float>();
+          ps.normal = hit.shadingNormal.cast<float>();
+          ps.geometricNormal = hit.normal.cast<float>();
           ps.toViewer = (-dir).cast<float>();
-          // Pushed off along the normal so shadow rays miss their own surface.
+          // Pushed off along the geometric normal so shadow rays miss their own
+          // surface whatever the shading normal says.
           ps.origin = (hit.position + epsilon * hit.normal).cast<float>();
         }
   });

@@ -31,7 +31,8 @@ class EmbreeScene {
   struct Hit {
     int material = -1;
     Vec3 position;
-    Vec3 normal;  ///< unit, turned to face the ray's origin
+    Vec3 normal;         ///< geometric, unit, turned to face the ray's origin
+    Vec3 shadingNormal;  ///< interpolated (the geometric one when flat), on normal's side
   };
   Hit intersect(const Vec3& origin, const Vec3& direction) const;
 
@@ -42,14 +43,17 @@ class EmbreeScene {
   long long degenerateTriangles_ = 0;
   std::vector<Material> materials_;              // per geometry ID
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
+  /// Per geometry: three shading normals per kept triangle (empty: flat).
+  std::vector<std::vector<Eigen::Vector3f>> cornerNormals_;
 };
 
 /// One camera sample of a pixel: where it hit and how it is seen.
 struct PixelSample {
-  Eigen::Vector3f origin;    ///< hit point pushed off the surface along the normal
-  Eigen::Vector3f normal;    ///< unit, facing the viewer
-  Eigen::Vector3f toViewer;  ///< unit
-  int material = -1;         ///< -1: the sample missed (background)
+  Eigen::Vector3f origin;           ///< hit point pushed off along the geometric normal
+  Eigen::Vector3f normal;           ///< shading normal: unit, on the viewer's side
+  Eigen::Vector3f geometricNormal;  ///< unit, facing the viewer
+  Eigen::Vector3f toViewer;         ///< unit
+  int material = -1;                ///< -1: the sample missed (background)
 };
 
 /// Camera samples of every pixel: samples[(y * width + x) * spp + s].

@@ -50,6 +50,12 @@ void Scene::validate() const {
     for (const auto& t : m.triangles)
       if ((t.array() < 0).any() || (t.array() >= n).any())
         throw UserError(concat(what, ": a triangle indexes a vertex that does not exist"));
+    if (!m.normals.empty() && m.normals.size() != 3 * m.triangles.size())
+      throw UserError(concat(what, ": ", m.normals.size(), " shading normals for ",
+                             m.triangles.size(), " triangles (three per triangle)"));
+    for (const auto& normal : m.normals)
+      if (!normal.allFinite() || normal.norm() == 0)
+        throw UserError(concat(what, ": a shading normal is zero, NaN or infinite"));
   }
   for (size_t i = 0; i < spheres.size(); ++i) {
     const std::string what = concat("scene ", name, ", sphere ", i);
@@ -90,9 +96,12 @@ TriangleMesh makeBox(const Vec3& lo, const Vec3& hi, const Material& m, const st
 }
 
 void appendMesh(TriangleMesh& a, const TriangleMesh& b) {
+  ACPCA_CHECK(a.normals.empty() == b.normals.empty() || a.triangles.empty(),
+              "appending meshes with and without shading normals");
   const int offset = static_cast<int>(a.vertices.size());
   a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
   for (const auto& t : b.triangles) a.triangles.push_back(t.array() + offset);
+  a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
 }
 
 Scene loadScene(const std::string& nameOrPath) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "precompute/render/material.h"
 #include "precompute/transport/camera.h"
 
@@ -16,7 +17,25 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<Eigen::Vector3i> triangles;
   Material material;
+  /// Shading normals, three per triangle (one per corner, so creases can keep
+  /// their edge), interpolated across each triangle; empty: flat shading with
+  /// the geometric normal.
+  std::vector<Eigen::Vector3f> normals;
 };
+
+/// Where a mesh's shading normals come from: the file's own, computed smooth
+/// across edges sharper than no crease angle, or none (flat).
+enum class NormalMode { File, Smooth, Flat };
+inline constexpr EnumNames<NormalMode, 3> kNormalModeNames{
+    "normals",
+    {{{NormalMode::File, "file"}, {NormalMode::Smooth, "smooth"}, {NormalMode::Flat, "flat"}}}};
+/// Edges whose faces meet at more than this stay sharp when normals are smoothed.
+inline constexpr double kDefaultCreaseDegrees = 60;
+
+/// Per-corner normals averaging, at each corner, the area-weighted normals of
+/// the triangles around its vertex that lie within `creaseDegrees` of the
+/// corner's own triangle (vertices at the same position count as one).
+void smoothNormals(TriangleMesh& mesh, double creaseDegrees = kDefaultCreaseDegrees);
 
 struct Sphere {
   Vec3 center{0, 0, 0};
@@ -60,7 +79,10 @@ Scene makePlantScene();
 /// Built-in name or path to a scene JSON file (docs/scenes.md).
 Scene loadScene(const std::string& nameOrPath);
 Scene loadSceneJson(const std::string& path);
-/// Loads an OBJ/PLY/glTF mesh (all its parts merged) through assimp.
-TriangleMesh loadMeshFile(const std::string& path);
+/// Loads an OBJ/PLY/glTF mesh (all its parts merged) through assimp. Shading
+/// normals: the file's with NormalMode::File (smooth ones, with a warning, when
+/// it has none), computed with Smooth, none with Flat.
+TriangleMesh loadMeshFile(const std::string& path, NormalMode normals = NormalMode::File,
+                          double creaseDegrees = kDefaultCreaseDegrees);
 
 }  // namespace acpca

@@ -159,11 +159,22 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
     throw UserError(concat(r.where(), ": give exactly one of 'shape' or 'mesh'"));
   const Material material = readMaterial(r.child("material"));
   if (r.has("mesh")) {
-    r.allowOnly({"mesh", "transform", "material"});
+    r.allowOnly({"mesh", "transform", "material", "normals", "crease_angle"});
     const fs::path file = baseDir / r.text("mesh");
+    NormalMode normals = NormalMode::File;
+    if (r.has("normals")) {
+      try {
+        normals = kNormalModeNames.parse(r.text("normals"));
+      } catch (const ParameterError& e) {
+        throw UserError(concat(r.path("normals"), ": '", e.value(), "' ", e.problem()));
+      }
+    }
+    const double crease = r.has("crease_angle") ? r.number("crease_angle") : kDefaultCreaseDegrees;
+    if (!(crease >= 0 && crease <= 180))
+      throw UserError(concat(r.path("crease_angle"), ": ", crease, " is not in 0..180 degrees"));
     TriangleMesh mesh;
     try {
-      mesh = loadMeshFile(file.string());
+      mesh = loadMeshFile(file.string(), normals, crease);
     } catch (const UserError& e) {
       throw UserError(concat(r.path("mesh"), ": ", e.what()));
     }
@@ -172,6 +183,9 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
       const Eigen::Matrix4d t = readTransform(r.child("transform"));
       for (auto& v : mesh.vertices)
         v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
+      // Normals follow the inverse transpose (non-uniform scale bends them).
+      const Eigen::Matrix3d normalMatrix = t.topLeftCorner<3, 3>().inverse().transpose();
+      for (auto& n : mesh.normals) n = (normalMatrix * n.cast<double>()).normalized().cast<float>();
     }
     scene.meshes.push_back(std::move(mesh));
     return;

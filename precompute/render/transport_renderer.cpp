@@ -129,7 +129,7 @@ class BandRenderer {
   /// Adds weight x V x cos x (f / albedo) of one pixel sample to its row.
   long long trace(const PixelSample& ps, const Material& m, float weight, float* row) const {
     constexpr float invPi = std::numbers::inv_pi_v<float>;
-    const Eigen::Vector3f n = ps.normal;
+    const Eigen::Vector3f n = ps.normal, ng = ps.geometricNormal;
     const Eigen::Vector3f mirrored = 2 * n.dot(ps.toViewer) * n - ps.toViewer;
     const bool glossy = m.type == Material::Type::Phong && m.specular > 0;
     const float ks = float(m.specular), s = float(m.exponent);
@@ -159,7 +159,11 @@ class BandRenderer {
           const size_t q = static_cast<size_t>(j) * k + r;
           slot[i] = q;
           cosine[i] = n.x() * dirs_.x[q] + n.y() * dirs_.y[q] + n.z() * dirs_.z[q];
-          valid[i] = block[i] >= 0 && cosine[i] > 0 ? -1 : 0;  // below the horizon: no ray
+          // Light must arrive above the shading horizon (the cosine) and above
+          // the true surface: from below the geometric horizon the surface
+          // itself is in the way (docs/scenes.md, "Shading normals").
+          const float geometric = ng.x() * dirs_.x[q] + ng.y() * dirs_.y[q] + ng.z() * dirs_.z[q];
+          valid[i] = block[i] >= 0 && cosine[i] > 0 && geometric > 0 ? -1 : 0;
           active += valid[i] != 0;
         }
         if (active == 0) continue;

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/warning.h"
 #include "precompute/render/scene.h"
 #include "tests/render_support.h"
 
@@ -78,6 +79,45 @@ TEST(SceneJson, ReadsPrimitivesMeshesAndTransforms) {
   // scale 2, then 90 degrees about +Y (x -> -z), then +1 in x: (1,0,0) -> (1,0,-2).
   EXPECT_TRUE(s.meshes[1].vertices[1].isApprox(Eigen::Vector3f(1, 0, -2), 1e-6f));
   EXPECT_TRUE(s.meshes[2].vertices[1].isApprox(Eigen::Vector3f(6, 0, 0), 1e-6f));
+}
+
+TEST(SceneJson, MeshNormalsComeFromTheFileOrAreMadeSmoothOrFlat) {
+  TempDir dir;
+  // A quad whose file normals lean towards +x, which the rotation must follow.
+  writeFile(dir, "quad.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nvn 0.6 0.8 0\nf 1//1 3//1 2//1\n"
+            "f 1//1 4//1 3//1\n");
+  writeFile(dir, "bare.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 3 2\n");
+  const auto scene = [&](const std::string& objects) {
+    return loadSceneJson(writeFile(
+        dir, "n.json", std::string("{") + kCamera + R"(, "objects": [)" + objects + "]}"));
+  };
+  const std::string grey = R"("material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})";
+  const Scene file =
+      scene(R"({"mesh": "quad.obj", "transform": {"rotate_y_deg": 90}, )" + grey + "}");
+  ASSERT_EQ(file.meshes[0].normals.size(), 6u);
+  // (0.6, 0.8, 0) turned 90 degrees about +Y: x -> -z.
+  EXPECT_TRUE(file.meshes[0].normals[0].isApprox(Eigen::Vector3f(0, 0.8f, -0.6f), 1e-5f));
+  const Scene flat = scene(R"({"mesh": "quad.obj", "normals": "flat", )" + grey + "}");
+  EXPECT_TRUE(flat.meshes[0].normals.empty());
+  const Scene smooth = scene(R"({"mesh": "quad.obj", "normals": "smooth", )" + grey + "}");
+  EXPECT_TRUE(smooth.meshes[0].normals[0].isApprox(Eigen::Vector3f(0, -1, 0), 1e-6f) ||
+              smooth.meshes[0].normals[0].isApprox(Eigen::Vector3f(0, 1, 0), 1e-6f));
+  // No normals in the file: smooth ones, and a warning that says so.
+  std::vector<std::string> warnings;
+  const auto previous = setWarningHandler([&](const std::string& w) { warnings.push_back(w); });
+  const Scene bare = scene(R"({"mesh": "bare.obj", )" + grey + "}");
+  setWarningHandler(previous);
+  EXPECT_EQ(bare.meshes[0].normals.size(), 3u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("no vertex normals"), std::string::npos) << warnings[0];
+  try {
+    scene(R"({"mesh": "quad.obj", "normals": "phong", )" + grey + "}");
+    FAIL() << "accepted normals 'phong'";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("normals"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(scene(R"({"mesh": "quad.obj", "crease_angle": 200, )" + grey + "}"), UserError);
 }
 
 void expectError(const std::string& path, const std::string& needle) {
