@@ -11,10 +11,6 @@
 
 namespace acpca {
 
-Vec3 directionFromAngles(double theta, double phi) {
-  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
-}
-
 void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                              const std::function<Rgb(const Vec3&)>& radiance, int sub,
                              LatticeLighting& lighting) {

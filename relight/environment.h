@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "precompute/transport/camera.h"
 #include "precompute/transport/cube_lattice.h"
 
 namespace acpca {
@@ -61,10 +62,6 @@ std::unique_ptr<Environment> makeCubeCrossEnvironment(std::string name, int face
                                                       std::vector<float> rgb);
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb);
-
-/// Unit direction of lat-long angles (design.md section 3): theta from +Y, phi
-/// from -Z towards +X.
-Vec3 directionFromAngles(double thetaRadians, double phiRadians);
 
 /// Integrates a smooth radiance function over every texel by splitting the texel
 /// into sub x sub cells weighted by their exact solid angles (for analytic maps).

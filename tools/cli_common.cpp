@@ -127,6 +127,7 @@ std::string messageWithFlag(const ParameterError& error) {
       {"image format", "--format"},
       {"timing frames", "--frames"},
       {"viewer script", "--script"},
+      {"camera", "--camera"},
       {"output path", "--out"},
   };
   const auto it = flags.find(error.parameter());

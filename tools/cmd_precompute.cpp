@@ -12,7 +12,7 @@ namespace {
 
 struct PrecomputeArgs {
   CommonOptions common;
-  std::string scene, out, size, precision = "f16";
+  std::string scene, out, size, camera, precision = "f16";
   int cubemap = 32, spp = 1, texelRays = 1;
 };
 
@@ -26,6 +26,7 @@ void run(const PrecomputeArgs& a) {
   options.threads = a.common.threads;
   Scene scene = loadScene(a.scene);
   if (!a.size.empty()) scene.camera.size = parseSize(a.size, "--size");
+  applyCameraSpec(scene, a.camera);
   scene.validate();
 
   for (const auto& w : samplingWarnings(scene, options)) std::cerr << "warning: " << w << "\n";
@@ -73,6 +74,9 @@ void registerPrecompute(CLI::App& app) {
   sub->add_option("--scene", args->scene, "Built-in scene name or scene JSON file")->required();
   sub->add_option("--out", args->out, "Transport file to write (HDF5)")->required();
   sub->add_option("--size", args->size, "Image size WxH (default: the scene's)");
+  sub->add_option("--camera", args->camera,
+                  "auto: frame the scene's bounds from its camera's direction; auto:THETA,PHI: "
+                  "from that direction (degrees: THETA from +Y, PHI from -Z towards +X)");
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R (6 R^2 directions)");
   sub->add_option("--spp", args->spp, "Camera samples per pixel");
   sub->add_option("--texel-rays", args->texelRays,

@@ -3,6 +3,7 @@
 // material. Built-in scenes (builtin_scenes.cpp) and JSON files (scene_json.cpp)
 // both produce one.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,19 @@ bool isBuiltinScene(const std::string& name);
 Scene makeBuiltinScene(const std::string& name);
 /// The procedural potted plant (plant.cpp); fixed seed, so always the same.
 Scene makePlantScene();
+
+/// The box a framing camera fits: every object's, leaving out flat ones
+/// (floors, backdrops) when anything else is there.
+Eigen::AlignedBox3d framedBounds(const Scene& scene);
+/// The scene's camera (fov and size kept) moved to look at the centre of
+/// framedBounds from `fromDirection`, just far enough that the bounding sphere
+/// times `margin` fits the narrower field of view; +Y up (-Z looking straight
+/// up or down).
+Camera frameCamera(const Scene& scene, const Vec3& fromDirection, double margin = 1.05);
+/// "auto": frame the scene from its own camera's direction; "auto:THETA,PHI":
+/// from that direction (degrees, as directionFromAngles); "": leave it.
+/// Throws ParameterError ("camera") for anything else.
+void applyCameraSpec(Scene& scene, const std::string& spec);
 
 /// Built-in name or path to a scene JSON file (docs/scenes.md).
 Scene loadScene(const std::string& nameOrPath);

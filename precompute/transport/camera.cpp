@@ -37,4 +37,8 @@ Vec3 Camera::rayDirection(double px, double py) const {
   return (forward + x * right + y * trueUp).normalized();
 }
 
+Vec3 directionFromAngles(double theta, double phi) {
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
 }  // namespace acpca

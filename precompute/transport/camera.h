@@ -17,6 +17,10 @@ constexpr int kMaxImageSide = 16384;
 /// Throws UserError naming `what` unless both sides are in 1..kMaxImageSide.
 void validateImageSize(const ImageSize& size, const std::string& what);
 
+/// Unit direction of lat-long angles (design.md section 3): theta from +Y, phi
+/// from -Z towards +X. Lighting, suns and framing cameras all use it.
+Vec3 directionFromAngles(double thetaRadians, double phiRadians);
+
 struct Camera {
   Vec3 eye{0, 0, 1};
   Vec3 target{0, 0, 0};

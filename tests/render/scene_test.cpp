@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
 
 #include "core/error.h"
 #include "core/warning.h"
+#include "precompute/render/embree_scene.h"
 #include "precompute/render/scene.h"
 #include "tests/render_support.h"
 
@@ -118,6 +121,38 @@ TEST(SceneJson, MeshNormalsComeFromTheFileOrAreMadeSmoothOrFlat) {
     EXPECT_NE(std::string(e.what()).find("normals"), std::string::npos) << e.what();
   }
   EXPECT_THROW(scene(R"({"mesh": "quad.obj", "crease_angle": 200, )" + grey + "}"), UserError);
+}
+
+TEST(CameraFraming, TheSceneFillsTheViewFromAnyDirectionAndFloorsAreLeftOut) {
+  // A sphere of radius 50 far from the origin, on a floor 1000 wide.
+  Scene scene{"framed", {}, {}, {}};
+  scene.spheres.push_back({{300, 50, -200}, 50, Material{}});
+  scene.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 1000, Material{}, "floor"));
+  scene.camera.size = {96, 64};
+  scene.camera.fovDegrees = 40;
+  EXPECT_TRUE(framedBounds(scene).center().isApprox(Vec3(300, 50, -200)));
+  for (const char* spec : {"auto:60,30", "auto:0,0", "auto:85,200"}) {
+    Scene s = scene;
+    applyCameraSpec(s, spec);
+    EXPECT_NO_THROW(s.camera.validate()) << spec;
+    EXPECT_TRUE(s.camera.target.isApprox(Vec3(300, 50, -200))) << spec;
+    // The bounding sphere (the box's, radius 50 sqrt 3) times 1.05 just fits
+    // the vertical field of view, the narrower one here.
+    const double distance = (s.camera.eye - s.camera.target).norm();
+    EXPECT_NEAR(std::asin(1.05 * 50 * std::sqrt(3.0) / distance) * 180 / std::numbers::pi, 20, 1e-9)
+        << spec;
+    // Looking down the given direction: the sphere is in the middle of the image.
+    const EmbreeScene embree(s);
+    const auto hit = embree.intersect(s.camera.eye, s.camera.rayDirection(48, 32));
+    EXPECT_EQ(hit.material, 1) << spec;  // the sphere (geometry 1), not the floor
+  }
+  Scene own = scene;
+  own.camera.eye = {300, 50, 100};  // "auto" keeps the scene's own direction (+Z)
+  own.camera.target = {300, 50, 0};
+  applyCameraSpec(own, "auto");
+  EXPECT_TRUE((own.camera.eye - own.camera.target).normalized().isApprox(Vec3(0, 0, 1)));
+  EXPECT_THROW(applyCameraSpec(own, "auto:30"), ParameterError);
+  EXPECT_THROW(applyCameraSpec(own, "front"), ParameterError);
 }
 
 void expectError(const std::string& path, const std::string& needle) {
