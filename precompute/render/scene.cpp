@@ -29,6 +29,13 @@ namespace {
 void validateMaterial(const Material& m, const std::string& what) {
   if (!m.albedo.allFinite() || (m.albedo.array() < 0).any())
     throw UserError(concat(what, ": albedo must be finite and >= 0"));
+  if (m.type == Material::Type::Ggx) {
+    if (!(m.specular >= 0 && m.specular <= 1))
+      throw UserError(concat(what, ": specular ", m.specular, " is outside [0, 1]"));
+    if (!(m.roughness >= kMinRoughness && m.roughness <= 1))
+      throw UserError(
+          concat(what, ": GGX roughness ", m.roughness, " is outside [", kMinRoughness, ", 1]"));
+  }
   if (m.type == Material::Type::Phong) {
     if (!(m.specular >= 0 && m.specular <= 1))
       throw UserError(concat(what, ": specular ", m.specular, " is outside [0, 1]"));

@@ -118,9 +118,19 @@ Material readMaterial(const Reader& r) {
       throw UserError(concat(r.path("specular"), ": ", m.specular, " is outside [0, 1]"));
     if (m.exponent < 0 || m.exponent > 1e6)
       throw UserError(concat(r.path("exponent"), ": ", m.exponent, " is outside [0, 1e6]"));
+  } else if (type == "ggx") {
+    r.allowOnly({"type", "albedo", "specular", "roughness"});
+    m.type = Material::Type::Ggx;
+    m.specular = r.number("specular");
+    m.roughness = r.number("roughness");
+    if (m.specular < 0 || m.specular > 1)
+      throw UserError(concat(r.path("specular"), ": ", m.specular, " is outside [0, 1]"));
+    if (!(m.roughness >= kMinRoughness && m.roughness <= 1))
+      throw UserError(
+          concat(r.path("roughness"), ": ", m.roughness, " is outside [", kMinRoughness, ", 1]"));
   } else {
     throw UserError(
-        concat(r.path("type"), ": unknown material type '", type, "' (diffuse or phong)"));
+        concat(r.path("type"), ": unknown material type '", type, "' (diffuse, phong or ggx)"));
   }
   m.albedo = readAlbedo(r);
   return m;

@@ -130,9 +130,13 @@ class BandRenderer {
   long long trace(const PixelSample& ps, const Material& m, float weight, float* row) const {
     constexpr float invPi = std::numbers::inv_pi_v<float>;
     const Eigen::Vector3f n = ps.normal, ng = ps.geometricNormal;
+    const bool flat = n == ng;  // one horizon to test
     const Eigen::Vector3f mirrored = 2 * n.dot(ps.toViewer) * n - ps.toViewer;
     const bool glossy = m.type == Material::Type::Phong && m.specular > 0;
-    const float ks = float(m.specular), s = float(m.exponent);
+    const bool ggx = m.type == Material::Type::Ggx && m.specular > 0;
+    const float ks = float(m.specular), s = float(m.exponent), alpha = float(m.roughness);
+    const Eigen::Vector3f v = ps.toViewer;
+    const float cosO = n.dot(v);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -162,8 +166,10 @@ class BandRenderer {
           // Light must arrive above the shading horizon (the cosine) and above
           // the true surface: from below the geometric horizon the surface
           // itself is in the way (docs/scenes.md, "Shading normals").
-          const float geometric = ng.x() * dirs_.x[q] + ng.y() * dirs_.y[q] + ng.z() * dirs_.z[q];
-          valid[i] = block[i] >= 0 && cosine[i] > 0 && geometric > 0 ? -1 : 0;
+          const bool above =
+              cosine[i] > 0 &&
+              (flat || ng.x() * dirs_.x[q] + ng.y() * dirs_.y[q] + ng.z() * dirs_.z[q] > 0);
+          valid[i] = block[i] >= 0 && above ? -1 : 0;
           active += valid[i] != 0;
         }
         if (active == 0) continue;
@@ -183,6 +189,10 @@ class BandRenderer {
                 mirrored.x() * dirs_.x[q] + mirrored.y() * dirs_.y[q] + mirrored.z() * dirs_.z[q];
             shape =
                 (1 - ks) * invPi + ks * (s + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s) : 0.0f);
+          } else if (ggx) {  // microfacet GGX without Fresnel, divided by the albedo
+            const Eigen::Vector3f h =
+                (Eigen::Vector3f(dirs_.x[q], dirs_.y[q], dirs_.z[q]) + v).normalized();
+            shape = (1 - ks) * invPi + ks * ggxSpecular(cosine[i], cosO, n.dot(h), alpha);
           }
           row[block[i]] += weight * dirs_.weight[q] * cosine[i] * shape;
         }

@@ -73,10 +73,12 @@ TEST(SceneJson, ReadsPrimitivesMeshesAndTransforms) {
       {"mesh": "tri.obj", "transform": {"scale": 2, "rotate_y_deg": 90, "translate": [1, 0, 0]},
        "material": {"type": "diffuse", "albedo": [1, 0, 0]}},
       {"mesh": "tri.ply", "transform": {"matrix": [1,0,0,5, 0,1,0,0, 0,0,1,0, 0,0,0,1]},
-       "material": {"type": "diffuse", "albedo": [0, 1, 0]}}]})");
+       "material": {"type": "ggx", "albedo": [0, 1, 0], "specular": 0.3, "roughness": 0.2}}]})");
   const Scene s = loadSceneJson(path);
   EXPECT_EQ(s.spheres.size(), 1u);
   EXPECT_EQ(s.spheres[0].material.type, Material::Type::Phong);
+  EXPECT_EQ(s.meshes[2].material.type, Material::Type::Ggx);
+  EXPECT_EQ(s.meshes[2].material.roughness, 0.2);
   ASSERT_EQ(s.meshes.size(), 3u);
   EXPECT_EQ(s.meshes[1].triangles.size(), 3u);  // a triangle and a triangulated quad
   // scale 2, then 90 degrees about +Y (x -> -z), then +1 in x: (1,0,0) -> (1,0,-2).
@@ -193,6 +195,11 @@ TEST(SceneJson, ErrorsNameTheKey) {
                             R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
                "material": {"type": "phong", "albedo": [1,1,1], "specular": 2, "exponent": 10}}]})"),
               "specular");
+  expectError(writeFile(dir, "f2.json",
+                        std::string("{") + kCamera +
+                            R"(, "objects": [{"shape": "sphere", "center": [0,0,0], "radius": 1,
+               "material": {"type": "ggx", "albedo": [1,1,1], "specular": 1, "roughness": 0}}]})"),
+              "roughness");
   expectError(writeFile(dir, "g.json", "{not json"), "not valid JSON");
   expectError(
       writeFile(
