@@ -103,7 +103,7 @@ void run(const ViewArgs& a) {
   o.rotateStep = a.rotateStep;
   o.screenshot = a.screenshot;
   o.saveDir = a.saveDir;
-  o.quiet = a.quiet;
+  o.log = stderrLog("view", a.quiet);
   if (!a.script.empty()) o.script = readViewerScript(a.script);
   if (!isModelFile(a.model))
     throw UserError(concat("'", a.model,

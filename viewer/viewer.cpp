@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -325,13 +324,13 @@ void Viewer::savePictures(const std::string& stem) const {
   for (ImageFormat format : {ImageFormat::Exr, ImageFormat::Png}) {
     const std::string path = base.string() + (format == ImageFormat::Exr ? ".exr" : ".png");
     writeImage(*onScreen_.linear, path, format, s.exposure);
-    if (!options_.quiet) std::cerr << "view: saved " << path << "\n";
+    say(concat("saved ", path));
   }
 }
 
 void Viewer::writeScreenshot(const std::string& path) const {
   writePng(onScreen_.canvas, path);
-  if (!options_.quiet) std::cerr << "view: screenshot " << path << "\n";
+  say(concat("screenshot ", path));
 }
 
 void Viewer::createTrackbars() {
@@ -405,9 +404,8 @@ void Viewer::run() {
   if (scripted) {
     for (const auto& event : script) applyEvent(event);
   } else {
-    if (!options_.quiet)
-      std::cerr << "view: drag to turn the lighting; keys: n/p env map, c clusters, h rank heat "
-                   "map, l lighting inset, a/d yaw, r reset, +/- exposure, s save, q quit\n";
+    say("drag to turn the lighting; keys: n/p env map, c clusters, h rank heat map, "
+        "l lighting inset, a/d yaw, r reset, +/- exposure, s save, q quit");
     for (;;) {
       showLatest();
       const int key = cv::waitKey(8);

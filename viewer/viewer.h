@@ -4,6 +4,7 @@
 // into a new canvas; the UI thread only shows the latest finished canvas, so it
 // never stalls on a relight and never shows a half-drawn frame.
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <opencv2/core.hpp>
@@ -41,7 +42,8 @@ struct ViewerOptions {
   int frames = 0;
   double rotateStep = 0;
   std::string screenshot;
-  bool quiet = false;
+  /// Messages for the user (saved files, the key help); none when empty.
+  std::function<void(const std::string&)> log;
 };
 
 class Viewer {
@@ -72,6 +74,9 @@ class Viewer {
   void applyDrag(int dx, int dy);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
+  void say(const std::string& text) const {
+    if (options_.log) options_.log(text);
+  }
   void writeScreenshot(const std::string& path) const;
   void createTrackbars();
   void syncTrackbars();

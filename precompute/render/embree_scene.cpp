@@ -5,21 +5,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iostream>
 #include <limits>
 #include <mutex>
 
 #include "core/error.h"
+#include "core/warning.h"
 
 namespace acpca {
 
 namespace {
 
+// Embree's own words on an error, before checkDevice turns it into a failure.
 void onEmbreeError(void*, RTCError code, const char* message) {
-  static std::mutex mutex;
-  std::lock_guard lock(mutex);
-  std::cerr << "embree error " << static_cast<int>(code) << ": " << (message ? message : "")
-            << "\n";
+  warn(concat("Embree error ", static_cast<int>(code), ": ", message ? message : ""));
 }
 
 void checkDevice(RTCDevice device, const char* what) {
