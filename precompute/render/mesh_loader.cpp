@@ -66,19 +66,31 @@ TriangleMesh loadMeshFile(const std::string& path, NormalMode normals, double cr
   if (mesh.triangles.empty()) throw UserError(concat(path, ": the mesh has no triangles"));
   for (const auto& v : mesh.vertices)
     if (!v.allFinite()) throw UserError(concat(path, ": the mesh has NaN or infinite vertices"));
-  // Normals that are missing, zero or not finite in the file are made smooth.
-  bool usable = normals == NormalMode::File && missingNormals == 0;
-  for (auto& n : mesh.normals) {
-    if (!n.allFinite() || n.norm() < 1e-12f)
-      usable = false;
-    else
-      n.normalize();
-  }
-  if (normals == NormalMode::File && !usable) {
-    warn(concat(path, ": ", missingNormals > 0 ? "no vertex normals" : "unusable vertex normals",
-                " in the file; smooth normals computed (crease angle ", creaseDegrees,
-                " degrees)"));
+  if (normals == NormalMode::File && missingNormals > 0) {
+    warn(concat(path, ": no vertex normals in ", missingNormals,
+                " part(s); smooth normals computed (crease angle ", creaseDegrees, " degrees)"));
     normals = NormalMode::Smooth;
+  }
+  if (normals == NormalMode::File) {
+    // Zero or non-finite normals in the file (degenerate faces) take the
+    // smooth normal of their corner.
+    TriangleMesh smooth;
+    long long replaced = 0;
+    for (size_t i = 0; i < mesh.normals.size(); ++i) {
+      auto& n = mesh.normals[i];
+      if (n.allFinite() && n.norm() > 1e-12f) {
+        n.normalize();
+        continue;
+      }
+      if (replaced++ == 0) {
+        smooth = mesh;
+        smoothNormals(smooth, creaseDegrees);
+      }
+      n = smooth.normals[i];
+    }
+    if (replaced > 0)
+      warn(concat(path, ": ", replaced,
+                  " zero or non-finite vertex normals replaced by smooth ones"));
   }
   if (normals == NormalMode::Smooth) smoothNormals(mesh, creaseDegrees);
   if (normals == NormalMode::Flat) mesh.normals.clear();

@@ -40,8 +40,9 @@ void smoothNormals(TriangleMesh& mesh, double creaseDegrees) {
         if (length > 0 && faceNormal[other].dot(own) >= cosCrease * length)
           sum += faceNormal[other];
       }
-      // A zero-area triangle has no normal of its own: it takes any neighbour's.
-      if (sum.norm() == 0) sum = own.allFinite() ? own : Eigen::Vector3d::UnitY();
+      // A zero-area triangle has no normal of its own and covers nothing (the
+      // renderer leaves it out): any unit vector keeps the mesh valid.
+      if (!(sum.norm() > 0)) sum = Eigen::Vector3d::UnitY();
       mesh.normals[3 * t + k] = sum.normalized().cast<float>();
     }
   }

@@ -156,6 +156,15 @@ TEST(ShadingNormals, CreasesStaySharpAndFileModesParse) {
   smoothNormals(box, 100);
   EXPECT_NEAR(std::abs(box.normals[0].x()), 1 / std::sqrt(3.0f), 1e-6);
   EXPECT_EQ(kNormalModeNames.parse("smooth"), NormalMode::Smooth);
+  // Zero-area triangles (real files have them) still get unit normals.
+  TriangleMesh sliver{"sliver",
+                      {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {0, 0, 1}},
+                      {{0, 1, 2}, {0, 3, 1}},
+                      Material{},
+                      {}};
+  smoothNormals(sliver);
+  for (const auto& n : sliver.normals) EXPECT_NEAR(n.norm(), 1, 1e-6);
+  EXPECT_NO_THROW(Scene({"s", {}, {sliver}, {}}).validate());
   EXPECT_THROW(kNormalModeNames.parse("phong"), ParameterError);
 }
 
