@@ -10,6 +10,7 @@
 
 #include "precompute/render/material.h"
 #include "precompute/render/scene.h"
+#include "precompute/render/transport_renderer.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
 #include "tests/render_support.h"
@@ -110,6 +111,24 @@ TEST(Ggx, ThePrecomputeIntegratesItAsAFineQuadratureDoes) {
     const Vec3 toEye = (s.camera.eye - Vec3(0, 0, 0)).normalized();
     EXPECT_NEAR(value, specularAlbedo(toEye.y(), alpha), 0.01) << alpha;
   }
+}
+
+TEST(Ggx, NarrowLobesTheLatticeUnderSamplesAreWarnedOf) {
+  Material m{Material::Type::Ggx, {1, 1, 1}, 1.0, 1, 0.02};
+  // Half the light-direction width at half maximum is twice the half-normal angle.
+  const double w = lobeHalfWidth(m);
+  EXPECT_NEAR(ggxDistribution(std::cos(w / 2), 0.02), ggxDistribution(1.0, 0.02) / 2,
+              1e-9 * ggxDistribution(1.0, 0.02));
+  Scene s = makeBuiltinScene("sphere");
+  s.spheres[0].material = m;
+  PrecomputeOptions o;
+  o.cubemapResolution = 32;
+  const auto warnings = samplingWarnings(s, o);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("GGX roughness 0.02"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("--texel-rays"), std::string::npos) << warnings[0];
+  s.spheres[0].material.roughness = 0.5;
+  EXPECT_TRUE(samplingWarnings(s, o).empty());
 }
 
 }  // namespace
