@@ -10,6 +10,7 @@
 #include "precompute/render/scene.h"
 #include "relight/dense_relight.h"
 #include "relight/lighting.h"
+#include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"
 
 namespace acpca {
@@ -23,19 +24,7 @@ constexpr double kPi = std::numbers::pi;
 /// Grey value (mean over RGB) of every row under one lighting, albedo applied.
 std::vector<double> relight(const LoadedTransport& t, const Environment& env,
                             const EnvRotation& rotation = {}) {
-  const CubeLattice lattice(t.header.cubemapResolution);
-  const LatticeLighting L = computeLighting(env, lattice, rotation);
-  std::vector<double> out(t.header.rows());
-  for (long long r = 0; r < t.header.rows(); ++r) {
-    double sum = 0;
-    for (int c = 0; c < 3; ++c) {
-      double dot = 0;
-      for (int j = 0; j < t.l; ++j) dot += double(t.row(r)[j]) * L[3 * j + c];
-      sum += t.header.albedo[3 * r + c] * dot;
-    }
-    out[r] = sum / 3;
-  }
-  return out;
+  return test::greyRows(t, env, rotation);
 }
 
 PrecomputeOptions options(int cubemap, Precision precision = Precision::F32) {

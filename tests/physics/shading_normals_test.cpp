@@ -10,6 +10,7 @@
 #include "precompute/render/scene.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
+#include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"
 
 namespace acpca {
@@ -58,18 +59,9 @@ Scene meshSphereScene(NormalMode normals) {
 
 /// Grey value of every pixel (index y * width + x; NAN for background).
 std::vector<double> relitPixels(const LoadedTransport& t, const Environment& env) {
-  const CubeLattice lattice(t.header.cubemapResolution);
-  const LatticeLighting L = computeLighting(env, lattice, {});
+  const std::vector<double> rows = test::greyRows(t, env);
   std::vector<double> out(t.header.camera.size.pixels(), NAN);
-  for (long long r = 0; r < t.header.rows(); ++r) {
-    double sum = 0;
-    for (int c = 0; c < 3; ++c) {
-      double dot = 0;
-      for (int j = 0; j < t.l; ++j) dot += double(t.row(r)[j]) * L[3 * j + c];
-      sum += t.header.albedo[3 * r + c] * dot;
-    }
-    out[t.header.pixels[r]] = sum / 3;
-  }
+  for (long long r = 0; r < t.header.rows(); ++r) out[t.header.pixels[r]] = rows[r];
   return out;
 }
 
