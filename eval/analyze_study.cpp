@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 #include <sstream>
 
 #include "cluster/cost_model.h"

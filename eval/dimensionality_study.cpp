@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/table.h"

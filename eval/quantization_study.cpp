@@ -1,9 +1,7 @@
 #include "eval/quantization_study.h"
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 #include <sstream>
 
 #include "cluster/compress.h"

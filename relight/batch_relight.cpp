@@ -1,7 +1,6 @@
 #include "relight/batch_relight.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 

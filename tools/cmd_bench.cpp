@@ -1,7 +1,6 @@
 // `adaptive-cpca bench rays`: the precompute's occlusion-ray rate against raw
 // Embree loops on the same scene points and directions, measured in one run.
 #include <cstdio>
-#include <iostream>
 
 #include "precompute/render/ray_benchmark.h"
 #include "precompute/render/scene.h"

@@ -44,6 +44,13 @@ class Reader {
       throw UserError(concat(path(key), ": expected a finite number"));
     return v.get<double>();
   }
+  /// number(key), refused unless lo <= value <= hi.
+  double numberIn(const std::string& key, double lo, double hi) const {
+    const double v = number(key);
+    if (v < lo || v > hi)
+      throw UserError(concat(path(key), ": ", v, " is outside [", lo, ", ", hi, "]"));
+    return v;
+  }
   std::string text(const std::string& key) const {
     const json& v = at(key);
     if (!v.is_string()) throw UserError(concat(path(key), ": expected a string"));
@@ -112,22 +119,13 @@ Material readMaterial(const Reader& r) {
   } else if (type == "phong") {
     r.allowOnly({"type", "albedo", "specular", "exponent"});
     m.type = Material::Type::Phong;
-    m.specular = r.number("specular");
-    m.exponent = r.number("exponent");
-    if (m.specular < 0 || m.specular > 1)
-      throw UserError(concat(r.path("specular"), ": ", m.specular, " is outside [0, 1]"));
-    if (m.exponent < 0 || m.exponent > 1e6)
-      throw UserError(concat(r.path("exponent"), ": ", m.exponent, " is outside [0, 1e6]"));
+    m.specular = r.numberIn("specular", 0, 1);
+    m.exponent = r.numberIn("exponent", 0, 1e6);
   } else if (type == "ggx") {
     r.allowOnly({"type", "albedo", "specular", "roughness"});
     m.type = Material::Type::Ggx;
-    m.specular = r.number("specular");
-    m.roughness = r.number("roughness");
-    if (m.specular < 0 || m.specular > 1)
-      throw UserError(concat(r.path("specular"), ": ", m.specular, " is outside [0, 1]"));
-    if (!(m.roughness >= kMinRoughness && m.roughness <= 1))
-      throw UserError(
-          concat(r.path("roughness"), ": ", m.roughness, " is outside [", kMinRoughness, ", 1]"));
+    m.specular = r.numberIn("specular", 0, 1);
+    m.roughness = r.numberIn("roughness", kMinRoughness, 1);
   } else {
     throw UserError(
         concat(r.path("type"), ": unknown material type '", type, "' (diffuse, phong or ggx)"));
@@ -179,9 +177,8 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
         throw UserError(concat(r.path("normals"), ": '", e.value(), "' ", e.problem()));
       }
     }
-    const double crease = r.has("crease_angle") ? r.number("crease_angle") : kDefaultCreaseDegrees;
-    if (!(crease >= 0 && crease <= 180))
-      throw UserError(concat(r.path("crease_angle"), ": ", crease, " is not in 0..180 degrees"));
+    const double crease =
+        r.has("crease_angle") ? r.numberIn("crease_angle", 0, 180) : kDefaultCreaseDegrees;
     TriangleMesh mesh;
     try {
       mesh = loadMeshFile(file.string(), normals, crease);
