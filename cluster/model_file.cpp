@@ -1,5 +1,6 @@
 #include "cluster/model_file.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/atomic_file.h"
@@ -27,6 +28,34 @@ std::vector<T> readVector(hid_t f, const std::string& name, hid_t type, hsize_t 
   std::vector<T> v(expected);
   h5::readTyped(f, name, type, v.data(), ctx);
   return v;
+}
+
+/// An upper bound on |relit value| per unit of the largest lattice light
+/// value, from the triangle inequality on albedo_p * (u_p . W^T V_g^T L +
+/// mu . V_g^T L): every value may be finite while their products overflow.
+double relitBoundPerUnitLight(const Model& m) {
+  const long long n = m.globalBases();
+  double projection = 0;  // max_j sum_i |V_g(i, j)|: bounds |(V_g^T L)_j| / max|L|
+  for (long long j = 0; j < n; ++j)
+    projection = std::max(projection, double(m.globalBasis.col(j).cwiseAbs().sum()));
+  double worstRow = 0;
+  std::vector<double> basisNorm;
+  for (int c = 0; c < m.clusters(); ++c) {
+    basisNorm.assign(m.ranks[c], 0.0);
+    for (int k = 0; k < m.ranks[c]; ++k)
+      for (long long j = 0; j < n; ++j)
+        basisNorm[k] += std::abs(m.bases[m.basisOffsets[c] + k * n + j]);
+    double mean = 0;
+    for (long long j = 0; j < n; ++j) mean += std::abs(m.means[c * n + j]);
+    for (long long r = 0; r < m.rowOffsets[c + 1] - m.rowOffsets[c]; ++r) {
+      double row = mean;
+      for (int k = 0; k < m.ranks[c]; ++k) row += std::abs(m.coefficient(c, r, k)) * basisNorm[k];
+      worstRow = std::max(worstRow, row);
+    }
+  }
+  double albedo = 0;
+  for (float a : m.geometry.albedo) albedo = std::max(albedo, double(a));
+  return albedo * worstRow * projection;
 }
 
 }  // namespace
@@ -200,6 +229,10 @@ Model readModel(const std::string& path) {
     halfToFloat(m.coeffF16.data(), decoded.data(), decoded.size());
     finite(decoded, "coefficient");
   }
+  // Real transport gives bounds near 1; 1e20 leaves lighting up to ~1e18 per
+  // lattice direction before a relit value could overflow a float.
+  if (!(relitBoundPerUnitLight(m) <= 1e20))
+    throw UserError(concat(ctx, ": values out of range (relit values could overflow)"));
   return m;
 }
 

@@ -15,14 +15,6 @@ namespace {
 inline float widen(float v) {
   return v;
 }
-inline float widen(std::int8_t v) {
-  return static_cast<float>(v);
-}
-inline float widen(std::uint16_t v) {
-  float f;
-  halfToFloat(&v, &f, 1);
-  return f;
-}
 
 template <typename T>
 void dotRgbScalar(const T* column, const float* const light[3], int begin, int end, float out[3]) {

@@ -49,7 +49,7 @@ Scene concaveScene() {
   s.camera.eye = {0, 3.0, 3.0};
   s.camera.target = {0, 0.4, 0};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
-  TriangleMesh bowl{"bowl", {}, {}, diffuse(0.7f, 0.7f, 0.65f)};
+  TriangleMesh bowl = emptyMesh("bowl", diffuse(0.7f, 0.7f, 0.65f));
   const int rings = 48, segments = 96;
   const double radius = 1.0, centerY = 1.0;
   for (int i = 0; i <= rings; ++i) {
@@ -83,7 +83,7 @@ Scene stepScene() {
 Scene grid1dScene() {
   Scene s{"grid1d", overheadCamera(), {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
-  TriangleMesh bars{"bars", {}, {}, kBlocker};
+  TriangleMesh bars = emptyMesh("bars", kBlocker);
   for (int i = -6; i <= 6; ++i)  // thin bars along x, floating at height 0.5
     appendMesh(bars,
                makeBox({-3, 0.45, i * 0.35 - 0.06}, {3, 0.55, i * 0.35 + 0.06}, kBlocker, ""));
@@ -94,7 +94,7 @@ Scene grid1dScene() {
 Scene grid2dScene() {
   Scene s{"grid2d", overheadCamera(), {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
-  TriangleMesh blocks{"blocks", {}, {}, kBlocker};
+  TriangleMesh blocks = emptyMesh("blocks", kBlocker);
   for (int i = -6; i <= 6; ++i)
     for (int k = -6; k <= 6; ++k)  // small cubes floating at height 0.5
       appendMesh(blocks, makeBox({i * 0.35 - 0.07, 0.43, k * 0.35 - 0.07},

@@ -84,7 +84,7 @@ void addLeaf(TriangleMesh& mesh, const Vec3& base, const Vec3& axis, double leng
 void addPot(Scene& scene) {
   const Material terracotta{Material::Type::Diffuse, {0.62f, 0.32f, 0.2f}};
   const Material soil{Material::Type::Diffuse, {0.14f, 0.1f, 0.07f}};
-  TriangleMesh pot{"pot", {}, {}, terracotta};
+  TriangleMesh pot = emptyMesh("pot", terracotta);
   const int segments = 64;
   const double profile[][2] = {{0.30, 0.0},  {0.40, 0.50}, {0.44, 0.50}, {0.44, 0.60},
                                {0.40, 0.60}, {0.38, 0.50}};  // (radius, height) around the rim
@@ -102,7 +102,7 @@ void addPot(Scene& scene) {
       pot.triangles.emplace_back(b, b + segments, a + segments);
     }
   scene.meshes.push_back(std::move(pot));
-  TriangleMesh earth{"soil", {}, {}, soil};
+  TriangleMesh earth = emptyMesh("soil", soil);
   earth.vertices.emplace_back(0.f, 0.52f, 0.f);
   for (int k = 0; k < segments; ++k) {
     const double phi = 2 * kPi * k / segments;
@@ -124,18 +124,16 @@ Scene makePlantScene() {
   addPot(scene);
 
   const Material stemMaterial{Material::Type::Diffuse, {0.25f, 0.35f, 0.12f}};
-  TriangleMesh stems{"stems", {}, {}, stemMaterial};
+  TriangleMesh stems = emptyMesh("stems", stemMaterial);
   const double stemTop = 2.0, stemBottom = 0.5;
   addTube(stems, {0, stemBottom, 0}, {0, stemTop, 0}, 0.025, 8);
 
   std::vector<TriangleMesh> leaves;
   for (int shade = 0; shade < kLeafShades; ++shade) {
     const float t = shade / float(kLeafShades - 1);
-    leaves.push_back(
-        {"leaves",
-         {},
-         {},
-         {Material::Type::Diffuse, {0.10f + 0.06f * t, 0.32f + 0.16f * t, 0.07f + 0.03f * t}}});
+    leaves.push_back(emptyMesh(
+        "leaves",
+        {Material::Type::Diffuse, {0.10f + 0.06f * t, 0.32f + 0.16f * t, 0.07f + 0.03f * t}}));
   }
   std::mt19937 rng(20070805u);
   const double goldenAngle = kPi * (3 - std::sqrt(5.0));

@@ -79,7 +79,7 @@ TriangleMesh makeQuad(const Vec3& center, const Vec3& normal, double size, const
   const Vec3 helper = std::abs(n.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
   const Vec3 a = n.cross(helper).normalized() * (0.5 * size);
   const Vec3 b = n.cross(a);
-  TriangleMesh mesh{name, {}, {}, m};
+  TriangleMesh mesh = emptyMesh(name, m);
   for (const Vec3& c :
        {Vec3(center - a - b), Vec3(center + a - b), Vec3(center + a + b), Vec3(center - a + b)})
     mesh.vertices.push_back(c.cast<float>());
@@ -88,7 +88,7 @@ TriangleMesh makeQuad(const Vec3& center, const Vec3& normal, double size, const
 }
 
 TriangleMesh makeBox(const Vec3& lo, const Vec3& hi, const Material& m, const std::string& name) {
-  TriangleMesh mesh{name, {}, {}, m};
+  TriangleMesh mesh = emptyMesh(name, m);
   for (int i = 0; i < 8; ++i)
     mesh.vertices.emplace_back(float(i & 1 ? hi.x() : lo.x()), float(i & 2 ? hi.y() : lo.y()),
                                float(i & 4 ? hi.z() : lo.z()));

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/enum_names.h"
@@ -23,6 +24,14 @@ struct TriangleMesh {
   /// the geometric normal.
   std::vector<Eigen::Vector3f> normals;
 };
+
+/// A mesh with a name and a material and no triangles yet.
+inline TriangleMesh emptyMesh(std::string name, const Material& material) {
+  TriangleMesh mesh;
+  mesh.name = std::move(name);
+  mesh.material = material;
+  return mesh;
+}
 
 /// Where a mesh's shading normals come from: the file's own, computed smooth
 /// across edges sharper than no crease angle, or none (flat).

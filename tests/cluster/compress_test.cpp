@@ -230,6 +230,19 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
   EXPECT_EQ(back.clusterRows, one.clusterRows);
   EXPECT_NEAR(back.totalCost(), one.totalCost(), 1e-9);
   EXPECT_THROW(readModel(path()), UserError);
+
+  // Every stored value finite, but a basis value times a coefficient
+  // overflows a float: the file is refused, not relit to infinity.
+  Model huge = one;
+  huge.bases[0] = 1e30f;
+  huge.coeffF32[0] = 1e30f;
+  writeModel(huge, dir.file("huge.h5"));
+  try {
+    readModel(dir.file("huge.h5"));
+    ADD_FAILURE() << "a model whose products overflow was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
