@@ -229,7 +229,8 @@ Model readModel(const std::string& path) {
     halfToFloat(m.coeffF16.data(), decoded.data(), decoded.size());
     finite(decoded, "coefficient");
   }
-  // Real transport gives bounds near 1; 1e20 leaves lighting up to ~1e18 per
+  // Orthonormal bases and transport values below 1 keep real models many orders
+  // below this; 1e20 still leaves lighting up to ~1e18 per
   // lattice direction before a relit value could overflow a float.
   if (!(relitBoundPerUnitLight(m) <= 1e20))
     throw UserError(concat(ctx, ": values out of range (relit values could overflow)"));

@@ -12,8 +12,8 @@ namespace {
 
 struct PrecomputeArgs {
   CommonOptions common;
-  std::string scene, out, size, camera, precision = "f16";
-  int cubemap = 32, spp = 1, texelRays = 1;
+  std::string scene, out, size, camera, precision = "f16", antialiasing = "adaptive";
+  int cubemap = 32, spp = kDefaultSamplesPerPixel, texelRays = 1;
 };
 
 void run(const PrecomputeArgs& a) {
@@ -21,6 +21,7 @@ void run(const PrecomputeArgs& a) {
   PrecomputeOptions options;
   options.cubemapResolution = a.cubemap;
   options.samplesPerPixel = a.spp;
+  options.antialiasing = kAntialiasingNames.parse(a.antialiasing);
   options.texelRays = a.texelRays;
   options.precision = parsePrecision(a.precision);
   options.threads = a.common.threads;
@@ -45,7 +46,8 @@ void run(const PrecomputeArgs& a) {
               << " of rows; " << stats.occlusionRays << " occlusion rays in "
               << stats.transportSeconds << " s (" << raysPerSecond / 1e6 << " M rays/s, "
               << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
-              << formatBytes(peakMemoryBytes()) << "\n";
+              << formatBytes(peakMemoryBytes()) << "; " << stats.supersampledPixels
+              << " pixels traced at " << a.spp << " samples, the rest at 1\n";
   if (stats.degenerateTriangles > 0 && !a.common.quiet)
     std::cerr << "note: " << stats.degenerateTriangles
               << " zero-area triangles were left out (they cover nothing)\n";
@@ -58,6 +60,9 @@ void run(const PrecomputeArgs& a) {
                                 {"degenerate_triangles", stats.degenerateTriangles},
                                 {"occupied_pixels", stats.occupiedPixels},
                                 {"occlusion_rays", stats.occlusionRays},
+                                {"spp", a.spp},
+                                {"antialiasing", a.antialiasing},
+                                {"supersampled_pixels", stats.supersampledPixels},
                                 {"rays_per_second", raysPerSecond},
                                 {"transport_seconds", stats.transportSeconds},
                                 {"seconds", stats.seconds},
@@ -78,7 +83,11 @@ void registerPrecompute(CLI::App& app) {
                   "auto: frame the scene's bounds from its camera's direction; auto:THETA,PHI: "
                   "from that direction (degrees: THETA from +Y, PHI from -Z towards +X)");
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R (6 R^2 directions)");
-  sub->add_option("--spp", args->spp, "Camera samples per pixel");
+  sub->add_option("--spp", args->spp,
+                  "Camera samples per pixel (default 4): anti-aliased silhouettes and textures");
+  sub->add_option("--aa", args->antialiasing,
+                  "adaptive: trace every sample only where they see different surfaces "
+                  "(default); full: everywhere, shadow edges too, at spp times the cost");
   sub->add_option("--texel-rays", args->texelRays,
                   "Occlusion rays per texel (fractional visibility)");
   sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");

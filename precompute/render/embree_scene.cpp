@@ -49,6 +49,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     // cover nothing: they are left out rather than risk a NaN normal on a hit.
     std::vector<Eigen::Vector3i> kept;
     std::vector<Eigen::Vector3f> keptNormals;  // three per kept triangle
+    std::vector<Eigen::Vector2f> keptUvs;      // three per kept triangle, with a texture
     kept.reserve(mesh.triangles.size());
     for (size_t i = 0; i < mesh.triangles.size(); ++i) {
       const auto& tri = mesh.triangles[i];
@@ -62,6 +63,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         if (!mesh.normals.empty())
           keptNormals.insert(keptNormals.end(), mesh.normals.begin() + 3 * i,
                              mesh.normals.begin() + 3 * i + 3);
+        if (mesh.albedoTexture)
+          keptUvs.insert(keptUvs.end(), mesh.uvs.begin() + 3 * i, mesh.uvs.begin() + 3 * i + 3);
       } else {
         ++degenerateTriangles_;
       }
@@ -77,6 +80,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     materials_.push_back(mesh.material);
     sphereOfGeometry_.push_back(nullptr);
     cornerNormals_.push_back(std::move(keptNormals));
+    textures_.push_back(mesh.albedoTexture);
+    cornerUvs_.push_back(std::move(keptUvs));
   }
   for (const auto& sphere : scene.spheres) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -91,6 +96,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     materials_.push_back(sphere.material);
     sphereOfGeometry_.push_back(&sphere);
     cornerNormals_.emplace_back();
+    textures_.emplace_back();
+    cornerUvs_.emplace_back();
   }
   rtcCommitScene(scene_);
   checkDevice(device_, "building the scene");
@@ -118,6 +125,14 @@ EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& directio
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
   hit.material = static_cast<int>(rh.hit.geomID);
   hit.position = origin + double(rh.ray.tfar) * direction;
+  hit.albedo = materials_[rh.hit.geomID].albedo;
+  if (const Texture* texture = textures_[rh.hit.geomID].get()) {
+    // Embree's barycentrics: p = (1 - u - v) p0 + u p1 + v p2.
+    const float u = rh.hit.u, v = rh.hit.v;
+    const Eigen::Vector2f* uv = &cornerUvs_[rh.hit.geomID][3 * size_t(rh.hit.primID)];
+    hit.albedo =
+        hit.albedo.cwiseProduct(texture->sample((1 - u - v) * uv[0] + u * uv[1] + v * uv[2]));
+  }
   const Sphere* sphere = sphereOfGeometry_[rh.hit.geomID];
   if (sphere) {
     // Exact normal, and the hit point snapped back onto the true sphere.
@@ -159,12 +174,6 @@ std::vector<std::array<int, 16>> texelBlocks(const CubeLattice& lattice) {
   return blocks;
 }
 
-Eigen::Vector2d pixelSampleOffset(int s) {
-  // R2 low-discrepancy sequence (plastic number), starting at the centre.
-  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
-  return {std::fmod(0.5 + s * a1, 1.0), std::fmod(0.5 + s * a2, 1.0)};
-}
-
 GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int samplesPerPixel) {
   GBuffer g;
   g.size = camera.size;
@@ -185,6 +194,7 @@ GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int sample
           ps.normal = hit.shadingNormal.cast<float>();
           ps.geometricNormal = hit.normal.cast<float>();
           ps.toViewer = (-dir).cast<float>();
+          ps.albedo = hit.albedo;
           // Pushed off along the geometric normal so shadow rays miss their own
           // surface whatever the shading normal says.
           ps.origin = (hit.position + epsilon * hit.normal).cast<float>();

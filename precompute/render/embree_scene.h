@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "precompute/render/scene.h"
@@ -31,8 +32,9 @@ class EmbreeScene {
   struct Hit {
     int material = -1;
     Vec3 position;
-    Vec3 normal;         ///< geometric, unit, turned to face the ray's origin
-    Vec3 shadingNormal;  ///< interpolated (the geometric one when flat), on normal's side
+    Vec3 normal;             ///< geometric, unit, turned to face the ray's origin
+    Vec3 shadingNormal;      ///< interpolated (the geometric one when flat), on normal's side
+    Eigen::Vector3f albedo;  ///< the material's, times its texture at the hit
   };
   Hit intersect(const Vec3& origin, const Vec3& direction) const;
 
@@ -45,6 +47,10 @@ class EmbreeScene {
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
   /// Per geometry: three shading normals per kept triangle (empty: flat).
   std::vector<std::vector<Eigen::Vector3f>> cornerNormals_;
+  /// Per geometry: its albedo texture (may be null) and, with one, three
+  /// texture coordinates per kept triangle.
+  std::vector<std::shared_ptr<const Texture>> textures_;
+  std::vector<std::vector<Eigen::Vector2f>> cornerUvs_;
 };
 
 /// One camera sample of a pixel: where it hit and how it is seen.
@@ -53,6 +59,7 @@ struct PixelSample {
   Eigen::Vector3f normal;           ///< shading normal: unit, on the viewer's side
   Eigen::Vector3f geometricNormal;  ///< unit, facing the viewer
   Eigen::Vector3f toViewer;         ///< unit
+  Eigen::Vector3f albedo;           ///< textured albedo at the hit
   int material = -1;                ///< -1: the sample missed (background)
 };
 
@@ -71,8 +78,6 @@ struct GBuffer {
 /// face when R is not a multiple of 4.
 std::vector<std::array<int, 16>> texelBlocks(const CubeLattice& lattice);
 
-/// Sub-pixel position of sample s (s = 0 is the pixel centre; an R2 sequence after).
-Eigen::Vector2d pixelSampleOffset(int s);
 /// Traces the camera rays of every pixel sample in parallel (TBB).
 GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int samplesPerPixel);
 

@@ -19,6 +19,11 @@ struct Material {
   double roughness = 0.5;  ///< GGX alpha in [kMinRoughness, 1]
 };
 
+/// Rec. 709 luminance of a linear RGB value: weighs albedos inside a pixel.
+inline float luminance(const Eigen::Vector3f& rgb) {
+  return 0.2126f * rgb.x() + 0.7152f * rgb.y() + 0.0722f * rgb.z();
+}
+
 /// Below this GGX is a mirror no lattice resolves.
 inline constexpr double kMinRoughness = 1e-3;
 

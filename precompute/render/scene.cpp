@@ -63,6 +63,15 @@ void Scene::validate() const {
     for (const auto& normal : m.normals)
       if (!normal.allFinite() || normal.norm() == 0)
         throw UserError(concat(what, ": a shading normal is zero, NaN or infinite"));
+    if (!m.uvs.empty() && m.uvs.size() != 3 * m.triangles.size())
+      throw UserError(concat(what, ": ", m.uvs.size(), " texture coordinates for ",
+                             m.triangles.size(), " triangles (three per triangle)"));
+    for (const auto& uv : m.uvs)
+      if (!uv.allFinite())
+        throw UserError(concat(what, ": a texture coordinate is NaN or infinite"));
+    if (m.albedoTexture && m.uvs.empty())
+      throw UserError(
+          concat(what, ": texture '", m.albedoTexture->name(), "' but no texture coordinates"));
   }
   for (size_t i = 0; i < spheres.size(); ++i) {
     const std::string what = concat("scene ", name, ", sphere ", i);
@@ -84,6 +93,11 @@ TriangleMesh makeQuad(const Vec3& center, const Vec3& normal, double size, const
        {Vec3(center - a - b), Vec3(center + a - b), Vec3(center + a + b), Vec3(center - a + b)})
     mesh.vertices.push_back(c.cast<float>());
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  // u along helper x n and v along n x u: seen from the front, a wall's image
+  // stands upright (+Y up) and unmirrored.
+  const Eigen::Vector2f uv[4] = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) mesh.uvs.push_back(uv[t[k]]);
   return mesh;
 }
 
@@ -105,10 +119,14 @@ TriangleMesh makeBox(const Vec3& lo, const Vec3& hi, const Material& m, const st
 void appendMesh(TriangleMesh& a, const TriangleMesh& b) {
   ACPCA_CHECK(a.normals.empty() == b.normals.empty() || a.triangles.empty(),
               "appending meshes with and without shading normals");
+  ACPCA_CHECK(a.uvs.empty() == b.uvs.empty() || a.triangles.empty(),
+              "appending meshes with and without texture coordinates");
+  ACPCA_CHECK(a.albedoTexture == b.albedoTexture, "appending meshes with different textures");
   const int offset = static_cast<int>(a.vertices.size());
   a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
   for (const auto& t : b.triangles) a.triangles.push_back(t.array() + offset);
   a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
+  a.uvs.insert(a.uvs.end(), b.uvs.begin(), b.uvs.end());
 }
 
 Scene loadScene(const std::string& nameOrPath) {

@@ -4,12 +4,14 @@
 // both produce one.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/enum_names.h"
 #include "precompute/render/material.h"
+#include "precompute/render/texture.h"
 #include "precompute/transport/camera.h"
 
 namespace acpca {
@@ -23,6 +25,11 @@ struct TriangleMesh {
   /// their edge), interpolated across each triangle; empty: flat shading with
   /// the geometric normal.
   std::vector<Eigen::Vector3f> normals;
+  /// Texture coordinates, three per triangle like the normals (empty: none).
+  std::vector<Eigen::Vector2f> uvs;
+  /// Multiplies material.albedo at each point (the file's base colour or
+  /// diffuse texture); needs uvs. Shared: meshes of one file may use one image.
+  std::shared_ptr<const Texture> albedoTexture;
 };
 
 /// A mesh with a name and a material and no triangles yet.
@@ -102,10 +109,15 @@ void applyCameraSpec(Scene& scene, const std::string& spec);
 /// Built-in name or path to a scene JSON file (docs/scenes.md).
 Scene loadScene(const std::string& nameOrPath);
 Scene loadSceneJson(const std::string& path);
-/// Loads an OBJ/PLY/glTF mesh (all its parts merged) through assimp. Shading
-/// normals: the file's with NormalMode::File (smooth ones, with a warning, when
-/// it has none), computed with Smooth, none with Flat.
-TriangleMesh loadMeshFile(const std::string& path, NormalMode normals = NormalMode::File,
-                          double creaseDegrees = kDefaultCreaseDegrees);
+/// Loads a model file (OBJ, glTF, Collada, PLY and the other formats assimp
+/// reads) in the file's coordinates, node transforms applied: one mesh per
+/// material of the file, each diffuse with the file's base colour (glTF
+/// baseColorFactor, else the diffuse colour: OBJ Kd, Collada diffuse) times
+/// its base-colour or diffuse texture when it has one and texture coordinates.
+/// Shading normals: the file's with NormalMode::File (smooth ones, with a
+/// warning, when it has none), computed with Smooth, none with Flat.
+std::vector<TriangleMesh> loadMeshFile(const std::string& path,
+                                       NormalMode normals = NormalMode::File,
+                                       double creaseDegrees = kDefaultCreaseDegrees);
 
 }  // namespace acpca

@@ -104,25 +104,28 @@ Camera readCamera(const Reader& r) {
   return c;
 }
 
-Eigen::Vector3f readAlbedo(const Reader& r) {
-  const Vec3 a = r.vec3("albedo");
-  if ((a.array() < 0).any()) throw UserError(concat(r.path("albedo"), ": must be >= 0"));
-  return a.cast<float>();
-}
+/// A material as the scene file gives it: the BRDF, and the albedo and texture
+/// when it gives them (a mesh object keeps its file's colours otherwise).
+struct MaterialSpec {
+  Material material;
+  bool colored = false;  ///< "albedo" or "texture" given
+  std::shared_ptr<const Texture> texture;
+};
 
-Material readMaterial(const Reader& r) {
+MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
   const std::string type = r.text("type");
-  Material m;
+  MaterialSpec spec;
+  Material& m = spec.material;
   if (type == "diffuse") {
-    r.allowOnly({"type", "albedo"});
+    r.allowOnly({"type", "albedo", "texture"});
     m.type = Material::Type::Diffuse;
   } else if (type == "phong") {
-    r.allowOnly({"type", "albedo", "specular", "exponent"});
+    r.allowOnly({"type", "albedo", "texture", "specular", "exponent"});
     m.type = Material::Type::Phong;
     m.specular = r.numberIn("specular", 0, 1);
     m.exponent = r.numberIn("exponent", 0, 1e6);
   } else if (type == "ggx") {
-    r.allowOnly({"type", "albedo", "specular", "roughness"});
+    r.allowOnly({"type", "albedo", "texture", "specular", "roughness"});
     m.type = Material::Type::Ggx;
     m.specular = r.numberIn("specular", 0, 1);
     m.roughness = r.numberIn("roughness", kMinRoughness, 1);
@@ -130,8 +133,45 @@ Material readMaterial(const Reader& r) {
     throw UserError(
         concat(r.path("type"), ": unknown material type '", type, "' (diffuse, phong or ggx)"));
   }
-  m.albedo = readAlbedo(r);
-  return m;
+  // A texture scales the albedo, which then defaults to white.
+  if (r.has("texture")) {
+    try {
+      spec.texture = loadTexture((baseDir / r.text("texture")).string());
+    } catch (const UserError& e) {
+      throw UserError(concat(r.path("texture"), ": ", e.what()));
+    }
+    m.albedo.setOnes();
+  }
+  if (r.has("albedo")) {
+    const Vec3 a = r.vec3("albedo");
+    if ((a.array() < 0).any()) throw UserError(concat(r.path("albedo"), ": must be >= 0"));
+    m.albedo = a.cast<float>();
+  }
+  spec.colored = r.has("albedo") || r.has("texture");
+  return spec;
+}
+
+/// A shape's material: albedo or texture required.
+MaterialSpec readShapeMaterial(const Reader& r, const fs::path& baseDir) {
+  const Reader material = r.child("material");
+  MaterialSpec spec = readMaterial(material, baseDir);
+  if (!spec.colored) throw UserError(concat(material.where(), ": missing key 'albedo'"));
+  return spec;
+}
+
+/// Gives a mesh loaded from a file the scene file's material: the BRDF always,
+/// the colours when the scene file names them.
+void overrideMaterial(TriangleMesh& mesh, const MaterialSpec& spec, const std::string& where) {
+  const Material file = mesh.material;
+  mesh.material = spec.material;
+  if (spec.colored) {
+    if (spec.texture && mesh.uvs.empty())
+      throw UserError(concat(where, ": texture '", spec.texture->name(), "' but part '", mesh.name,
+                             "' has no texture coordinates"));
+    mesh.albedoTexture = spec.texture;
+  } else {
+    mesh.material.albedo = file.albedo;
+  }
 }
 
 /// Row-major 4x4 affine transform of a mesh object.
@@ -165,7 +205,6 @@ Eigen::Matrix4d readTransform(const Reader& r) {
 void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
   if (r.has("shape") == r.has("mesh"))
     throw UserError(concat(r.where(), ": give exactly one of 'shape' or 'mesh'"));
-  const Material material = readMaterial(r.child("material"));
   if (r.has("mesh")) {
     r.allowOnly({"mesh", "transform", "material", "normals", "crease_angle"});
     const fs::path file = baseDir / r.text("mesh");
@@ -179,27 +218,37 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
     }
     const double crease =
         r.has("crease_angle") ? r.numberIn("crease_angle", 0, 180) : kDefaultCreaseDegrees;
-    TriangleMesh mesh;
+    std::vector<TriangleMesh> parts;
     try {
-      mesh = loadMeshFile(file.string(), normals, crease);
+      parts = loadMeshFile(file.string(), normals, crease);
     } catch (const UserError& e) {
       throw UserError(concat(r.path("mesh"), ": ", e.what()));
     }
-    mesh.material = material;
+    if (r.has("material")) {
+      const MaterialSpec spec = readMaterial(r.child("material"), baseDir);
+      for (auto& mesh : parts) overrideMaterial(mesh, spec, r.path("material"));
+    }
     if (r.has("transform")) {
       const Eigen::Matrix4d t = readTransform(r.child("transform"));
-      for (auto& v : mesh.vertices)
-        v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
       // Normals follow the inverse transpose (non-uniform scale bends them).
       const Eigen::Matrix3d normalMatrix = t.topLeftCorner<3, 3>().inverse().transpose();
-      for (auto& n : mesh.normals) n = (normalMatrix * n.cast<double>()).normalized().cast<float>();
+      for (auto& mesh : parts) {
+        for (auto& v : mesh.vertices)
+          v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
+        for (auto& n : mesh.normals)
+          n = (normalMatrix * n.cast<double>()).normalized().cast<float>();
+      }
     }
-    scene.meshes.push_back(std::move(mesh));
+    for (auto& mesh : parts) scene.meshes.push_back(std::move(mesh));
     return;
   }
+  const MaterialSpec spec = readShapeMaterial(r, baseDir);
+  const Material& material = spec.material;
   const std::string shape = r.text("shape");
   if (shape == "sphere") {
     r.allowOnly({"shape", "center", "radius", "material"});
+    if (spec.texture)
+      throw UserError(concat(r.path("material"), ": spheres have no texture coordinates"));
     const double radius = r.number("radius");
     if (radius <= 0) throw UserError(concat(r.path("radius"), ": must be > 0"));
     scene.spheres.push_back({r.vec3("center"), radius, material});
@@ -209,7 +258,9 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
     const double size = r.number("size");
     if (normal.norm() == 0) throw UserError(concat(r.path("normal"), ": must not be zero"));
     if (size <= 0) throw UserError(concat(r.path("size"), ": must be > 0"));
-    scene.meshes.push_back(makeQuad(r.vec3("center"), normal, size, material, r.where()));
+    TriangleMesh quad = makeQuad(r.vec3("center"), normal, size, material, r.where());
+    quad.albedoTexture = spec.texture;
+    scene.meshes.push_back(std::move(quad));
   } else {
     throw UserError(concat(r.path("shape"), ": unknown shape '", shape, "' (sphere or plane)"));
   }

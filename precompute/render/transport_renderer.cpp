@@ -3,6 +3,7 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
@@ -67,15 +68,58 @@ TexelDirections makeTexelDirections(const CubeLattice& lattice, int raysPerTexel
   return t;
 }
 
+/// Whether a pixel's covered samples see one smooth piece of surface: all
+/// covered, one object, normals within ~8 degrees and the points on one tangent
+/// plane (no depth step). Only then can its centre sample stand for the rest.
+bool samplesAgree(const GBuffer& g, int x, int y) {
+  const PixelSample& centre = g.at(x, y, 0);
+  if (centre.material < 0) return false;
+  for (int s = 1; s < g.samplesPerPixel; ++s) {
+    const PixelSample& ps = g.at(x, y, s);
+    if (ps.material != centre.material) return false;
+    if (ps.normal.dot(centre.normal) < 0.99f) return false;
+    const Eigen::Vector3f step = ps.origin - centre.origin;
+    if (std::abs(step.dot(centre.geometricNormal)) > 0.1f * step.norm()) return false;
+  }
+  return true;
+}
+
+/// The weights of a pixel's samples in its row (0: not traced). Every covered
+/// sample is traced with its share of the summed luminance of their albedos
+/// (uniform when all are black), so that mean albedo x row is exact when the
+/// albedos share a hue (docs/scenes.md, "Anti-aliasing"); with Adaptive, a
+/// pixel whose samples agree traces its centre alone, with weight 1.
+void sampleWeights(const GBuffer& g, int x, int y, Antialiasing mode, std::vector<float>& weights) {
+  weights.assign(g.samplesPerPixel, 0.0f);
+  if (mode == Antialiasing::Adaptive && samplesAgree(g, x, y)) {
+    weights[0] = 1;
+    return;
+  }
+  float total = 0;
+  int hits = 0;
+  for (int s = 0; s < g.samplesPerPixel; ++s) {
+    const PixelSample& ps = g.at(x, y, s);
+    if (ps.material < 0) continue;
+    weights[s] = luminance(ps.albedo);
+    total += weights[s];
+    ++hits;
+  }
+  for (int s = 0; s < g.samplesPerPixel; ++s) {
+    if (g.at(x, y, s).material < 0) continue;
+    weights[s] = total > 0 ? weights[s] / total : 1.0f / hits;
+  }
+}
+
 /// Computes transport rows for bands of kBandRows image rows. Shadow rays go
 /// out as rtcOccluded16 packets of a 4x4 block of neighbouring texels from one
 /// point: the fastest of the layouts `bench rays` measures on our scenes.
 class BandRenderer {
  public:
   BandRenderer(const EmbreeScene& scene, const GBuffer& gbuffer, const TexelDirections& dirs,
-               const CubeLattice& lattice)
+               const CubeLattice& lattice, Antialiasing mode)
       : scene_(scene),
         gbuffer_(gbuffer),
+        mode_(mode),
         dirs_(dirs),
         blocks_(texelBlocks(lattice)),
         l_(lattice.size()) {
@@ -95,7 +139,7 @@ class BandRenderer {
 
   /// Fills out (one row per occupied pixel of image rows [y0, y0 + kBandRows), in
   /// row-major order) and returns the occlusion rays traced.
-  long long render(int y0, std::vector<float>& out) const {
+  long long render(int y0, std::vector<float>& out, long long& supersampled) const {
     const int width = gbuffer_.size.width;
     const int y1 = std::min(y0 + kBandRows, gbuffer_.size.height);
     int rows = 0;
@@ -104,14 +148,17 @@ class BandRenderer {
     out.assign(static_cast<size_t>(rows) * l_, 0.0f);
     long long rays = 0;
     int row = 0;
+    std::vector<float> weights;
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < width; ++x) {
-        const int n = hits(x, y);
-        if (n == 0) continue;
+        if (hits(x, y) == 0) continue;
+        sampleWeights(gbuffer_, x, y, mode_, weights);
+        supersampled +=
+            std::count_if(weights.begin() + 1, weights.end(), [](float w) { return w > 0; }) > 0;
         for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
           const PixelSample& ps = gbuffer_.at(x, y, s);
-          if (ps.material >= 0)
-            rays += trace(ps, scene_.materials()[ps.material], 1.0f / n,
+          if (weights[s] > 0)
+            rays += trace(ps, scene_.materials()[ps.material], weights[s],
                           out.data() + static_cast<size_t>(row) * l_);
         }
         ++row;
@@ -218,6 +265,7 @@ class BandRenderer {
 
   const EmbreeScene& scene_;
   const GBuffer& gbuffer_;
+  const Antialiasing mode_;
   const TexelDirections& dirs_;
   std::vector<std::array<int, 16>> blocks_;
   std::vector<Cone> cones_;
@@ -246,11 +294,11 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
                          Sink&& sink) {
   struct Slot {
     int y0 = 0;
-    long long rays = 0;
+    long long rays = 0, supersampled = 0;
     std::vector<float> rows;
   };
   std::atomic<unsigned long long> threadMask{0};
-  std::atomic<long long> rays{0};
+  std::atomic<long long> rays{0}, supersampled{0};
   int next = firstBand;
   const Stopwatch watch;
   runOrderedPipeline<Slot>(
@@ -262,13 +310,16 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
       },
       [&](Slot& slot) {
         threadMask |= 1ull << (tbb::this_task_arena::current_thread_index() & 63);
-        slot.rays = renderer.render(slot.y0, slot.rows);
+        slot.supersampled = 0;
+        slot.rays = renderer.render(slot.y0, slot.rows, slot.supersampled);
         rays += slot.rays;
+        supersampled += slot.supersampled;
       },
       [&](Slot& slot) { sink(slot.rows); });
   PrecomputeStats stats;
   stats.transportSeconds = watch.seconds();
   stats.occlusionRays = rays;
+  stats.supersampledPixels = supersampled;
   stats.threadsUsed = std::popcount(threadMask.load());
   return stats;
 }
@@ -280,7 +331,7 @@ struct TransportPass {
         embree(scene),
         gbuffer(renderGBuffer(embree, scene.camera, options.samplesPerPixel)),
         dirs(makeTexelDirections(lattice, options.texelRays)),
-        renderer(embree, gbuffer, dirs, lattice) {}
+        renderer(embree, gbuffer, dirs, lattice, options.antialiasing) {}
   const CubeLattice lattice;
   const EmbreeScene embree;
   const GBuffer gbuffer;
@@ -318,7 +369,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
         for (int s = 0; s < options.samplesPerPixel; ++s) {
           const PixelSample& ps = gbuffer.at(x, y, s);
           if (ps.material < 0) continue;
-          albedo += embree.materials()[ps.material].albedo;
+          albedo += ps.albedo;
           if (hits++ == 0) first = s;
         }
         if (hits == 0) continue;

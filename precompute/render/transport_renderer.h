@@ -10,10 +10,25 @@
 
 namespace acpca {
 
+/// Which camera samples of a pixel get shadow rays. Adaptive: all of them
+/// where they disagree (a silhouette, a crease, two objects, a depth step),
+/// else the centre alone, so a pixel inside one smooth surface costs one
+/// sample; shadow edges inside such a pixel are point-sampled. Full: every
+/// covered sample, shadow edges included, at spp times the cost.
+enum class Antialiasing { Adaptive, Full };
+inline constexpr EnumNames<Antialiasing, 2> kAntialiasingNames{
+    "anti-aliasing", {{{Antialiasing::Adaptive, "adaptive"}, {Antialiasing::Full, "full"}}}};
+/// Camera samples per pixel unless told otherwise: enough for silhouettes and
+/// texture edges (docs/scenes.md, "Anti-aliasing").
+inline constexpr int kDefaultSamplesPerPixel = 4;
+
 struct PrecomputeOptions {
   int cubemapResolution = 32;
-  int samplesPerPixel = 1;  ///< camera samples per pixel; rows are averaged
-  int texelRays = 1;        ///< occlusion rays per texel (> 1: fractional visibility)
+  /// Camera samples per pixel: the albedo is their mean, the row their
+  /// luminance-weighted mean, the coverage their share that hits.
+  int samplesPerPixel = kDefaultSamplesPerPixel;
+  Antialiasing antialiasing = Antialiasing::Adaptive;
+  int texelRays = 1;  ///< occlusion rays per texel (> 1: fractional visibility)
   Precision precision = Precision::F16;
   int threads = 0;  ///< 0: all cores
   /// Called from one thread as rows are written: (rows done, rows in total).
@@ -25,10 +40,11 @@ struct PrecomputeStats {
   long long degenerateTriangles = 0;  ///< zero-area triangles left out
   long long occupiedPixels = 0;
   long long occlusionRays = 0;
-  long long bytesWritten = 0;   ///< transport rows only
-  double seconds = 0;           ///< wall time of the whole precompute
-  double transportSeconds = 0;  ///< the occlusion-ray pass alone
-  int threadsUsed = 0;          ///< distinct threads that computed rows
+  long long bytesWritten = 0;        ///< transport rows only
+  double seconds = 0;                ///< wall time of the whole precompute
+  double transportSeconds = 0;       ///< the occlusion-ray pass alone
+  int threadsUsed = 0;               ///< distinct threads that computed rows
+  long long supersampledPixels = 0;  ///< pixels that traced more than their centre sample
   double raysPerSecond() const {
     return transportSeconds > 0 ? occlusionRays / transportSeconds : 0;
   }

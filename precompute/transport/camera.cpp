@@ -37,6 +37,11 @@ Vec3 Camera::rayDirection(double px, double py) const {
   return (forward + x * right + y * trueUp).normalized();
 }
 
+Eigen::Vector2d pixelSampleOffset(int s) {
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  return {std::fmod(0.5 + s * a1, 1.0), std::fmod(0.5 + s * a2, 1.0)};
+}
+
 Vec3 directionFromAngles(double theta, double phi) {
   return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
 }

@@ -21,6 +21,10 @@ void validateImageSize(const ImageSize& size, const std::string& what);
 /// from -Z towards +X. Lighting, suns and framing cameras all use it.
 Vec3 directionFromAngles(double thetaRadians, double phiRadians);
 
+/// Sub-pixel position in [0, 1)^2 of a pixel's camera sample s: the centre
+/// for s = 0, then the R2 low-discrepancy sequence (plastic number) from there.
+Eigen::Vector2d pixelSampleOffset(int s);
+
 struct Camera {
   Vec3 eye{0, 0, 1};
   Vec3 target{0, 0, 0};

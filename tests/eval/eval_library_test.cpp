@@ -103,7 +103,9 @@ TEST_F(EvalLibrary, AnalysisFindsTheCheapestBlockItReports) {
   }
   EXPECT_EQ(out.json["best_block_side"], bestSide);
   EXPECT_NE(out.summary.find("Measured optimum"), std::string::npos);
-  EXPECT_THROW(validateAnalyzeOptions({.blocks = {0}}), ParameterError);
+  AnalyzeOptions zeroBlock;
+  zeroBlock.blocks = {0};
+  EXPECT_THROW(validateAnalyzeOptions(zeroBlock), ParameterError);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ constexpr double kPi = std::numbers::pi;
 /// A UV sphere of unit radius at the origin: `segments` around, `rings` from
 /// pole to pole, with fans at the poles (no zero-area triangles).
 TriangleMesh uvSphere(int segments, int rings, const Material& material) {
-  TriangleMesh m{"uv-sphere", {}, {}, material, {}};
+  TriangleMesh m = emptyMesh("uv-sphere", material);
   m.vertices.emplace_back(0.0f, 1.0f, 0.0f);  // north pole
   for (int r = 1; r < rings; ++r)
     for (int s = 0; s < segments; ++s) {
@@ -149,11 +149,9 @@ TEST(ShadingNormals, CreasesStaySharpAndFileModesParse) {
   EXPECT_NEAR(std::abs(box.normals[0].x()), 1 / std::sqrt(3.0f), 1e-6);
   EXPECT_EQ(kNormalModeNames.parse("smooth"), NormalMode::Smooth);
   // Zero-area triangles (real files have them) still get unit normals.
-  TriangleMesh sliver{"sliver",
-                      {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {0, 0, 1}},
-                      {{0, 1, 2}, {0, 3, 1}},
-                      Material{},
-                      {}};
+  TriangleMesh sliver = emptyMesh("sliver", Material{});
+  sliver.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {0, 0, 1}};
+  sliver.triangles = {{0, 1, 2}, {0, 3, 1}};
   smoothNormals(sliver);
   for (const auto& n : sliver.normals) EXPECT_NEAR(n.norm(), 1, 1e-6);
   EXPECT_NO_THROW(Scene({"s", {}, {sliver}, {}}).validate());
