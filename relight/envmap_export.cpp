@@ -27,12 +27,29 @@ Image radianceImage(const LatticeLighting& lighting, const CubeLattice& lattice,
 Image latticeToLatLong(const LatticeLighting& lighting, const CubeLattice& lattice, int width,
                        int height) {
   constexpr double kPi = std::numbers::pi;
-  return radianceImage(lighting, lattice, width, height, [&](int x, int y, Vec3& d) {
-    const double phi = 2 * kPi * ((x + 0.5) / width - 0.5);
-    const double theta = kPi * (y + 0.5) / height;
-    d = directionFromAngles(theta, phi);
-    return true;
-  });
+  // Which texel each pixel centre falls in, and the solid angle those pixels
+  // cover per texel: a texel's lighting over that solid angle keeps its energy
+  // exactly, whatever the image size.
+  std::vector<int> texel(static_cast<size_t>(width) * height);
+  std::vector<double> covered(lattice.size(), 0.0);
+  for (int y = 0; y < height; ++y) {
+    const double omega =
+        (std::cos(kPi * y / height) - std::cos(kPi * (y + 1) / height)) * 2 * kPi / width;
+    for (int x = 0; x < width; ++x) {
+      const double phi = 2 * kPi * ((x + 0.5) / width - 0.5);
+      const double theta = kPi * (y + 0.5) / height;
+      const int j = lattice.texelOf(directionFromAngles(theta, phi));
+      texel[static_cast<size_t>(y) * width + x] = j;
+      covered[j] += omega;
+    }
+  }
+  Image image{width, height, 3, std::vector<float>(static_cast<size_t>(width) * height * 3, 0.f)};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int j = texel[static_cast<size_t>(y) * width + x];
+      for (int c = 0; c < 3; ++c) image.at(x, y)[c] = float(lighting[3 * j + c] / covered[j]);
+    }
+  return image;
 }
 
 bool crossDirection(int x, int y, int faceSize, Vec3& direction) {

@@ -13,7 +13,7 @@ packages=(
   python3 python3-h5py python3-numpy python3-matplotlib
   xvfb xauth
   clang libclang-rt-14-dev
-  blender-data
+  blender-data assimp-testmodels
 )
 
 missing=()

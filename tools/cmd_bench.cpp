@@ -13,13 +13,14 @@ namespace {
 
 struct RaysArgs {
   CommonOptions common;
-  std::string scene = "plant", size = "256x256";
+  std::string scene = "plant", size = "256x256", camera;
   int cubemap = 32, rows = 32, repeats = 3;
 };
 
 void runRays(const RaysArgs& a) {
   Scene scene = loadScene(a.scene);
   scene.camera.size = parseSize(a.size, "--size");
+  applyCameraSpec(scene, a.camera);
   ThreadLimit limit(a.common.threads);
   const RayBenchmarkReport r =
       runRayBenchmark(scene, a.cubemap, limit.threads(), a.rows, std::max(1, a.repeats));
@@ -46,6 +47,7 @@ void registerBench(CLI::App& app) {
   auto* rays = bench->add_subcommand("rays", "Occlusion rays/s: precompute vs raw Embree loops");
   rays->add_option("--scene", args->scene, "Built-in scene or scene JSON");
   rays->add_option("--size", args->size, "Image size WxH");
+  rays->add_option("--camera", args->camera, "auto or auto:THETA,PHI, as for precompute");
   rays->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
   rays->add_option("--rows", args->rows, "Image rows (from the middle) to trace");
   rays->add_option("--repeats", args->repeats, "Runs of each loop; the fastest counts");

@@ -60,7 +60,13 @@ void run(const InfoArgs& a) {
   const TransportReader t(a.file);
   const auto& h = t.header();
   const long long storedValues = t.rows() * static_cast<long long>(t.latticeSize());
+  const auto vec3 = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
   const nlohmann::json j = {{"kind", "transport"},
+                            {"camera",
+                             {{"eye", vec3(h.camera.eye)},
+                              {"target", vec3(h.camera.target)},
+                              {"up", vec3(h.camera.up)},
+                              {"fov", h.camera.fovDegrees}}},
                             {"width", h.camera.size.width},
                             {"height", h.camera.size.height},
                             {"occupied_pixels", t.rows()},

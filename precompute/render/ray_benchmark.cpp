@@ -182,6 +182,7 @@ RayBenchmarkReport runRayBenchmark(const Scene& scene, int cubemapResolution, in
   PrecomputeOptions options;
   options.cubemapResolution = cubemapResolution;
   options.threads = report.threads;
+  options.samplesPerPixel = 1;  // the raw loops trace from pixel centres too
   report.precompute = {"precompute (4x4 texel blocks, BRDF and rows, all)", 0,
                        std::numeric_limits<double>::infinity()};
   for (int r = 0; r < repeats; ++r) {

@@ -2,14 +2,20 @@
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "core/warning.h"
 
 namespace acpca {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -101,10 +107,26 @@ std::shared_ptr<const Texture> loadTexture(const std::string& path) {
 std::shared_ptr<const Texture> loadTextureFromMemory(const std::string& name,
                                                      const std::string& formatHint,
                                                      const void* bytes, size_t size) {
-  OIIO::Filesystem::IOMemReader memory(bytes, size);
-  // The extension picks the reader; the bytes come from memory, not a file.
+  // Not every OpenImageIO reader takes its bytes from memory (PNG does not in
+  // 2.4): the image goes through a private temporary file named for its format.
+  static std::atomic<int> counter{0};
+  const fs::path file =
+      fs::temp_directory_path() / concat("acpca-texture-", ::getpid(), "-", counter++, ".",
+                                         formatHint.empty() ? "png" : formatHint);
+  struct Removed {
+    fs::path path;
+    ~Removed() {
+      std::error_code ignored;
+      fs::remove(path, ignored);
+    }
+  } removed{file};
+  {
+    std::ofstream out(file, std::ios::binary);
+    out.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
+    if (!out) throw UserError(concat(name, ": cannot write it to ", file.string()));
+  }
   const OIIO::ImageSpec config = readConfig();
-  auto in = OIIO::ImageInput::open("embedded." + formatHint, &config, &memory);
+  auto in = OIIO::ImageInput::open(file.string(), &config);
   if (!in)
     throw UserError(
         concat(name, ": cannot read the embedded '", formatHint, "' texture: ", OIIO::geterror()));

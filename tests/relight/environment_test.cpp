@@ -253,10 +253,30 @@ TEST(EnvmapExport, CrossIsContinuousAndMatchesTheLatLong) {
   const CubeLattice lattice(8);
   const LatticeLighting L =
       computeLighting(*makeSunEnvironment(90, 90, 20, Rgb::Constant(3)), lattice, {});
-  const Image latlong = latticeToLatLong(L, lattice, 64, 32);
+  const Image latlong = latticeToLatLong(L, lattice, 256, 128);
   const Image cross = latticeToCross(L, lattice, face);
-  EXPECT_GT(latlong.at(48, 16)[0], 0);  // u = 0.75, the horizon
-  EXPECT_FLOAT_EQ(cross.at(2 * face + face / 2, face + face / 2)[0], latlong.at(48, 16)[0]);
+  EXPECT_GT(latlong.at(192, 64)[0], 0);  // u = 0.75, the horizon
+  // The lat-long spreads a texel over the pixels it holds, the cross over
+  // its exact solid angle: the same radiance within the pixels' quantization.
+  EXPECT_NEAR(latlong.at(192, 64)[0] / cross.at(2 * face + face / 2, face + face / 2)[0], 1, 0.1);
+}
+
+TEST(EnvmapExport, TheLatLongHoldsExactlyTheLatticeEnergy) {
+  // A small sun (a few texels) is where rounding texels to pixels would show.
+  const CubeLattice lattice(32);
+  const LatticeLighting L =
+      computeLighting(*makeSunEnvironment(60, 90, 4, Rgb(1000, 500, 250)), lattice, {});
+  const Rgb total = totalEnergy(L);
+  for (const auto [w, h] : {std::pair{2048, 1024}, std::pair{512, 256}}) {
+    const Image image = latticeToLatLong(L, lattice, w, h);
+    Rgb sum = Rgb::Zero();
+    for (int y = 0; y < h; ++y) {
+      const double omega = (std::cos(M_PI * y / h) - std::cos(M_PI * (y + 1) / h)) * 2 * M_PI / w;
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) sum[c] += image.at(x, y)[c] * omega;
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c] / total[c], 1, 1e-5) << w << "x" << h;
+  }
 }
 
 TEST(Environment, CubeCrossFilesRoundTripTheLatticeAndKeepEnergyRotated) {

@@ -2,6 +2,7 @@
 // lookup and its orientation, and what assimp hands over from OBJ and glTF.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "core/error.h"
@@ -109,6 +110,53 @@ TEST(ModelFiles, ObjMaterialsGiveOneMeshEachWithColourTextureAndCoordinates) {
   EXPECT_FALSE(lost.albedoTexture);
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("nowhere.png"), std::string::npos) << warnings[0];
+}
+
+// Models nobody here made: Debian's assimp-testmodels (scripts/setup.sh).
+const std::string kModels = "/usr/share/assimp/models/";
+
+std::vector<TriangleMesh> loadRealModel(const std::string& relative) {
+  const std::string path = kModels + relative;
+  EXPECT_TRUE(std::filesystem::exists(path)) << path << ": run scripts/setup.sh";
+  std::vector<std::string> warnings;
+  const auto previous = setWarningHandler([&](const std::string& w) { warnings.push_back(w); });
+  std::vector<TriangleMesh> meshes;
+  try {
+    meshes = loadMeshFile(path);
+  } catch (...) {
+    setWarningHandler(previous);
+    throw;
+  }
+  setWarningHandler(previous);
+  for (const auto& w : warnings)  // the files' own flaws (zero normals) are not ours
+    if (w.find("texture") != std::string::npos) ADD_FAILURE() << relative << ": " << w;
+  return meshes;
+}
+
+TEST(ModelFiles, RealTexturedModelsLoadWithEveryTexture) {
+  // The Collada duck: one material, its TGA texture, coordinates on every corner.
+  const auto duck = loadRealModel("Collada/duck.dae");
+  ASSERT_EQ(duck.size(), 1u);
+  ASSERT_TRUE(duck[0].albedoTexture);
+  EXPECT_EQ(duck[0].uvs.size(), 3 * duck[0].triangles.size());
+  EXPECT_GT(duck[0].triangles.size(), 4000u);
+  // The same glTF box with its image beside it and inside a GLB: the same texels.
+  const auto external = loadRealModel("glTF2/BoxTextured-glTF/BoxTextured.gltf");
+  const auto embedded = loadRealModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  ASSERT_EQ(external.size(), 1u);
+  ASSERT_EQ(embedded.size(), 1u);
+  const auto& a = *external[0].albedoTexture;
+  const auto& b = *embedded[0].albedoTexture;
+  ASSERT_EQ(a.width(), b.width());
+  ASSERT_EQ(a.height(), b.height());
+  for (int y = 0; y < a.height(); y += 17)
+    for (int x = 0; x < a.width(); x += 13) ASSERT_TRUE(a.texel(x, y).isApprox(b.texel(x, y)));
+  EXPECT_EQ(external[0].uvs, embedded[0].uvs);
+  // An OBJ whose MTL names its JPEGs with Windows paths (.\SpiderTex.jpg).
+  const auto spider = loadRealModel("OBJ/spider.obj");
+  int textured = 0;
+  for (const auto& m : spider) textured += m.albedoTexture != nullptr;
+  EXPECT_GE(textured, 4);
 }
 
 }  // namespace

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Compares our dense relight of a scene with Blender Cycles (direct light,
+# the same lattice lighting, camera and materials: render_cycles.py), and
+# Cycles with itself under another seed (its own noise). Not part of CI: needs
+# Debian's `blender` (apt-get install blender) and a few minutes per scene.
+#
+#   bash scripts/cycles/compare.sh SCENE.json ENV OUT_DIR [options]
+#     --size WxH (160x120)  --camera SPEC (auto:65,150 or none)
+#     --samples N (Cycles samples per pixel, 1024)  --spp N (ours, 16)  --cubemap R (32)
+#     --texel-rays N (ours, 1: shadow rays per lattice texel)
+#
+# Writes OUT_DIR/{t.h5, ours.exr, lattice.exr, cycles.exr, cycles-2.exr,
+# comparison.json} and prints relative L2 (all covered pixels, full pixels,
+# edge pixels) and the energy ratio, ours against Cycles and Cycles against
+# itself.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+scene=$1 env=$2 out=$3
+shift 3
+size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1
+while [ $# -gt 0 ]; do
+  case $1 in
+    --size) size=$2 ;;
+    --camera) camera=$2 ;;
+    --samples) samples=$2 ;;
+    --spp) spp=$2 ;;
+    --cubemap) cubemap=$2 ;;
+    --texel-rays) texel_rays=$2 ;;
+    *) echo "compare.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift 2
+done
+command -v blender >/dev/null || { echo "compare.sh: needs blender (apt-get install blender)" >&2; exit 1; }
+cli=build/tools/adaptive-cpca
+[ -x "$cli" ] || bash scripts/build.sh >/dev/null
+mkdir -p "$out"
+camera_flag=()
+[ "$camera" != none ] && camera_flag=(--camera "$camera")
+# Every sample traced (--aa full): Cycles integrates the whole pixel too.
+"$cli" precompute --scene "$scene" --size "$size" --spp "$spp" --aa full --cubemap "$cubemap" \
+  --texel-rays "$texel_rays" \
+  --precision f32 "${camera_flag[@]}" --quiet --out "$out/t.h5"
+"$cli" relight "$out/t.h5" --env "$env" --background black --exr-float --quiet --out "$out/ours.exr"
+# The lattice as Cycles sees it: piecewise constant per texel, 2048x1024.
+"$cli" envmap "$env" --cubemap "$cubemap" --size 2048x1024 --quiet --out "$out/lattice.exr"
+cam=$("$cli" info "$out/t.h5" --json - | python3 -c '
+import json, sys
+c = json.load(sys.stdin)["camera"]
+print(",".join(repr(float(v)) for v in c["eye"] + c["target"] + c["up"] + [c["fov"]]))')
+width=${size%x*} height=${size#*x}
+render() {  # seed, output, image to compare with, json
+  rm -f "$2" "$4"
+  blender -b --factory-startup --python-exit-code 1 --python scripts/cycles/render_cycles.py -- \
+    --scene "$scene" --width "$width" --height "$height" --camera "$cam" \
+    --env "$out/lattice.exr" --samples "$samples" --seed "$1" --out "$2" --ours "$3" \
+    --json "$4" >"$out/blender-$1.log" 2>&1 || { tail -30 "$out/blender-$1.log" >&2; exit 1; }
+}
+render 1 "$out/cycles.exr" "$out/ours.exr" "$out/ours-vs-cycles.json"
+render 2 "$out/cycles-2.exr" "$out/cycles.exr" "$out/cycles-noise.json"
+python3 - "$out" <<'PY'
+import json, sys
+out = sys.argv[1]
+ours = json.load(open(f"{out}/ours-vs-cycles.json"))
+noise = json.load(open(f"{out}/cycles-noise.json"))
+json.dump({"ours_vs_cycles": ours, "cycles_seed_1_vs_2": noise},
+          open(f"{out}/comparison.json", "w"), indent=2)
+for name, r in (("ours vs Cycles", ours), ("Cycles vs Cycles (noise)", noise)):
+    print(f"{name:26s} relative L2 {100 * r['relative_l2']:.2f}% "
+          f"(full pixels {100 * r['relative_l2_full_pixels']:.2f}%, "
+          f"{r['edge_pixels']} edge pixels {100 * r['relative_l2_edge_pixels']:.2f}%), "
+          f"energy ratio {r['energy_ratio']:.4f}")
+PY
