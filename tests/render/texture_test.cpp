@@ -112,6 +112,56 @@ TEST(ModelFiles, ObjMaterialsGiveOneMeshEachWithColourTextureAndCoordinates) {
   EXPECT_NE(warnings[0].find("nowhere.png"), std::string::npos) << warnings[0];
 }
 
+TEST(SceneJson, MaterialsOverrideTheFilesColoursOrOnlyTheirBrdf) {
+  TempDir dir;
+  test::writeImage8(dir.file("red.png"), 1, 1, 3, {255, 0, 0});
+  writeText(dir.file("m.mtl"), "newmtl painted\nKd 0.5 0.5 0.5\nmap_Kd red.png\n");
+  writeText(dir.file("m.obj"),
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+            "usemtl painted\nf 1/1 2/2 3/3\n");
+  const auto scene = [&](const std::string& object) {
+    const std::string camera =
+        R"("camera": {"eye": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40})";
+    writeText(dir.file("s.json"), "{" + camera + R"(, "objects": [)" + object + "]}");
+    return loadSceneJson(dir.file("s.json"));
+  };
+  // No material: the file's, diffuse.
+  Scene s = scene(R"({"mesh": "m.obj"})");
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].albedoTexture);
+  EXPECT_TRUE(s.meshes[0].material.albedo.isApprox(Eigen::Vector3f::Constant(0.5f)));
+  // A BRDF alone keeps the file's colour and texture.
+  s = scene(R"({"mesh": "m.obj", "material": {"type": "ggx", "specular": 0.3, "roughness": 0.2}})");
+  EXPECT_EQ(s.meshes[0].material.type, Material::Type::Ggx);
+  EXPECT_TRUE(s.meshes[0].albedoTexture);
+  EXPECT_TRUE(s.meshes[0].material.albedo.isApprox(Eigen::Vector3f::Constant(0.5f)));
+  // An albedo replaces both.
+  s = scene(R"({"mesh": "m.obj", "material": {"type": "diffuse", "albedo": [0, 1, 0]}})");
+  EXPECT_FALSE(s.meshes[0].albedoTexture);
+  EXPECT_TRUE(s.meshes[0].material.albedo.isApprox(Eigen::Vector3f(0, 1, 0)));
+  // A texture on a plane: white albedo unless given; on a sphere: refused.
+  s = scene(R"({"shape": "plane", "center": [0, 0, 0], "normal": [0, 0, 1], "size": 1,
+                "material": {"type": "diffuse", "texture": "red.png"}})");
+  ASSERT_TRUE(s.meshes[0].albedoTexture);
+  EXPECT_TRUE(s.meshes[0].material.albedo.isApprox(Eigen::Vector3f::Ones()));
+  EXPECT_EQ(s.meshes[0].uvs.size(), 6u);
+  EXPECT_THROW(scene(R"({"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                         "material": {"type": "diffuse", "texture": "red.png"}})"),
+               UserError);
+  // A shape still needs a colour; a missing texture names itself.
+  EXPECT_THROW(scene(R"({"shape": "plane", "center": [0, 0, 0], "normal": [0, 0, 1], "size": 1,
+                         "material": {"type": "diffuse"}})"),
+               UserError);
+  try {
+    scene(R"({"mesh": "m.obj", "material": {"type": "diffuse", "texture": "gone.png"}})");
+    FAIL() << "a missing texture was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("gone.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("objects[0].material.texture"), std::string::npos)
+        << e.what();
+  }
+}
+
 // Models nobody here made: Debian's assimp-testmodels (scripts/setup.sh).
 const std::string kModels = "/usr/share/assimp/models/";
 
