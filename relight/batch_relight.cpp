@@ -16,6 +16,7 @@
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
+#include "relight/relight_source.h"
 #include "relight/spec_parsing.h"
 
 namespace acpca {
@@ -33,62 +34,6 @@ struct EnvInput {
 
 std::string extensionOf(ImageFormat f) {
   return f == ImageFormat::Exr ? ".exr" : ".png";
-}
-
-/// What is relit: a transport file (dense ground truth) or a model.
-struct RelightSource {
-  TransportHeader header;
-  std::string method;
-  /// Bytes of model read per frame; for a transport, per pass over T (a pass
-  /// relights a whole group of frames).
-  long long bytesPerPass = 0;
-  bool dense = false;
-  /// Relights the group; ms[k] is the time spent on frame k.
-  std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
-                                                std::vector<double>& ms)>
-      relight;
-};
-
-RelightSource openSource(const std::string& path, const std::string& maxRank) {
-  RelightSource s;
-  if (isModelFile(path)) {
-    std::shared_ptr<ModelRelighter> relighter;
-    {
-      const Model model = readModel(path);
-      s.method = model.method;
-      relighter = std::make_shared<ModelRelighter>(model);
-    }  // the relighter keeps its own packed copy
-    applyRankLimit(maxRank, *relighter);
-    s.header = relighter->geometry();
-    s.bytesPerPass = relighter->bytesPerFrame();
-    s.relight = [relighter](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
-      std::vector<std::vector<float>> out;
-      ms.clear();
-      for (const auto& lighting : l) {
-        const Stopwatch watch;
-        out.push_back(relighter->relight(lighting));
-        ms.push_back(watch.milliseconds());
-      }
-      return out;
-    };
-    return s;
-  }
-  if (!maxRank.empty())
-    throw ParameterError("maximum rank", maxRank,
-                         concat(path, " is a transport file, which has no ranks"));
-  auto transport = std::make_shared<TransportReader>(path);
-  s.header = transport->header();
-  s.method = "dense";
-  s.dense = true;
-  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
-                   (transport->header().precision == Precision::F16 ? 2 : 4);
-  s.relight = [transport](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
-    const Stopwatch watch;
-    auto out = denseRelight(*transport, l);
-    ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
-    return out;
-  };
-  return s;
 }
 
 }  // namespace
@@ -139,7 +84,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const fs::path out(a.out);
   const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, batch);
   const std::vector<EnvRotation>& rotations = a.rotations;
-  const RelightSource source = openSource(a.input, a.maxRank);
+  const RelightSource source = openRelightSource(a.input, a.maxRank);
   const CubeLattice lattice(source.header.cubemapResolution);
   if (batch) createOutputDirectory(a.out);
 

@@ -55,13 +55,19 @@ std::unique_ptr<Environment> makeSunEnvironment(double thetaDegrees, double phiD
                                                 double sizeDegrees, const Rgb& radiance);
 /// The built-in sun-and-sky (docs/lighting.md).
 std::unique_ptr<Environment> makeSkyEnvironment();
-/// A lat-long image in memory: width x height RGB, row 0 at the zenith.
 /// A horizontal cube cross (4 x 3 faces of faceSize pixels, the layout of
 /// latticeToCross), RGB row-major.
 std::unique_ptr<Environment> makeCubeCrossEnvironment(std::string name, int faceSize,
                                                       std::vector<float> rgb);
+/// A lat-long image in memory: width x height RGB, row 0 at the zenith.
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb);
+/// An environment image in memory, checked and read as loadEnvironmentImage
+/// reads a file: width x height pixels of `channels` floats (1: grey; beyond 3
+/// ignored), row 0 at the top. `where` names it in errors and warnings.
+std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
+                                                       int width, int height, int channels,
+                                                       const float* values);
 
 /// Integrates a smooth radiance function over every texel by splitting the texel
 /// into sub x sub cells weighted by their exact solid angles (for analytic maps).

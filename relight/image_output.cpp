@@ -77,20 +77,32 @@ std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
 
 Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
                    Background background, const Environment& env, const Eigen::Matrix3d& rotation) {
-  const Camera& camera = header.camera;
   Image image;
-  image.width = camera.size.width;
-  image.height = camera.size.height;
+  image.width = header.camera.size.width;
+  image.height = header.camera.size.height;
   image.channels = background == Background::Alpha ? 4 : 3;
-  image.pixels.assign(static_cast<size_t>(image.width) * image.height * image.channels, 0.0f);
+  image.pixels.resize(static_cast<size_t>(image.width) * image.height * image.channels);
+  composeInto(header, rowRgb.data(), background, env, rotation, image.pixels.data());
+  return image;
+}
+
+void composeInto(const TransportHeader& header, const float* rowRgb, Background background,
+                 const Environment& env, const Eigen::Matrix3d& rotation, float* pixels) {
+  const Camera& camera = header.camera;
+  const int width = camera.size.width, height = camera.size.height;
+  const int channels = background == Background::Alpha ? 4 : 3;
+  const auto at = [&](int x, int y) {
+    return pixels + (static_cast<size_t>(y) * width + x) * channels;
+  };
   std::vector<float> coverage(static_cast<size_t>(camera.size.pixels()), 0.0f);
   for (long long r = 0; r < header.rows(); ++r) coverage[header.pixels[r]] = header.coverage[r];
   const Eigen::Matrix3d inverse = rotation.transpose();
   // Background pixels evaluate the environment, the costly part: rows in parallel.
-  tbb::parallel_for(0, image.height, [&](int y) {
-    for (int x = 0; x < image.width; ++x) {
-      float* out = image.at(x, y);
-      const float cov = coverage[static_cast<size_t>(y) * image.width + x];
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      float* out = at(x, y);
+      const float cov = coverage[static_cast<size_t>(y) * width + x];
+      for (int c = 0; c < 3; ++c) out[c] = 0;
       if (background == Background::Env && cov < 1) {
         const Rgb bg = env.radiance(inverse * camera.rayDirection(x + 0.5, y + 0.5));
         for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
@@ -100,10 +112,9 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
   });
   for (long long r = 0; r < header.rows(); ++r) {
     const int p = header.pixels[r];
-    float* out = image.at(p % image.width, p / image.width);
+    float* out = at(p % width, p / width);
     for (int c = 0; c < 3; ++c) out[c] += header.coverage[r] * rowRgb[3 * r + c];
   }
-  return image;
 }
 
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,

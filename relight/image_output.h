@@ -34,6 +34,10 @@ enum class ImageFormat { Exr, Png };
 /// or transparency (RGBA, alpha = coverage).
 Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
                    Background background, const Environment& env, const Eigen::Matrix3d& rotation);
+/// The same into `pixels`: width x height x channels floats (4 with Alpha,
+/// else 3), every value written.
+void composeInto(const TransportHeader& header, const float* rowRgb, Background background,
+                 const Environment& env, const Eigen::Matrix3d& rotation, float* pixels);
 
 /// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
 /// EXR output is also scaled by 2^exposure. Throws UserError naming the path.

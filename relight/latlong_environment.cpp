@@ -107,6 +107,45 @@ std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width,
   return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));
 }
 
+std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
+                                                       int width, int height, int channels,
+                                                       const float* values) {
+  if (width < 2 || height < 1 || static_cast<long long>(width) * height > kMaxPixels)
+    throw UserError(concat(where, ": environment map size ", width, "x", height,
+                           " is out of range"));
+  if (channels < 1) throw UserError(concat(where, ": the environment map has no channels"));
+  std::vector<float> rgb(static_cast<size_t>(width) * height * 3);
+  // Filtered and resampled HDRIs carry tiny negative texels (ringing); they
+  // are clamped to 0, as renderers do, unless they hold a real share of the
+  // map's energy. NaN and Inf are refused.
+  long long negatives = 0;
+  float mostNegative = 0;
+  double negativeSum = 0, absoluteSum = 0;
+  for (size_t p = 0; p < rgb.size() / 3; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = values[p * channels + std::min(c, channels < 3 ? 0 : c)];
+      if (!std::isfinite(v))
+        throw UserError(concat(where, ": pixel (", p % width, ", ", p / width, ") channel ", c,
+                               " is ", v, "; radiance must be finite"));
+      absoluteSum += std::abs(v);
+      if (v < 0) ++negatives, negativeSum -= v, mostNegative = std::min(mostNegative, v);
+      rgb[3 * p + c] = std::max(v, 0.0f);
+    }
+  if (negatives > 0) {
+    const double share = negativeSum / absoluteSum;
+    if (share > kMaxNegativeShare)
+      throw UserError(concat(where, ": ", negatives, " negative values (down to ", mostNegative,
+                             ") hold ", 100 * share, "% of the map's summed magnitude; more than ",
+                             100 * kMaxNegativeShare, "% is not ringing but a broken map"));
+    warn(concat(where, ": ", negatives, " negative values clamped to 0 (the most negative ",
+                mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
+  }
+  // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
+  if (width * 3 == height * 4 && width % 4 == 0)
+    return makeCubeCrossEnvironment(std::move(name), width / 4, std::move(rgb));
+  return makeLatLongEnvironment(std::move(name), width, height, std::move(rgb));
+}
+
 std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw UserError(concat(path, ": cannot read the environment map: ", OIIO::geterror()));
@@ -129,37 +168,8 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
   std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
     throw UserError(concat(path, ": cannot read the environment map pixels: ", in->geterror()));
-  std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * 3);
-  // Filtered and resampled HDRIs carry tiny negative texels (ringing); they
-  // are clamped to 0, as renderers do, unless they hold a real share of the
-  // map's energy. NaN and Inf are refused.
-  long long negatives = 0;
-  float mostNegative = 0;
-  double negativeSum = 0, absoluteSum = 0;
-  for (size_t p = 0; p < rgb.size() / 3; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const float v = all[p * channels + std::min(c, channels < 3 ? 0 : c)];
-      if (!std::isfinite(v))
-        throw UserError(concat(path, ": pixel (", p % spec.width, ", ", p / spec.width,
-                               ") channel ", c, " is ", v, "; radiance must be finite"));
-      absoluteSum += std::abs(v);
-      if (v < 0) ++negatives, negativeSum -= v, mostNegative = std::min(mostNegative, v);
-      rgb[3 * p + c] = std::max(v, 0.0f);
-    }
-  if (negatives > 0) {
-    const double share = negativeSum / absoluteSum;
-    if (share > kMaxNegativeShare)
-      throw UserError(concat(path, ": ", negatives, " negative values (down to ", mostNegative,
-                             ") hold ", 100 * share, "% of the map's summed magnitude; more than ",
-                             100 * kMaxNegativeShare, "% is not ringing but a broken map"));
-    warn(concat(path, ": ", negatives, " negative values clamped to 0 (the most negative ",
-                mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
-  }
-  std::string name = std::filesystem::path(path).stem().string();
-  // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
-  if (spec.width * 3 == spec.height * 4 && spec.width % 4 == 0)
-    return makeCubeCrossEnvironment(std::move(name), spec.width / 4, std::move(rgb));
-  return makeLatLongEnvironment(std::move(name), spec.width, spec.height, std::move(rgb));
+  return makeEnvironmentFromPixels(path, std::filesystem::path(path).stem().string(), spec.width,
+                                   spec.height, channels, all.data());
 }
 
 }  // namespace acpca

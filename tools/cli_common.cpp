@@ -139,12 +139,6 @@ StudyLog stderrLog(const std::string& prefix, bool quiet) {
   return [prefix](const std::string& line) { std::cerr << prefix << ": " << line << std::endl; };
 }
 
-nlohmann::json rankHistogramJson(const Model& m) {
-  nlohmann::json j = nlohmann::json::object();  // JSON keys are strings
-  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
-  return j;
-}
-
 void printStudy(const StudyOutput& output, const CommonOptions& common) {
   if (!common.quiet) std::cout << output.summary << std::flush;
   writeJson(common.jsonPath, output.json);

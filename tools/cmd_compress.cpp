@@ -4,6 +4,7 @@
 
 #include "cluster/compress.h"
 #include "cluster/model_file.h"
+#include "relight/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 

@@ -4,6 +4,7 @@
 
 #include "cluster/model_file.h"
 #include "precompute/transport/transport_file.h"
+#include "relight/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -19,23 +20,7 @@ void runModel(const InfoArgs& a) {
   const Model m = readModel(a.file);
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(a.file, ec);
-  const nlohmann::json j = {{"kind", "model"},
-                            {"width", m.geometry.camera.size.width},
-                            {"height", m.geometry.camera.size.height},
-                            {"occupied_pixels", m.rows()},
-                            {"cubemap", m.geometry.cubemapResolution},
-                            {"global_bases", m.globalBases()},
-                            {"clusters", m.clusters()},
-                            {"cost_per_pixel", m.costPerPixel()},
-                            {"total_cost", m.totalCost()},
-                            {"bytes", ec ? -1 : static_cast<long long>(bytes)},
-                            {"bytes_per_frame", m.frameBytes()},
-                            {"method", m.method},
-                            {"coeffs", coeffPrecisionName(m.precision)},
-                            {"bases", coeffPrecisionName(m.basisPrecision)},
-                            {"transport_error", m.transportError},
-                            {"rank_histogram", rankHistogramJson(m)},
-                            {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
+  const nlohmann::json j = describeModel(m, a.file);
   if (!a.jsonPath.empty()) {
     writeJson(a.jsonPath, j);
     if (a.jsonPath == "-") return;
@@ -60,28 +45,7 @@ void run(const InfoArgs& a) {
   const TransportReader t(a.file);
   const auto& h = t.header();
   const long long storedValues = t.rows() * static_cast<long long>(t.latticeSize());
-  const auto vec3 = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
-  const nlohmann::json j = {{"kind", "transport"},
-                            {"camera",
-                             {{"eye", vec3(h.camera.eye)},
-                              {"target", vec3(h.camera.target)},
-                              {"up", vec3(h.camera.up)},
-                              {"fov", h.camera.fovDegrees}}},
-                            {"width", h.camera.size.width},
-                            {"height", h.camera.size.height},
-                            {"occupied_pixels", t.rows()},
-                            {"cubemap", h.cubemapResolution},
-                            {"directions", t.latticeSize()},
-                            {"global_bases", nullptr},
-                            {"clusters", nullptr},
-                            {"cost_per_pixel", t.latticeSize()},
-                            {"bytes", t.fileBytes()},
-                            {"method", "dense"},
-                            {"scene", h.scene},
-                            {"precision", precisionName(h.precision)},
-                            {"spp", h.samplesPerPixel},
-                            {"texel_rays", h.texelRays},
-                            {"stored_values", storedValues}};
+  const nlohmann::json j = describeTransport(t);
   if (!a.jsonPath.empty()) {
     writeJson(a.jsonPath, j);
     if (a.jsonPath == "-") return;

@@ -267,7 +267,7 @@ TEST(EnvmapExport, TheLatLongHoldsExactlyTheLatticeEnergy) {
   const LatticeLighting L =
       computeLighting(*makeSunEnvironment(60, 90, 4, Rgb(1000, 500, 250)), lattice, {});
   const Rgb total = totalEnergy(L);
-  for (const auto [w, h] : {std::pair{2048, 1024}, std::pair{512, 256}}) {
+  for (const auto& [w, h] : {std::pair{2048, 1024}, std::pair{512, 256}}) {
     const Image image = latticeToLatLong(L, lattice, w, h);
     Rgb sum = Rgb::Zero();
     for (int y = 0; y < h; ++y) {

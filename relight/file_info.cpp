@@ -1,0 +1,75 @@
+#include "relight/file_info.h"
+
+#include <filesystem>
+
+#include "cluster/model_file.h"
+
+namespace acpca {
+
+namespace {
+
+nlohmann::json cameraJson(const Camera& c) {
+  const auto vec3 = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  return {{"eye", vec3(c.eye)}, {"target", vec3(c.target)}, {"up", vec3(c.up)},
+          {"fov", c.fovDegrees}};
+}
+
+}  // namespace
+
+nlohmann::json rankHistogramJson(const Model& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
+  return j;
+}
+
+nlohmann::json describeModel(const Model& m, const std::string& path) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  return {{"kind", "model"},
+          {"camera", cameraJson(m.geometry.camera)},
+          {"width", m.geometry.camera.size.width},
+          {"height", m.geometry.camera.size.height},
+          {"occupied_pixels", m.rows()},
+          {"cubemap", m.geometry.cubemapResolution},
+          {"global_bases", m.globalBases()},
+          {"clusters", m.clusters()},
+          {"cost_per_pixel", m.costPerPixel()},
+          {"total_cost", m.totalCost()},
+          {"bytes", ec ? -1 : static_cast<long long>(bytes)},
+          {"bytes_per_frame", m.frameBytes()},
+          {"method", m.method},
+          {"scene", m.geometry.scene},
+          {"coeffs", coeffPrecisionName(m.precision)},
+          {"bases", coeffPrecisionName(m.basisPrecision)},
+          {"transport_error", m.transportError},
+          {"rank_histogram", rankHistogramJson(m)},
+          {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
+}
+
+nlohmann::json describeTransport(const TransportReader& t) {
+  const auto& h = t.header();
+  return {{"kind", "transport"},
+          {"camera", cameraJson(h.camera)},
+          {"width", h.camera.size.width},
+          {"height", h.camera.size.height},
+          {"occupied_pixels", t.rows()},
+          {"cubemap", h.cubemapResolution},
+          {"directions", t.latticeSize()},
+          {"global_bases", nullptr},
+          {"clusters", nullptr},
+          {"cost_per_pixel", t.latticeSize()},
+          {"bytes", t.fileBytes()},
+          {"method", "dense"},
+          {"scene", h.scene},
+          {"precision", precisionName(h.precision)},
+          {"spp", h.samplesPerPixel},
+          {"texel_rays", h.texelRays},
+          {"stored_values", t.rows() * static_cast<long long>(t.latticeSize())}};
+}
+
+nlohmann::json describeFile(const std::string& path) {
+  if (isModelFile(path)) return describeModel(readModel(path), path);
+  return describeTransport(TransportReader(path));
+}
+
+}  // namespace acpca

@@ -1,0 +1,19 @@
+#pragma once
+// What a transport or model file holds, as the JSON `info --json` prints and
+// the Python module's `info` returns: one description for both.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cluster/model.h"
+#include "precompute/transport/transport_file.h"
+
+namespace acpca {
+
+/// {"rank": clusters} of a model (JSON keys are strings).
+nlohmann::json rankHistogramJson(const Model& model);
+nlohmann::json describeModel(const Model& model, const std::string& path);
+nlohmann::json describeTransport(const TransportReader& transport);
+/// Either of the above, whichever the file is (UserError when neither).
+nlohmann::json describeFile(const std::string& path);
+
+}  // namespace acpca

@@ -1,0 +1,55 @@
+#include "relight/relight_source.h"
+
+#include <algorithm>
+
+#include "cluster/model_file.h"
+#include "core/error.h"
+#include "core/stopwatch.h"
+#include "relight/batch_relight.h"
+#include "relight/dense_relight.h"
+
+namespace acpca {
+
+RelightSource openRelightSource(const std::string& path, const std::string& maxRank) {
+  RelightSource s;
+  if (isModelFile(path)) {
+    {
+      const Model model = readModel(path);
+      s.method = model.method;
+      s.model = std::make_shared<ModelRelighter>(model);
+    }  // the relighter keeps its own packed copy
+    applyRankLimit(maxRank, *s.model);
+    s.header = s.model->geometry();
+    s.bytesPerPass = s.model->bytesPerFrame();
+    s.relight = [relighter = s.model](const std::vector<LatticeLighting>& l,
+                                      std::vector<double>& ms) {
+      std::vector<std::vector<float>> out;
+      ms.clear();
+      for (const auto& lighting : l) {
+        const Stopwatch watch;
+        out.push_back(relighter->relight(lighting));
+        ms.push_back(watch.milliseconds());
+      }
+      return out;
+    };
+    return s;
+  }
+  if (!maxRank.empty())
+    throw ParameterError("maximum rank", maxRank,
+                         concat(path, " is a transport file, which has no ranks"));
+  auto transport = std::make_shared<TransportReader>(path);
+  s.header = transport->header();
+  s.method = "dense";
+  s.dense = true;
+  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
+                   (transport->header().precision == Precision::F16 ? 2 : 4);
+  s.relight = [transport](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
+    const Stopwatch watch;
+    auto out = denseRelight(*transport, l);
+    ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
+    return out;
+  };
+  return s;
+}
+
+}  // namespace acpca
