@@ -10,8 +10,8 @@ namespace {
 
 nlohmann::json cameraJson(const Camera& c) {
   const auto vec3 = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
-  return {{"eye", vec3(c.eye)}, {"target", vec3(c.target)}, {"up", vec3(c.up)},
-          {"fov", c.fovDegrees}};
+  return {
+      {"eye", vec3(c.eye)}, {"target", vec3(c.target)}, {"up", vec3(c.up)}, {"fov", c.fovDegrees}};
 }
 
 }  // namespace

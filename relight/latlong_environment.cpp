@@ -111,8 +111,8 @@ std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where,
                                                        int width, int height, int channels,
                                                        const float* values) {
   if (width < 2 || height < 1 || static_cast<long long>(width) * height > kMaxPixels)
-    throw UserError(concat(where, ": environment map size ", width, "x", height,
-                           " is out of range"));
+    throw UserError(
+        concat(where, ": environment map size ", width, "x", height, " is out of range"));
   if (channels < 1) throw UserError(concat(where, ": the environment map has no channels"));
   std::vector<float> rgb(static_cast<size_t>(width) * height * 3);
   // Filtered and resampled HDRIs carry tiny negative texels (ringing); they

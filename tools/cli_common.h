@@ -71,7 +71,6 @@ std::string messageWithFlag(const ParameterError& error);
 /// A log callback printing "PREFIX: line" on stderr; none when quiet.
 StudyLog stderrLog(const std::string& prefix, bool quiet);
 
-
 /// Prints a study's summary on stdout (unless quiet) and writes its JSON.
 void printStudy(const StudyOutput& output, const CommonOptions& common);
 

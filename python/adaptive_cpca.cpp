@@ -1,0 +1,297 @@
+// The Python module `adaptive_cpca`: relighting from numpy over the C++
+// libraries (not the CLI). Thin: argument conversion, the GIL released around
+// the work, library errors raised as adaptive_cpca.Error.
+#include <OpenImageIO/imageio.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/error.h"
+#include "core/warning.h"
+#include "relight/batch_relight.h"
+#include "relight/environment.h"
+#include "relight/file_info.h"
+#include "relight/image_output.h"
+#include "relight/lighting.h"
+#include "relight/relight_source.h"
+#include "relight/rotation.h"
+
+namespace py = pybind11;
+
+namespace acpca::python {
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using OutArray = py::array_t<float, py::array::c_style>;
+/// A rank limit as Python gives it: None, a rank (int), a fraction (float) or
+/// the CLI's text ("50%").
+using RankLimit = std::optional<std::variant<int, double, std::string>>;
+
+py::object toPython(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+/// An environment and the name it goes by.
+struct PyEnvironment {
+  std::shared_ptr<const Environment> env;
+};
+
+PyEnvironment environmentFromSpec(const std::string& spec) {
+  // Without the GIL: a large map takes a while, and its warnings take the GIL.
+  py::gil_scoped_release release;
+  return {std::shared_ptr<const Environment>(loadEnvironment(spec))};
+}
+
+PyEnvironment environmentFromArray(const FloatArray& array, const std::string& name) {
+  if (array.ndim() != 3 && array.ndim() != 2)
+    throw py::value_error("a lat-long array is H x W x 3 (or H x W for grey), float32");
+  const int height = static_cast<int>(array.shape(0)), width = static_cast<int>(array.shape(1));
+  const int channels = array.ndim() == 3 ? static_cast<int>(array.shape(2)) : 1;
+  std::unique_ptr<Environment> env;
+  {
+    py::gil_scoped_release release;
+    env = makeEnvironmentFromPixels(name, name, width, height, channels, array.data());
+  }
+  return {std::move(env)};
+}
+
+std::string rankText(const RankLimit& limit) {
+  if (!limit) return "";
+  if (const int* k = std::get_if<int>(&*limit)) return std::to_string(*k);
+  if (const double* f = std::get_if<double>(&*limit)) return concat(*f);
+  return std::get<std::string>(*limit);
+}
+
+/// A model or transport file opened for relighting.
+class Relighter {
+ public:
+  explicit Relighter(const std::string& path) : path_(path) {
+    py::gil_scoped_release release;
+    source_ = openRelightSource(path);
+    lattice_ = std::make_unique<CubeLattice>(source_.header.cubemapResolution);
+    rowRgb_.resize(3 * static_cast<size_t>(source_.header.rows()));
+  }
+
+  int width() const { return source_.header.camera.size.width; }
+  int height() const { return source_.header.camera.size.height; }
+  const std::string& method() const { return source_.method; }
+  bool isModel() const { return !source_.dense; }
+  py::object info() const { return toPython(describeFile(path_)); }
+
+  /// Coverage of every pixel, H x W (0 for background).
+  py::array_t<float> coverage() const {
+    py::array_t<float> out({height(), width()});
+    float* p = out.mutable_data();
+    std::fill(p, p + out.size(), 0.0f);
+    for (long long r = 0; r < source_.header.rows(); ++r)
+      p[source_.header.pixels[r]] = source_.header.coverage[r];
+    return out;
+  }
+
+  py::array_t<float> relight(const PyEnvironment& env, double yaw, double pitch, double roll,
+                             const RankLimit& maxRank, double exposure,
+                             const std::string& background, bool fastRotation,
+                             std::optional<OutArray> out) {
+    const Background bg = kBackgroundNames.parse(background);
+    OutArray image = outputArray(out, {}, bg);
+    const EnvRotation rotation{yaw, pitch, roll};
+    {
+      py::gil_scoped_release release;
+      setRank(maxRank);
+      const LatticeLighting lighting =
+          computeLighting(*env.env, *lattice_, rotation,
+                          fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+      if (source_.model) {
+        source_.model->relight(lighting, rowRgb_.data());
+      } else {
+        std::vector<double> ms;
+        rowRgb_ = source_.relight({lighting}, ms)[0];
+      }
+      finish(rowRgb_.data(), *env.env, rotation, bg, exposure, image.mutable_data());
+    }
+    return image;
+  }
+
+  /// Every environment under every rotation, environment-major (as the CLI's
+  /// batches): N x H x W x C. A transport relights them in one pass over T.
+  py::array_t<float> relightBatch(const std::vector<PyEnvironment>& envs,
+                                  const std::vector<std::tuple<double, double, double>>& rotations,
+                                  const RankLimit& maxRank, double exposure,
+                                  const std::string& background, bool fastRotation,
+                                  std::optional<OutArray> out) {
+    const Background bg = kBackgroundNames.parse(background);
+    if (envs.empty() || rotations.empty())
+      throw ParameterError("batch", "", "give at least one environment and one rotation");
+    const py::ssize_t frames = static_cast<py::ssize_t>(envs.size() * rotations.size());
+    OutArray images = outputArray(out, {frames}, bg);
+    {
+      py::gil_scoped_release release;
+      setRank(maxRank);
+      const size_t frameValues = static_cast<size_t>(images.size() / frames);
+      constexpr size_t kGroup = 32;  // lightings per pass over T, as the CLI's batches
+      std::vector<LatticeLighting> group;
+      std::vector<std::pair<const Environment*, EnvRotation>> frameOf;
+      const auto flush = [&](size_t first) {
+        std::vector<double> ms;
+        const auto rows = source_.relight(group, ms);
+        for (size_t k = 0; k < rows.size(); ++k)
+          finish(rows[k].data(), *frameOf[k].first, frameOf[k].second, bg, exposure,
+                 images.mutable_data() + (first + k) * frameValues);
+        group.clear(), frameOf.clear();
+      };
+      size_t first = 0;
+      for (const auto& e : envs)
+        for (const auto& [yaw, pitch, roll] : rotations) {
+          const EnvRotation rotation{yaw, pitch, roll};
+          group.push_back(
+              computeLighting(*e.env, *lattice_, rotation,
+                              fastRotation ? RotationMode::FastLattice : RotationMode::Exact));
+          frameOf.emplace_back(e.env.get(), rotation);
+          if (group.size() == (source_.model ? 1 : kGroup)) {
+            flush(first);
+            first += source_.model ? 1 : kGroup;
+          }
+        }
+      if (!group.empty()) flush(first);
+    }
+    return images;
+  }
+
+ private:
+  void setRank(const RankLimit& maxRank) {
+    if (!source_.model) {
+      if (maxRank)
+        throw ParameterError("maximum rank", rankText(maxRank),
+                             concat(path_, " is a transport file, which has no ranks"));
+      return;
+    }
+    source_.model->setMaxRank(-1);
+    applyRankLimit(rankText(maxRank), *source_.model);
+  }
+
+  /// The caller's array when it has the right shape, else a new one.
+  OutArray outputArray(std::optional<OutArray>& out, std::vector<py::ssize_t> shape,
+                       Background bg) const {
+    shape.insert(shape.end(), {height(), width(), bg == Background::Alpha ? 4 : 3});
+    if (!out) return OutArray(shape);
+    const std::vector<py::ssize_t> given(out->shape(), out->shape() + out->ndim());
+    if (given != shape || !out->writeable())
+      throw py::value_error(concat(
+          "out must be a writeable C-contiguous float32 array of shape (",
+          [&] {
+            std::string s;
+            for (auto v : shape) s += (s.empty() ? "" : ", ") + concat(v);
+            return s;
+          }(),
+          ")"));
+    return *out;
+  }
+
+  void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
+              Background bg, double exposure, float* pixels) const {
+    composeInto(source_.header, rowRgb, bg, env, rotationMatrix(rotation), pixels);
+    if (exposure == 0) return;
+    // As the CLI writes images: colour scaled by 2^exposure, alpha kept.
+    const float scale = static_cast<float>(std::exp2(exposure));
+    const int channels = bg == Background::Alpha ? 4 : 3;
+    const size_t values = static_cast<size_t>(width()) * height() * channels;
+    for (size_t i = 0; i < values; ++i)
+      if (channels != 4 || i % 4 != 3) pixels[i] *= scale;
+  }
+
+  std::string path_;
+  RelightSource source_;
+  std::unique_ptr<CubeLattice> lattice_;
+  std::vector<float> rowRgb_;
+};
+
+py::array_t<float> readImage(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
+  const OIIO::ImageSpec spec = in->spec();
+  py::array_t<float> out({spec.height, spec.width, spec.nchannels});
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.mutable_data());
+  }
+  if (!ok) throw UserError(concat(path, ": cannot read the image pixels: ", in->geterror()));
+  return out;
+}
+
+}  // namespace
+
+}  // namespace acpca::python
+
+PYBIND11_MODULE(adaptive_cpca, m) {
+  using namespace acpca;
+  using namespace acpca::python;
+  m.doc() =
+      "Relight fixed-view images from adaptive-cpca transport and model files, into numpy "
+      "arrays (H x W x 3 float32, linear).";
+  static py::exception<UserError> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const UserError& e) {
+      error(e.what());
+    }
+  });
+
+  // The libraries' warnings (a map's clamped negative texels, a missing
+  // texture) become Python warnings, from whichever thread reports them.
+  setWarningHandler([](const std::string& message) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) PyErr_Clear();
+  });
+
+  m.def(
+      "info", [](const std::string& path) { return toPython(describeFile(path)); }, py::arg("path"),
+      "What a transport or model file holds (as `info --json`).");
+  m.def("read_image", &readImage, py::arg("path"),
+        "An image file (EXR, HDR, PNG, ...) as an H x W x C float32 array.");
+
+  py::class_<PyEnvironment>(m, "Environment",
+                            "A lighting: a built-in map, an image file or a numpy array.")
+      .def(py::init(&environmentFromSpec), py::arg("spec"),
+           "constant:V, sun:THETA,PHI,SIZE_DEG,INTENSITY, sky, or an image file (lat-long .exr/"
+           ".hdr, or a 4:3 cube cross)")
+      .def_static("from_array", &environmentFromArray, py::arg("array"), py::arg("name") = "array",
+                  "A lat-long map, H x 2H x 3 (row 0 at the zenith), checked as a file is.")
+      .def_property_readonly("name", [](const PyEnvironment& e) { return e.env->name(); })
+      .def("__repr__", [](const PyEnvironment& e) {
+        return "<adaptive_cpca.Environment " + e.env->name() + ">";
+      });
+
+  py::class_<Relighter>(m, "Relighter", "A model (fast path) or transport file (dense path).")
+      .def(py::init<const std::string&>(), py::arg("path"))
+      .def_property_readonly("width", &Relighter::width)
+      .def_property_readonly("height", &Relighter::height)
+      .def_property_readonly("method", &Relighter::method)
+      .def_property_readonly("is_model", &Relighter::isModel)
+      .def_property_readonly("info", &Relighter::info)
+      .def_property_readonly("coverage", &Relighter::coverage,
+                             "H x W: the share of each pixel's camera samples that hit")
+      .def("relight", &Relighter::relight, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
+           py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("max_rank") = py::none(),
+           py::arg("exposure") = 0.0, py::arg("background") = "env",
+           py::arg("fast_rotation") = false, py::arg("out") = py::none(),
+           "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it.")
+      .def("relight_batch", &Relighter::relightBatch, py::arg("envs"), py::kw_only(),
+           py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
+           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
+           py::arg("background") = "env", py::arg("fast_rotation") = false,
+           py::arg("out") = py::none(),
+           "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major.");
+  m.def(
+      "open", [](const std::string& path) { return Relighter(path); }, py::arg("path"),
+      "Relighter(path)");
+}

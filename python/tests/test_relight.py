@@ -1,0 +1,163 @@
+"""The Python module against the CLI, files and its own promises.
+
+Run by ctest (python_tests) with PYTHONPATH at the built module, ACPCA_CLI the
+adaptive-cpca binary and ACPCA_FIXTURE_DIR the transports the build makes.
+"""
+
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import adaptive_cpca as ac
+
+CLI = os.environ["ACPCA_CLI"]
+TRANSPORT = os.path.join(os.environ["ACPCA_FIXTURE_DIR"], "small-plant.h5")
+WORLD = "/usr/share/blender/datafiles/studiolights/world"
+
+
+def cli(*args):
+    subprocess.run([CLI, *args, "--quiet"], check=True)
+
+
+@pytest.fixture(scope="module")
+def model(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp("model") / "plant.h5")
+    cli("compress", TRANSPORT, "--method", "adaptive-quad", "--coeffs", "f16", "--out", path)
+    return path
+
+
+def cli_image(tmp_path, source, *args):
+    out = str(tmp_path / "cli.exr")
+    cli("relight", source, "--exr-float", "--out", out, *args)
+    return ac.read_image(out)
+
+
+@pytest.mark.parametrize("background", ["env", "black", "alpha"])
+def test_a_model_relights_as_the_cli_does_bit_for_bit(tmp_path, model, background):
+    r = ac.Relighter(model)
+    assert r.is_model and (r.height, r.width) == (40, 40)
+    mine = r.relight(ac.Environment("sky"), yaw=30, pitch=10, background=background, exposure=1)
+    theirs = cli_image(tmp_path, model, "--env", "sky", "--rotate", "30,10,0",
+                       "--background", background, "--exposure", "1")
+    assert mine.dtype == np.float32 and mine.shape == theirs.shape
+    assert np.array_equal(mine, theirs)
+
+
+def test_a_transport_relights_densely_as_the_cli_does(tmp_path):
+    r = ac.open(TRANSPORT)
+    assert not r.is_model and r.method == "dense"
+    mine = r.relight(ac.Environment("sun:50,30,4,1000"), yaw=45, background="black")
+    theirs = cli_image(tmp_path, TRANSPORT, "--env", "sun:50,30,4,1000", "--rotate", "45",
+                       "--background", "black")
+    assert np.array_equal(mine, theirs)
+
+
+def test_a_rank_limit_is_the_clis(tmp_path, model):
+    r = ac.Relighter(model)
+    for limit, text in ((2, "2"), (0.5, "0.5"), ("25%", "25%")):
+        mine = r.relight(ac.Environment("sky"), max_rank=limit)
+        assert np.array_equal(mine, cli_image(tmp_path, model, "--env", "sky",
+                                              "--max-rank", text))
+    # No limit again: every basis, not the last limit's.
+    assert np.array_equal(r.relight(ac.Environment("sky")),
+                          cli_image(tmp_path, model, "--env", "sky"))
+
+
+def test_a_numpy_lat_long_map_equals_the_same_map_read_from_its_file():
+    path = os.path.join(WORLD, "forest.exr")
+    array = ac.read_image(path)[..., :3]
+    from_file, from_array = ac.Environment(path), ac.Environment.from_array(array)
+    r = ac.Relighter(TRANSPORT)
+    assert np.array_equal(r.relight(from_file, yaw=20), r.relight(from_array, yaw=20))
+
+
+def test_a_batch_is_its_frames_and_out_is_filled_in_place(model):
+    r = ac.Relighter(model)
+    envs = [ac.Environment("sky"), ac.Environment("sun:40,100,6,500")]
+    rotations = [(0, 0, 0), (90, 0, 0), (200, 15, 5)]
+    batch = r.relight_batch(envs, rotations=rotations, background="alpha")
+    assert batch.shape == (6, 40, 40, 4)
+    for i, env in enumerate(envs):
+        for k, (yaw, pitch, roll) in enumerate(rotations):
+            frame = r.relight(env, yaw=yaw, pitch=pitch, roll=roll, background="alpha")
+            assert np.array_equal(batch[i * len(rotations) + k], frame)
+    out = np.empty((40, 40, 3), np.float32)
+    returned = r.relight(envs[0], out=out)
+    assert np.shares_memory(returned, out)
+    assert np.array_equal(out, r.relight(envs[0]))
+    # A dense batch (one pass over T per 32 frames) equals its frames too.
+    dense = ac.Relighter(TRANSPORT)
+    frames = dense.relight_batch(envs, rotations=rotations)
+    assert np.array_equal(frames[4], dense.relight(envs[1], yaw=90))
+
+
+def test_coverage_and_info_describe_the_file(model):
+    r = ac.Relighter(model)
+    cov = r.coverage
+    assert cov.shape == (40, 40) and cov.min() >= 0 and cov.max() <= 1
+    info = r.info
+    assert info["kind"] == "model" and info["width"] == 40
+    assert info == ac.info(model)
+    assert ac.info(TRANSPORT)["kind"] == "transport"
+    assert int((cov > 0).sum()) == ac.info(TRANSPORT)["occupied_pixels"]
+
+
+def test_bad_input_raises_with_the_librarys_words(tmp_path, model):
+    with pytest.raises(ac.Error, match="nowhere.h5"):
+        ac.Relighter(str(tmp_path / "nowhere.h5"))
+    with pytest.raises(ac.Error, match="radiance must be finite"):
+        ac.Environment.from_array(np.full((8, 16, 3), np.nan, np.float32))
+    with pytest.raises(ValueError):
+        ac.Environment.from_array(np.zeros((4,), np.float32))
+    r = ac.Relighter(model)
+    with pytest.raises(ac.Error, match="background"):
+        r.relight(ac.Environment("sky"), background="purple")
+    with pytest.raises(ac.Error, match="rank"):
+        ac.Relighter(TRANSPORT).relight(ac.Environment("sky"), max_rank=3)
+    with pytest.raises(ac.Error, match="rank"):
+        r.relight(ac.Environment("sky"), max_rank="lots")
+    with pytest.raises(ValueError, match="out must be"):
+        r.relight(ac.Environment("sky"), out=np.empty((40, 40, 4), np.float32))
+    with pytest.raises(ac.Error):
+        ac.Environment("sun:1,2")
+    assert issubclass(ac.Error, ValueError)
+
+
+def test_the_gil_is_released_while_relighting():
+    # With a switch interval far longer than the test, this thread gives the
+    # GIL up only where the module releases it (or it blocks); the counting
+    # thread yields it on every step. So the count moves during the call only
+    # if the call runs without the GIL.
+    r = ac.Relighter(TRANSPORT)
+    envs = [ac.Environment(os.path.join(WORLD, "forest.exr"))] * 2
+    count, stop = [0], threading.Event()
+
+    def counter():
+        while not stop.is_set():
+            count[0] += 1
+            time.sleep(0)
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000)
+    thread = threading.Thread(target=counter)
+    try:
+        thread.start()
+        before = count[0]
+        r.relight_batch(envs, rotations=[(y, 0, 0) for y in range(0, 360, 45)])
+        during = count[0] - before
+    finally:
+        stop.set()
+        thread.join()
+        sys.setswitchinterval(interval)
+    assert during > 100
+
+
+def test_library_warnings_become_python_warnings():
+    # Debian's world maps carry a few tiny negative texels, clamped with a warning.
+    with pytest.warns(UserWarning, match="negative values clamped"):
+        ac.Environment(os.path.join(WORLD, "courtyard.exr"))
