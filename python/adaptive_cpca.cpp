@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/warning.h"
+#include "python/long_calls.h"
 #include "relight/batch_relight.h"
 #include "relight/environment.h"
 #include "relight/file_info.h"
@@ -291,6 +292,7 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("background") = "env", py::arg("fast_rotation") = false,
            py::arg("out") = py::none(),
            "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major.");
+  registerLongCalls(m);
   m.def(
       "open", [](const std::string& path) { return Relighter(path); }, py::arg("path"),
       "Relighter(path)");

@@ -4,6 +4,7 @@ Run by ctest (python_tests) with PYTHONPATH at the built module, ACPCA_CLI the
 adaptive-cpca binary and ACPCA_FIXTURE_DIR the transports the build makes.
 """
 
+import _thread
 import os
 import subprocess
 import sys
@@ -161,3 +162,49 @@ def test_library_warnings_become_python_warnings():
     # Debian's world maps carry a few tiny negative texels, clamped with a warning.
     with pytest.warns(UserWarning, match="negative values clamped"):
         ac.Environment(os.path.join(WORLD, "courtyard.exr"))
+
+
+def test_precompute_and_compress_make_the_clis_files(tmp_path):
+    calls = []
+    stats = ac.precompute("sphere", str(tmp_path / "py.h5"), size=(24, 16), cubemap=8,
+                          progress=lambda done, total: calls.append((done, total)))
+    cli("precompute", "--scene", "sphere", "--size", "24x16", "--cubemap", "8",
+        "--out", str(tmp_path / "cli.h5"))
+    assert stats["occupied_pixels"] == ac.info(str(tmp_path / "cli.h5"))["occupied_pixels"]
+    assert calls and calls[-1][0] == calls[-1][1] == stats["occupied_pixels"]
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
+    sky = ac.Environment("sky")
+    assert np.array_equal(ac.Relighter(str(tmp_path / "py.h5")).relight(sky),
+                          ac.Relighter(str(tmp_path / "cli.h5")).relight(sky))
+    stages = []
+    ac.compress(str(tmp_path / "py.h5"), str(tmp_path / "py-model.h5"), method="cpca",
+                clusters=3, coeffs="f16", progress=stages.append)
+    cli("compress", str(tmp_path / "cli.h5"), "--method", "cpca", "--clusters", "3",
+        "--coeffs", "f16", "--out", str(tmp_path / "cli-model.h5"))
+    assert any("global basis" in s for s in stages)
+    assert np.array_equal(ac.Relighter(str(tmp_path / "py-model.h5")).relight(sky),
+                          ac.Relighter(str(tmp_path / "cli-model.h5")).relight(sky))
+    with pytest.raises(ac.Error, match="method"):
+        ac.compress(str(tmp_path / "py.h5"), str(tmp_path / "x.h5"), method="zip")
+
+
+def test_a_callback_error_or_ctrl_c_stops_the_work_and_leaves_no_file(tmp_path):
+    out = tmp_path / "t.h5"
+
+    def fail(done, total):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        ac.precompute("plant", str(out), size=(64, 64), cubemap=8, progress=fail)
+    assert list(tmp_path.iterdir()) == []
+
+    def ctrl_c(done, total):
+        if done and not ctrl_c.sent:
+            ctrl_c.sent = True
+            _thread.interrupt_main()  # as if Ctrl-C reached the main thread
+            time.sleep(0.5)  # Python's thread looks for signals every 50 ms meanwhile
+
+    ctrl_c.sent = False
+    with pytest.raises(KeyboardInterrupt):
+        ac.precompute("plant", str(out), size=(64, 64), cubemap=8, progress=ctrl_c)
+    assert ctrl_c.sent and list(tmp_path.iterdir()) == []

@@ -1,0 +1,57 @@
+"""Relight from Python against the CLI's timing mode, same model, same run.
+
+  PYTHONPATH=build/python /usr/bin/python3 python/benchmarks/bench_relight.py MODEL \
+      [--frames 50] [--env sky] [--cli build/tools/adaptive-cpca]
+
+Both time frames after a warm-up: the CLI with `relight --frames K` (its
+median ms/frame: the relight of a lighting already on the lattice), Python
+with relight(..., out=buffer) in a loop (median of the same count; each call
+also integrates the map onto the lattice and composes the image). Prints
+both, and the ratio.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import adaptive_cpca as ac
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("model")
+    p.add_argument("--frames", type=int, default=50)
+    p.add_argument("--env", default="sky")
+    p.add_argument("--cli", default="build/tools/adaptive-cpca")
+    a = p.parse_args()
+
+    with tempfile.TemporaryDirectory() as tmp:
+        report = os.path.join(tmp, "t.json")
+        subprocess.run([a.cli, "relight", a.model, "--env", a.env, "--frames", str(a.frames),
+                        "--background", "black", "--out", os.path.join(tmp, "x.exr"),
+                        "--quiet", "--json", report], check=True)
+        with open(report) as f:
+            cli_ms = json.load(f)["ms_per_frame_median"]
+
+    r = ac.Relighter(a.model)
+    env = ac.Environment(a.env)
+    out = np.empty((r.height, r.width, 3), np.float32)
+    r.relight(env, background="black", out=out)  # warm-up
+    ms = []
+    for _ in range(a.frames):
+        start = time.perf_counter()
+        r.relight(env, background="black", out=out)
+        ms.append(1000 * (time.perf_counter() - start))
+    py_ms = statistics.median(ms)
+    print(f"{r.width}x{r.height} {r.method}: CLI {cli_ms:.3f} ms/frame, "
+          f"Python {py_ms:.3f} ms/frame, Python / CLI {py_ms / cli_ms:.3f}")
+
+
+if __name__ == "__main__":
+    main()
