@@ -45,7 +45,7 @@ def main():
             relighter.relight(envs[world], yaw=yaw, background="env", out=image)
             name = f"{i:05d}.npy"
             np.save(os.path.join(a.out, name), image)
-            manifest.writerow([name, os.path.basename(world), f"{yaw:.3f}"])
+            manifest.writerow([name, os.path.basename(world), repr(yaw)])
     print(f"wrote {a.count} images of {relighter.width}x{relighter.height} to {a.out}")
 
 

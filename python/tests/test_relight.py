@@ -208,3 +208,19 @@ def test_a_callback_error_or_ctrl_c_stops_the_work_and_leaves_no_file(tmp_path):
     with pytest.raises(KeyboardInterrupt):
         ac.precompute("plant", str(out), size=(64, 64), cubemap=8, progress=ctrl_c)
     assert ctrl_c.sent and list(tmp_path.iterdir()) == []
+
+
+def test_the_dataset_example_writes_its_images_and_manifest(tmp_path, model):
+    example = os.path.join(os.path.dirname(__file__), "..", "examples", "make_dataset.py")
+    subprocess.run([sys.executable, example, model, str(tmp_path), "--count", "3", "--seed", "7"],
+                   check=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    rows = (tmp_path / "manifest.csv").read_text().splitlines()
+    assert rows[0] == "file,env,yaw" and len(rows) == 4
+    r = ac.Relighter(model)
+    for row in rows[1:]:
+        name, env, yaw = row.split(",")
+        image = np.load(tmp_path / name)
+        assert image.shape == (40, 40, 3) and image.dtype == np.float32
+        with pytest.warns(UserWarning):  # Debian's maps: tiny negatives clamped
+            expected = r.relight(ac.Environment(os.path.join(WORLD, env)), yaw=float(yaw))
+        assert np.array_equal(image, expected)
