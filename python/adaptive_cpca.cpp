@@ -64,6 +64,15 @@ PyEnvironment environmentFromArray(const FloatArray& array, const std::string& n
   return {std::move(env)};
 }
 
+/// An environment integrated onto a lattice under a rotation (kept for the
+/// background and for checks).
+struct PyLighting {
+  std::shared_ptr<const Environment> env;
+  EnvRotation rotation;
+  LatticeLighting values;
+  int cubemap = 0;
+};
+
 std::string rankText(const RankLimit& limit) {
   if (!limit) return "";
   if (const int* k = std::get_if<int>(&*limit)) return std::to_string(*k);
@@ -97,26 +106,44 @@ class Relighter {
     return out;
   }
 
+  /// An environment under a rotation, integrated onto this file's lattice once
+  /// (to relight it several times, or to time the relight alone).
+  PyLighting lighting(const PyEnvironment& env, double yaw, double pitch, double roll,
+                      bool fastRotation) const {
+    PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, lattice_->resolution()};
+    py::gil_scoped_release release;
+    l.values = computeLighting(*env.env, *lattice_, l.rotation,
+                               fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+    return l;
+  }
+
   py::array_t<float> relight(const PyEnvironment& env, double yaw, double pitch, double roll,
                              const RankLimit& maxRank, double exposure,
                              const std::string& background, bool fastRotation,
                              std::optional<OutArray> out) {
+    return relightLighting(lighting(env, yaw, pitch, roll, fastRotation), maxRank, exposure,
+                           background, std::move(out));
+  }
+
+  py::array_t<float> relightLighting(const PyLighting& lighting, const RankLimit& maxRank,
+                                     double exposure, const std::string& background,
+                                     std::optional<OutArray> out) {
     const Background bg = kBackgroundNames.parse(background);
+    if (lighting.cubemap != lattice_->resolution())
+      throw ParameterError("lighting", concat("6x", lighting.cubemap, "x", lighting.cubemap),
+                           concat("was made for another lattice than ", path_, "'s 6x",
+                                  lattice_->resolution(), "x", lattice_->resolution()));
     OutArray image = outputArray(out, {}, bg);
-    const EnvRotation rotation{yaw, pitch, roll};
     {
       py::gil_scoped_release release;
       setRank(maxRank);
-      const LatticeLighting lighting =
-          computeLighting(*env.env, *lattice_, rotation,
-                          fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
       if (source_.model) {
-        source_.model->relight(lighting, rowRgb_.data());
+        source_.model->relight(lighting.values, rowRgb_.data());
       } else {
         std::vector<double> ms;
-        rowRgb_ = source_.relight({lighting}, ms)[0];
+        rowRgb_ = source_.relight({lighting.values}, ms)[0];
       }
-      finish(rowRgb_.data(), *env.env, rotation, bg, exposure, image.mutable_data());
+      finish(rowRgb_.data(), *lighting.env, lighting.rotation, bg, exposure, image.mutable_data());
     }
     return image;
   }
@@ -272,6 +299,14 @@ PYBIND11_MODULE(adaptive_cpca, m) {
         return "<adaptive_cpca.Environment " + e.env->name() + ">";
       });
 
+  py::class_<PyLighting>(m, "Lighting",
+                         "An environment under a rotation, integrated onto a lattice "
+                         "(Relighter.lighting).")
+      .def_property_readonly("energy", [](const PyLighting& l) {
+        const Rgb e = totalEnergy(l.values);
+        return std::make_tuple(e[0], e[1], e[2]);
+      });
+
   py::class_<Relighter>(m, "Relighter", "A model (fast path) or transport file (dense path).")
       .def(py::init<const std::string&>(), py::arg("path"))
       .def_property_readonly("width", &Relighter::width)
@@ -286,6 +321,13 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("exposure") = 0.0, py::arg("background") = "env",
            py::arg("fast_rotation") = false, py::arg("out") = py::none(),
            "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it.")
+      .def("relight", &Relighter::relightLighting, py::arg("lighting"), py::kw_only(),
+           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
+           py::arg("background") = "env", py::arg("out") = py::none(),
+           "The same from a Lighting made by lighting(): the integration is not repeated.")
+      .def("lighting", &Relighter::lighting, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
+           py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("fast_rotation") = false,
+           "The environment under a rotation, integrated onto this file's lattice: a Lighting.")
       .def("relight_batch", &Relighter::relightBatch, py::arg("envs"), py::kw_only(),
            py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,

@@ -224,3 +224,15 @@ def test_the_dataset_example_writes_its_images_and_manifest(tmp_path, model):
         with pytest.warns(UserWarning):  # Debian's maps: tiny negatives clamped
             expected = r.relight(ac.Environment(os.path.join(WORLD, env)), yaw=float(yaw))
         assert np.array_equal(image, expected)
+
+
+def test_a_lighting_made_once_relights_as_the_environment_does(model):
+    r = ac.Relighter(model)
+    env = ac.Environment("sun:40,100,6,500")
+    light = r.lighting(env, yaw=70)
+    assert np.array_equal(r.relight(light, background="alpha"),
+                          r.relight(env, yaw=70, background="alpha"))
+    # Integrated energy-exactly: a constant map holds 4 pi per channel.
+    assert np.allclose(r.lighting(ac.Environment("constant:1")).energy, 4 * np.pi, rtol=1e-9)
+    other = ac.Relighter(TRANSPORT)  # the same 6x8x8 lattice: accepted
+    assert other.relight(light).shape == (40, 40, 3)
