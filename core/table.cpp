@@ -36,7 +36,10 @@ nlohmann::json finiteOrNull(double v) {
 
 std::string Table::csv() const {
   std::string out;
-  for (size_t c = 0; c < columns_.size(); ++c) out += (c ? "," : "") + csvField(columns_[c]);
+  for (size_t c = 0; c < columns_.size(); ++c) {
+    if (c) out += ",";
+    out += csvField(columns_[c]);
+  }
   out += "\n";
   for (const auto& row : rows_) {
     for (size_t c = 0; c < row.size(); ++c) {
