@@ -16,7 +16,6 @@
 
 namespace acpca::test {
 
-
 /// A transport fixture made at build time: "small-plant" (the plant at 40x40,
 /// a 6x8x8 lattice, f32 rows) or "grid2d" (40x30, 6x8x8, f16).
 inline std::string fixture(const std::string& name) {
