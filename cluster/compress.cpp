@@ -28,6 +28,8 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   if (!(o.globalEnergy > 0 && o.globalEnergy <= 1))
     throw ParameterError("global energy", o.globalEnergy, "is outside (0, 1]");
   if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
+  if (o.clusteringDims < 0)
+    throw ParameterError("clustering dimensions", o.clusteringDims, "must be >= 0 (0: all)");
   const int block = blockSideFor(o);
   if (block < 1) throw ParameterError("block side", block, "must be >= 1");
   const Stopwatch watch;
@@ -44,8 +46,12 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
 
   // CPCA-based methods keep a mean per cluster, as Sloan's CPCA does.
   const bool mean = o.method == Method::Cpca || o.method == Method::AdaptiveBinary;
-  ClusterInput in{&projection.coefficients, &transport.header().pixels,
-                  transport.header().camera.size, o.tolerance, mean};
+  ClusterInput in{&projection.coefficients,
+                  &transport.header().pixels,
+                  transport.header().camera.size,
+                  o.tolerance,
+                  mean,
+                  o.clusteringDims};
   Partition partition;
   CpcaOptions cpcaOptions;
   cpcaOptions.clusters = o.clusters;
@@ -97,6 +103,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
                                   {"coeffs", coeffPrecisionName(o.coeffs)},
                                   {"bases", coeffPrecisionName(o.bases)},
                                   {"sample_rows", o.sampleRows},
+                                  {"clustering_dims", in.clusteringWidth()},
                                   {"seed", o.seed},
                                   {"mean", mean},
                                   {"source", transport.path()}}

@@ -29,6 +29,8 @@ struct CompressOptions {
   CoeffPrecision coeffs = CoeffPrecision::F32;
   CoeffPrecision bases = CoeffPrecision::F32;  ///< F32 or F16
   int sampleRows = 16384;
+  /// cpca, adaptive-binary: leading global coefficients rows are clustered on (0: all N).
+  int clusteringDims = kDefaultClusteringDims;
   std::uint64_t seed = 1;
   /// Stage messages ("global basis: N = 812") for progress output.
   std::function<void(const std::string&)> log;

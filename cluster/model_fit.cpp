@@ -68,6 +68,50 @@ ClusterFit fitLargeCluster(const RowMatrixF& g, const std::vector<int>& rows, do
   return fit;
 }
 
+/// PCA of one cluster in float: the smaller Gram matrix of the rows centred in
+/// double, decomposed by LAPACK in single precision, the coefficients projected
+/// in float. Twice as fast as double and half the memory; the residual comes
+/// from the coefficients themselves, |g - mu|^2 - |u|^2 summed in double, so it
+/// is exact for the basis kept whatever the eigensolver's rounding. Used where
+/// the tolerance leaves room for float (<= 0.9999); tighter fits stay double.
+ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, double tolerance,
+                           bool subtractMean) {
+  const int n = static_cast<int>(g.cols());
+  const long long p = static_cast<long long>(rows.size());
+  Eigen::MatrixXf x(p, n);
+  for (long long i = 0; i < p; ++i) x.row(i) = g.row(rows[i]);
+  ClusterFit fit;
+  PcaResult& pca = fit.pca;
+  pca.mean = subtractMean && p > 0 ? Eigen::RowVectorXd(x.cast<double>().colwise().mean())
+                                   : Eigen::RowVectorXd::Zero(n);
+  x = (x.cast<double>().rowwise() - pca.mean).cast<float>();
+  pca.totalEnergy = x.cast<double>().squaredNorm();
+  pca.basis.resize(n, 0);
+  fit.coefficients.resize(p, 0);
+  if (p == 0 || pca.totalEnergy == 0) {
+    pca.eigenvalues = Eigen::VectorXd::Zero(std::min<long long>(p, n));
+    return fit;
+  }
+  const bool viaRows = p < n;  // the non-zero eigenvalues of x x^T and x^T x agree
+  const Eigen::MatrixXf gram =
+      viaRows ? Eigen::MatrixXf(x * x.transpose()) : Eigen::MatrixXf(x.transpose() * x);
+  const SymmetricEigenF eig = symmetricEigenFloat(gram, true);
+  pca.eigenvalues = eig.values;
+  pca.rank = rankForEnergy(eig.values, pca.totalEnergy, tolerance);
+  Eigen::MatrixXf basis;
+  if (viaRows) {  // v_k = x^T u_k / sigma_k
+    basis = x.transpose() * eig.vectors.leftCols(pca.rank);
+    for (int k = 0; k < pca.rank; ++k) basis.col(k).normalize();
+  } else {
+    basis = eig.vectors.leftCols(pca.rank);
+  }
+  fit.coefficients = x * basis;
+  pca.basis = basis.cast<double>();
+  pca.residualEnergy =
+      std::max(0.0, pca.totalEnergy - fit.coefficients.cast<double>().squaredNorm());
+  return fit;
+}
+
 /// sum over rows of |g_p - mu_c - W_c u_p|^2 with the stored (quantized)
 /// values: the cluster part of the transport error, exact for any precision.
 double reconstructionError(const Model& m, const RowMatrixF& g) {
@@ -119,8 +163,13 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   for (int c = 0; c < clusters; ++c)  // one at a time: each is parallel inside
     if (large(c))
       fits[c] = fitLargeCluster(projection.coefficients, partition[c], tolerance, options.mean);
+  const bool inFloat = options.floatFits && tolerance <= 0.9999;
   tbb::parallel_for(0, clusters, [&](int c) {
     if (large(c)) return;
+    if (inFloat) {
+      fits[c] = fitClusterFloat(projection.coefficients, partition[c], tolerance, options.mean);
+      return;
+    }
     Eigen::MatrixXd rows(partition[c].size(), n);
     for (size_t i = 0; i < partition[c].size(); ++i)
       rows.row(i) = projection.coefficients.row(partition[c][i]).cast<double>();

@@ -20,6 +20,9 @@ struct ModelOptions {
   /// Clusters with more values (rows x N) than this are fitted from a blocked
   /// Gram matrix instead of a double copy of their rows (memory, not results).
   long long largeClusterValues = 1LL << 24;
+  /// Fits clusters below that size in single precision when the tolerance is
+  /// at most 0.9999 (the residual stays exact for the basis kept).
+  bool floatFits = true;
 };
 
 /// Fits each cluster of the partition (PCA to the tolerance, on G) and stores

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "cluster/cost_model.h"
+#include "cluster/partition_support.h"
 #include "cluster/pca.h"
 #include "cluster/symmetric_eigen.h"
 
@@ -18,12 +19,6 @@
 namespace acpca {
 
 namespace {
-
-Eigen::MatrixXd gatherRows(const ClusterInput& in, const std::vector<int>& rows) {
-  Eigen::MatrixXd m(rows.size(), in.globalBases());
-  for (size_t i = 0; i < rows.size(); ++i) m.row(i) = in.coefficients->row(rows[i]).cast<double>();
-  return m;
-}
 
 /// Row index of every pixel, -1 for background.
 std::vector<int> rowImage(const ClusterInput& in) {
@@ -54,22 +49,11 @@ std::vector<Block> rootBlocks(const ClusterInput& in, int side) {
   return roots;
 }
 
-/// Runs f over items in parallel and concatenates their partitions in item order.
-template <typename Item, typename F>
-Partition concatInOrder(const std::vector<Item>& items, F&& f) {
-  std::vector<Partition> parts(items.size());
-  tbb::parallel_for(size_t(0), items.size(), [&](size_t i) { parts[i] = f(items[i]); });
-  Partition all;
-  for (auto& p : parts)
-    for (auto& c : p) all.push_back(std::move(c));
-  return all;
-}
-
 }  // namespace
 
 int rankOf(const ClusterInput& in, const std::vector<int>& rows) {
   if (rows.empty()) return 0;
-  return pcaToTolerance(gatherRows(in, rows), in.tolerance, in.mean, false).rank;
+  return rankToTolerance(gatherRowsF(in, rows, in.globalBases()), in.tolerance, in.mean);
 }
 
 double costOf(const ClusterInput& in, const std::vector<int>& rows, int rank) {
@@ -161,16 +145,18 @@ Partition adaptiveQuadTree(const ClusterInput& in, const QuadTreeOptions& option
 
 namespace {
 
-/// Mean and leading principal directions of one cluster during CPCA.
+/// Mean and leading principal directions of one cluster during CPCA, in float:
+/// assignment compares reconstruction errors, which float holds to far better
+/// than the differences that decide it.
 struct ClusterFit {
-  Eigen::RowVectorXd mean;
-  Eigen::MatrixXd basis;  // N x r
+  Eigen::RowVectorXf mean;
+  Eigen::MatrixXf basis;  // N x r
 };
 
-ClusterFit fitCluster(const Eigen::MatrixXd& rows, int rank) {
+ClusterFit fitCluster(const Eigen::MatrixXf& rows, int rank) {
   ClusterFit f;
-  f.mean = rows.colwise().mean();
-  const Eigen::MatrixXd centred = rows.rowwise() - f.mean;
+  f.mean = (rows.cast<double>().colwise().sum() / double(rows.rows())).cast<float>();
+  const Eigen::MatrixXf centred = rows.rowwise() - f.mean;
   const int r = std::min<int>(rank, std::max<Eigen::Index>(0, rows.rows() - 1));
   if (r == 0 || centred.squaredNorm() == 0) {
     f.basis.resize(rows.cols(), 0);
@@ -181,17 +167,17 @@ ClusterFit fitCluster(const Eigen::MatrixXd& rows, int rank) {
   // assignment needs no more precision. Fixed seed: deterministic.
   const Eigen::Index n = rows.cols(), q = std::min<Eigen::Index>(n, r + 8);
   std::mt19937_64 rng(12345);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixXd y(n, q);
+  std::normal_distribution<float> normal;
+  Eigen::MatrixXf y(n, q);
   for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] = normal(rng);
   for (int pass = 0; pass < 3; ++pass) {
-    const Eigen::MatrixXd z = centred.transpose() * (centred * y);
-    y = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, q);
+    const Eigen::MatrixXf z = centred.transpose() * (centred * y);
+    y = Eigen::HouseholderQR<Eigen::MatrixXf>(z).householderQ() * Eigen::MatrixXf::Identity(n, q);
   }
-  const Eigen::MatrixXd b = centred * y;  // p x q
-  const SymmetricEigen small = symmetricEigen(b.transpose() * b, true);
+  const Eigen::MatrixXf b = centred * y;  // p x q
+  const SymmetricEigen small = symmetricEigen((b.transpose() * b).cast<double>(), true);
   const int kept = std::min<int>(r, rankForEnergy(small.values, small.values.sum(), 1.0));
-  f.basis = y * small.vectors.leftCols(kept);
+  f.basis = y * small.vectors.leftCols(kept).cast<float>();
   return f;
 }
 
@@ -203,18 +189,17 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
   const int k = std::min(o.clusters, n);
   if (k <= 1) return n ? Partition{rowsIn} : Partition{};
   // Row-major: assignment reads whole rows.
-  using RowMatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const RowMatrixD x = gatherRows(in, rowsIn);
-  const Eigen::VectorXd norms = x.rowwise().squaredNorm();
+  const RowMatrixF x = gatherRowsF(in, rowsIn, in.clusteringWidth());
+  const Eigen::VectorXf norms = x.rowwise().squaredNorm();
   // A few leading global coefficients carry most of the energy: good enough to
   // seed and to shortlist candidate clusters.
-  const int reduced = std::min<int>(64, in.globalBases());
-  const RowMatrixD xr = x.leftCols(reduced);
+  const int reduced = std::min<int>(64, static_cast<int>(x.cols()));
+  const RowMatrixF xr = x.leftCols(reduced);
 
   // k-means++ seeding on the reduced rows.
   std::mt19937_64 rng(o.seed);
   std::vector<int> seeds{static_cast<int>(rng() % n)};
-  Eigen::VectorXd d2 = (xr.rowwise() - xr.row(seeds[0])).rowwise().squaredNorm();
+  Eigen::VectorXd d2 = (xr.rowwise() - xr.row(seeds[0])).rowwise().squaredNorm().cast<double>();
   while (static_cast<int>(seeds.size()) < k) {
     const double total = d2.sum();
     int pick = 0;
@@ -225,14 +210,14 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
       pick = static_cast<int>(rng() % n);
     }
     seeds.push_back(pick);
-    d2 = d2.cwiseMin((xr.rowwise() - xr.row(pick)).rowwise().squaredNorm());
+    d2 = d2.cwiseMin((xr.rowwise() - xr.row(pick)).rowwise().squaredNorm().cast<double>());
   }
   std::vector<int> label(n);
   {
-    Eigen::MatrixXd centres(k, reduced);
+    Eigen::MatrixXf centres(k, reduced);
     for (int c = 0; c < k; ++c) centres.row(c) = xr.row(seeds[c]);
-    const Eigen::MatrixXd dots = xr * centres.transpose();
-    const Eigen::VectorXd cn = centres.rowwise().squaredNorm();
+    const Eigen::MatrixXf dots = xr * centres.transpose();
+    const Eigen::VectorXf cn = centres.rowwise().squaredNorm();
     for (int i = 0; i < n; ++i) (cn - 2 * dots.row(i).transpose()).minCoeff(&label[i]);
   }
 
@@ -243,13 +228,13 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
     std::vector<ClusterFit> fits(k);
     tbb::parallel_for(0, k, [&](int c) {
       if (members[c].empty()) return;
-      Eigen::MatrixXd rows(members[c].size(), x.cols());
+      Eigen::MatrixXf rows(members[c].size(), x.cols());
       for (size_t i = 0; i < members[c].size(); ++i) rows.row(i) = x.row(members[c][i]);
       fits[c] = fitCluster(rows, o.iterationRank);
     });
     // Shortlist by distance to the means on the reduced rows, then the exact
     // reconstruction error e = |x - mu|^2 - |P^T (x - mu)|^2 on the full rows.
-    RowMatrixD meansReduced = RowMatrixD::Zero(k, reduced);
+    RowMatrixF meansReduced = RowMatrixF::Zero(k, reduced);
     for (int c = 0; c < k; ++c)
       if (!members[c].empty()) meansReduced.row(c) = fits[c].mean.head(reduced);
     std::vector<int> next(n);
@@ -268,8 +253,9 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
             for (int q = 0; q < candidates; ++q) {
               const int c = order[q].second;
               if (members[c].empty()) continue;
-              const Eigen::RowVectorXd centred = x.row(i) - fits[c].mean;
-              const double e = centred.squaredNorm() - (centred * fits[c].basis).squaredNorm();
+              const Eigen::RowVectorXf centred = x.row(i) - fits[c].mean;
+              const double e =
+                  double(centred.squaredNorm()) - double((centred * fits[c].basis).squaredNorm());
               if (e < best - 1e-12 * norms[i]) best = e, bestCluster = c;
             }
             next[i] = bestCluster;
@@ -297,37 +283,6 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
   std::erase_if(p, [](const std::vector<int>& c) { return c.empty(); });
   for (auto& c : p) std::sort(c.begin(), c.end());
   return p;
-}
-
-Partition adaptiveBinary(const ClusterInput& in, const BinaryOptions& options) {
-  CpcaOptions initial = options.split;
-  initial.clusters = options.initialClusters;
-  std::vector<int> all(in.rows());
-  std::iota(all.begin(), all.end(), 0);
-  const Partition start = cpca(in, all, initial);
-  std::function<void(std::vector<int>, double, Partition&)> refine =
-      [&](std::vector<int> rows, double cost, Partition& out) {
-        if (rows.size() >= 2) {
-          CpcaOptions two = options.split;
-          two.clusters = 2;
-          Partition halves = cpca(in, rows, two);
-          if (halves.size() == 2) {
-            const double c0 = costOf(in, halves[0], rankOf(in, halves[0]));
-            const double c1 = costOf(in, halves[1], rankOf(in, halves[1]));
-            if (c0 + c1 < cost) {  // eq. 23 with the halves' exact costs: split pays
-              refine(std::move(halves[0]), c0, out);
-              refine(std::move(halves[1]), c1, out);
-              return;
-            }
-          }
-        }
-        out.push_back(std::move(rows));
-      };
-  return concatInOrder(start, [&](const std::vector<int>& rows) {
-    Partition out;
-    refine(rows, costOf(in, rows, rankOf(in, rows)), out);
-    return out;
-  });
 }
 
 }  // namespace acpca

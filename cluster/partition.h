@@ -2,6 +2,7 @@
 // Ways of grouping transport rows into clusters (design.md section 5): fixed
 // image blocks, Sloan's CPCA, and paper 003's adaptive quad-tree (r = 4) and
 // binary CPCA (r = 2) subdivisions driven by the cost metric.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -21,9 +22,21 @@ struct ClusterInput {
   ImageSize size;
   double tolerance = 0.999;  ///< fraction of each cluster's energy its bases keep
   bool mean = false;         ///< clusters keep a mean (costs one more basis)
+  /// CPCA assigns rows on the leading this many global coefficients (0: all).
+  /// Paper 003 sec. 5.2 clusters on a reduced representation, the transport's
+  /// globally strongest coefficients; the global coefficients are ordered by
+  /// energy, so their head is that representation. Bases and ranks always use
+  /// every coefficient.
+  int clusteringDims = 0;
   int globalBases() const { return static_cast<int>(coefficients->cols()); }
+  int clusteringWidth() const {
+    return clusteringDims > 0 ? std::min(clusteringDims, globalBases()) : globalBases();
+  }
   long long rows() const { return coefficients->rows(); }
 };
+
+/// Default of ClusterInput::clusteringDims for the CPCA-based methods.
+inline constexpr int kDefaultClusteringDims = 256;
 
 /// Bases a set of rows needs at the input's tolerance (eigenvalues only).
 int rankOf(const ClusterInput& in, const std::vector<int>& rows);
@@ -59,9 +72,15 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rows, const CpcaO
 struct BinaryOptions {
   int initialClusters = 8;
   CpcaOptions split;  ///< CPCA(K = 2) settings for each split
+  /// Clusters of more rows than this are tested on the reduced representation
+  /// (the clustering coefficients), smaller ones on every coefficient;
+  /// 0: N, where the p x p problem becomes the smaller one.
+  long long exactTestRows = 0;
 };
 /// Paper 003 sec. 5.2: a few CPCA clusters, each split in two by CPCA while the
-/// halves' exact costs sum to less than the whole's; recursively.
+/// halves' costs sum to less than the whole's; recursively, the two halves in
+/// parallel. Large clusters compare costs on the reduced representation, as the
+/// paper does for its first subdivisions; the rest compare exact costs.
 Partition adaptiveBinary(const ClusterInput& in, const BinaryOptions& options);
 
 }  // namespace acpca

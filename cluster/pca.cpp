@@ -40,4 +40,24 @@ PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool su
   return result;
 }
 
+int rankToTolerance(const Eigen::MatrixXf& input, double tolerance, bool subtractMean) {
+  if (tolerance > 0.9999)
+    return pcaToTolerance(input.cast<double>(), tolerance, subtractMean, false).rank;
+  const Eigen::Index p = input.rows();
+  if (p == 0 || input.cols() == 0) return 0;
+  const Eigen::RowVectorXd mean = subtractMean
+                                      ? Eigen::RowVectorXd(input.cast<double>().colwise().mean())
+                                      : Eigen::RowVectorXd::Zero(input.cols());
+  const Eigen::MatrixXf rows = (input.cast<double>().rowwise() - mean).cast<float>();
+  const double total = rows.cast<double>().squaredNorm();
+  if (total == 0) return 0;
+  Eigen::MatrixXf gram;
+  if (p < input.cols())
+    gram.noalias() = rows * rows.transpose();
+  else
+    gram.noalias() = rows.transpose() * rows;
+  const SymmetricEigen eig = symmetricEigen(gram.cast<double>(), false);
+  return rankForEnergy(eig.values, total, tolerance);
+}
+
 }  // namespace acpca

@@ -22,4 +22,11 @@ struct PcaResult {
 PcaResult pcaToTolerance(const Eigen::MatrixXd& rows, double tolerance, bool subtractMean,
                          bool wantBasis = true);
 
+/// The rank pcaToTolerance would find, from float rows and at about twice the
+/// speed: the mean and the energy are summed in double, the smaller Gram matrix
+/// of the centred rows is formed in float and decomposed in double. Float
+/// products move the kept energy fraction by about 1e-6 of the total, far inside
+/// 1 - tolerance below 0.9999; tighter tolerances take the double path.
+int rankToTolerance(const Eigen::MatrixXf& rows, double tolerance, bool subtractMean);
+
 }  // namespace acpca

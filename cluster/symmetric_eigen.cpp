@@ -41,6 +41,23 @@ SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
   return result;
 }
 
+SymmetricEigenF symmetricEigenFloat(const Eigen::MatrixXf& a, bool wantVectors) {
+  std::call_once(singleThreaded, [] { setBlasThreads(1); });
+  ACPCA_CHECK(a.rows() == a.cols(), "not square: ", a.rows(), "x", a.cols());
+  const lapack_int n = static_cast<lapack_int>(a.rows());
+  SymmetricEigenF result;
+  if (n == 0) return result;
+  ACPCA_CHECK(a.allFinite(), "non-finite entries in a ", n, "^2 symmetric matrix");
+  Eigen::MatrixXf work = a;
+  Eigen::VectorXf ascending(n);
+  const lapack_int info = LAPACKE_ssyevd(LAPACK_COL_MAJOR, wantVectors ? 'V' : 'N', 'L', n,
+                                         work.data(), n, ascending.data());
+  ACPCA_CHECK(info == 0, "ssyevd failed (info ", info, ") on a ", n, "^2 matrix");
+  result.values = ascending.reverse().cast<double>().cwiseMax(0.0);
+  if (wantVectors) result.vectors = work.rowwise().reverse();
+  return result;
+}
+
 int rankForEnergy(const Eigen::VectorXd& values, double total, double fraction) {
   if (values.size() == 0 || total <= 0 || values[0] <= 0) return 0;
   const double noise = 1e-12 * values[0];

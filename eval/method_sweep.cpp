@@ -135,8 +135,12 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
     const double highestTolerance = *std::max_element(s.tolerances.begin(), s.tolerances.end());
     for (double tol : s.tolerances) {
       for (bool mean : {false, true}) {
-        const ClusterInput in{&projection.coefficients, &transport.header().pixels,
-                              transport.header().camera.size, tol, mean};
+        const ClusterInput in{&projection.coefficients,
+                              &transport.header().pixels,
+                              transport.header().camera.size,
+                              tol,
+                              mean,
+                              kDefaultClusteringDims};
         if (!mean) {
           // Global PCA once per basis: its nested truncations cover the lower tolerances.
           if (wanted("global") && tol == highestTolerance)

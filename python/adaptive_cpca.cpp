@@ -87,7 +87,7 @@ class Relighter {
     py::gil_scoped_release release;
     source_ = openRelightSource(path);
     lattice_ = std::make_unique<CubeLattice>(source_.header.cubemapResolution);
-    rowRgb_.resize(3 * static_cast<size_t>(source_.header.rows()));
+    composer_ = std::make_unique<ImageComposer>(source_.header);
   }
 
   int width() const { return source_.header.camera.size.width; }
@@ -137,13 +137,16 @@ class Relighter {
     {
       py::gil_scoped_release release;
       setRank(maxRank);
-      if (source_.model) {
-        source_.model->relight(lighting.values, rowRgb_.data());
+      float* pixels = image.mutable_data();
+      composer_->background(bg, *lighting.env, rotationMatrix(lighting.rotation), pixels);
+      if (source_.model) {  // straight into the image
+        source_.model->relightInto(lighting.values, pixels, ImageComposer::channels(bg));
       } else {
         std::vector<double> ms;
-        rowRgb_ = source_.relight({lighting.values}, ms)[0];
+        composer_->addRows(source_.relight({lighting.values}, ms)[0].data(), pixels,
+                           ImageComposer::channels(bg));
       }
-      finish(rowRgb_.data(), *lighting.env, lighting.rotation, bg, exposure, image.mutable_data());
+      applyExposure(exposure, bg, pixels);
     }
     return image;
   }
@@ -168,6 +171,14 @@ class Relighter {
       std::vector<LatticeLighting> group;
       std::vector<std::pair<const Environment*, EnvRotation>> frameOf;
       const auto flush = [&](size_t first) {
+        if (source_.model) {  // one frame, straight into its image
+          float* pixels = images.mutable_data() + first * frameValues;
+          composer_->background(bg, *frameOf[0].first, rotationMatrix(frameOf[0].second), pixels);
+          source_.model->relightInto(group[0], pixels, ImageComposer::channels(bg));
+          applyExposure(exposure, bg, pixels);
+          group.clear(), frameOf.clear();
+          return;
+        }
         std::vector<double> ms;
         const auto rows = source_.relight(group, ms);
         for (size_t k = 0; k < rows.size(); ++k)
@@ -225,7 +236,12 @@ class Relighter {
 
   void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
               Background bg, double exposure, float* pixels) const {
-    composeInto(source_.header, rowRgb, bg, env, rotationMatrix(rotation), pixels);
+    composer_->background(bg, env, rotationMatrix(rotation), pixels);
+    composer_->addRows(rowRgb, pixels, ImageComposer::channels(bg));
+    applyExposure(exposure, bg, pixels);
+  }
+
+  void applyExposure(double exposure, Background bg, float* pixels) const {
     if (exposure == 0) return;
     // As the CLI writes images: colour scaled by 2^exposure, alpha kept.
     const float scale = static_cast<float>(std::exp2(exposure));
@@ -238,7 +254,7 @@ class Relighter {
   std::string path_;
   RelightSource source_;
   std::unique_ptr<CubeLattice> lattice_;
-  std::vector<float> rowRgb_;
+  std::unique_ptr<ImageComposer> composer_;
 };
 
 py::array_t<float> readImage(const std::string& path) {

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -88,20 +89,31 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
 
 void composeInto(const TransportHeader& header, const float* rowRgb, Background background,
                  const Environment& env, const Eigen::Matrix3d& rotation, float* pixels) {
-  const Camera& camera = header.camera;
+  const ImageComposer composer(header);
+  composer.background(background, env, rotation, pixels);
+  composer.addRows(rowRgb, pixels, ImageComposer::channels(background));
+}
+
+ImageComposer::ImageComposer(const TransportHeader& header)
+    : camera_(header.camera),
+      rowPixels_(header.pixels),
+      rowCoverage_(header.coverage),
+      coverage_(static_cast<size_t>(header.camera.size.pixels()), 0.0f) {
+  for (long long r = 0; r < header.rows(); ++r) coverage_[header.pixels[r]] = header.coverage[r];
+}
+
+void ImageComposer::background(Background background, const Environment& env,
+                               const Eigen::Matrix3d& rotation, float* pixels) const {
+  const Camera& camera = camera_;
   const int width = camera.size.width, height = camera.size.height;
-  const int channels = background == Background::Alpha ? 4 : 3;
-  const auto at = [&](int x, int y) {
-    return pixels + (static_cast<size_t>(y) * width + x) * channels;
-  };
-  std::vector<float> coverage(static_cast<size_t>(camera.size.pixels()), 0.0f);
-  for (long long r = 0; r < header.rows(); ++r) coverage[header.pixels[r]] = header.coverage[r];
+  const int channels = ImageComposer::channels(background);
   const Eigen::Matrix3d inverse = rotation.transpose();
   // Background pixels evaluate the environment, the costly part: rows in parallel.
   tbb::parallel_for(0, height, [&](int y) {
     for (int x = 0; x < width; ++x) {
-      float* out = at(x, y);
-      const float cov = coverage[static_cast<size_t>(y) * width + x];
+      const size_t pixel = static_cast<size_t>(y) * width + x;
+      float* out = pixels + pixel * channels;
+      const float cov = coverage_[pixel];
       for (int c = 0; c < 3; ++c) out[c] = 0;
       if (background == Background::Env && cov < 1) {
         const Rgb bg = env.radiance(inverse * camera.rayDirection(x + 0.5, y + 0.5));
@@ -110,11 +122,18 @@ void composeInto(const TransportHeader& header, const float* rowRgb, Background 
       if (background == Background::Alpha) out[3] = cov;
     }
   });
-  for (long long r = 0; r < header.rows(); ++r) {
-    const int p = header.pixels[r];
-    float* out = at(p % width, p / width);
-    for (int c = 0; c < 3; ++c) out[c] += header.coverage[r] * rowRgb[3 * r + c];
-  }
+}
+
+void ImageComposer::addRows(const float* rowRgb, float* pixels, int channels) const {
+  // Each row has its own pixel: rows in parallel write disjoint values.
+  const long long rows = static_cast<long long>(rowPixels_.size());
+  tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 4096),
+                    [&](const tbb::blocked_range<long long>& range) {
+                      for (long long r = range.begin(); r != range.end(); ++r) {
+                        float* out = pixels + static_cast<size_t>(rowPixels_[r]) * channels;
+                        for (int c = 0; c < 3; ++c) out[c] += rowCoverage_[r] * rowRgb[3 * r + c];
+                      }
+                    });
 }
 
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,

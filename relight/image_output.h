@@ -39,6 +39,28 @@ Image composeImage(const TransportHeader& header, const std::vector<float>& rowR
 void composeInto(const TransportHeader& header, const float* rowRgb, Background background,
                  const Environment& env, const Eigen::Matrix3d& rotation, float* pixels);
 
+/// Composes the frames of one camera (the coverage image is built once): the
+/// background first, then each occupied pixel's relit value added, from rows
+/// (addRows) or straight from the relighter (ModelRelighter::relightInto).
+/// Keeps its own copy of what it needs from the header.
+class ImageComposer {
+ public:
+  explicit ImageComposer(const TransportHeader& header);
+  static int channels(Background background) { return background == Background::Alpha ? 4 : 3; }
+  /// Every pixel's background part: (1 - coverage) x the environment seen
+  /// through it (Env) or 0, and alpha = coverage (Alpha).
+  void background(Background background, const Environment& env, const Eigen::Matrix3d& rotation,
+                  float* pixels) const;
+  /// Adds coverage x rowRgb (3 floats per row) at each row's pixel.
+  void addRows(const float* rowRgb, float* pixels, int channels) const;
+
+ private:
+  Camera camera_;
+  std::vector<std::int32_t> rowPixels_;  ///< pixel of each row
+  std::vector<float> rowCoverage_;       ///< coverage of each row
+  std::vector<float> coverage_;          ///< per pixel, 0 for background
+};
+
 /// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
 /// EXR output is also scaled by 2^exposure. Throws UserError naming the path.
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,

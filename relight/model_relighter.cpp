@@ -87,17 +87,21 @@ ModelRelighter::ModelRelighter(const Model& m)
   for (int c = 0; c < clusters; ++c) {
     const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
     const long long chunkCount = (p + kChunkRows - 1) / kChunkRows;
+    clusterChunks_.push_back(static_cast<long long>(chunks_.size()));
     for (long long j = 0; j < chunkCount; ++j) {
       chunks_.push_back({c, chunkedOffsets.back() + j * ranks_[c] * kChunkRows});
       for (int lane = 0; lane < kChunkRows; ++lane) {
         const long long r = j * kChunkRows + lane;
         const int row = r < p ? m.clusterRows[m.rowOffsets[c] + r] : -1;
         chunkRows_.push_back(row);
+        chunkPixels_.push_back(row >= 0 ? m.geometry.pixels[row] : -1);
+        chunkCoverage_.push_back(row >= 0 ? m.geometry.coverage[row] : 0.0f);
       }
     }
     chunkedOffsets.push_back(chunkedOffsets.back() + chunkCount * ranks_[c] * kChunkRows);
     lightingOffset_.push_back(lightingOffset_.back() + ranks_[c]);
   }
+  clusterChunks_.push_back(static_cast<long long>(chunks_.size()));
   const long long totalRank = lightingOffset_.back();
   lightingOffset_.pop_back();
   chunkAlbedo_.assign(chunks_.size() * 3 * kChunkRows, 0.0f);
@@ -168,58 +172,7 @@ double ModelRelighter::costPerPixel() const {
   return rows() ? cost / rows() : 0;
 }
 
-template <typename T>
-void ModelRelighter::shadeChunks(const std::vector<T>& coefficients, float* rgb) const {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks_.size(), 32),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      float shaded[3][kChunkRows];
-                      for (size_t j = range.begin(); j != range.end(); ++j) {
-                        const Chunk& chunk = chunks_[j];
-                        const int c = chunk.cluster;
-                        kernels::shadeChunk(coefficients.data() + chunk.coefficientOffset,
-                                            clusterLighting_.data() + 3 * lightingOffset_[c],
-                                            activeRanks_[c], meanTerm_.data() + 3 * c, shaded);
-                        const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
-                        const float* albedo = chunkAlbedo_.data() + j * 3 * kChunkRows;
-                        for (int lane = 0; lane < kChunkRows; ++lane) {
-                          if (rows[lane] < 0) continue;
-                          for (int ch = 0; ch < 3; ++ch)
-                            rgb[3 * rows[lane] + ch] =
-                                albedo[ch * kChunkRows + lane] * shaded[ch][lane];
-                        }
-                      }
-                    });
-}
-
-template <typename T>
-void ModelRelighter::clusterLighting(const std::vector<T>& bases) {
-  const int n = globalBases_;
-  const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
-                        globalLighting_.data() + 2 * n};
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
-      [&](const tbb::blocked_range<int>& range) {
-        for (int c = range.begin(); c != range.end(); ++c) {
-          float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
-          const float zero[3] = {0, 0, 0};
-          float tile[3][kChunkRows];
-          for (int first = 0; first < activeRanks_[c]; first += kChunkRows) {
-            kernels::shadeChunk(bases.data() + basisOffset_[c] + static_cast<size_t>(first) * n,
-                                globalLightingRgb_.data(), n, zero, tile);
-            for (int k = first; k < std::min(first + kChunkRows, activeRanks_[c]); ++k)
-              for (int ch = 0; ch < 3; ++ch)
-                li[3 * k + ch] = tile[ch][k - first] * scale_[lightingOffset_[c] + k];
-          }
-          float* mean = meanTerm_.data() + 3 * c;
-          if (hasMean_)
-            kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
-          else
-            mean[0] = mean[1] = mean[2] = 0;
-        }
-      });
-}
-
-void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
+void ModelRelighter::lightGlobal(const LatticeLighting& lighting) {
   const long long l = 6LL * geometry_.cubemapResolution * geometry_.cubemapResolution;
   ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3 * l, "lighting has ", lighting.size(),
               " values for a lattice of ", l);
@@ -228,11 +181,10 @@ void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
   for (int i = 0; i < seen; ++i)
     for (int c = 0; c < 3; ++c)
       light_[c * seen + i] = static_cast<float>(lighting[3 * seenTexels_[i] + c]);
-
-  // Phase 1: L_g = V_g^T L (as n x 3 interleaved, then split by channel).
+  // L_g = V_g^T L (as n x 3 interleaved, and split by channel), in fixed
+  // blocks of 16 columns so each column's summation order never depends on how
+  // TBB splits the work.
   const float* light[3] = {light_.data(), light_.data() + seen, light_.data() + 2 * seen};
-  // Fixed blocks of 16 columns, so each column's summation order never
-  // depends on how TBB splits the work.
   constexpr int kBlock = 16;
   tbb::parallel_for(0, (n + kBlock - 1) / kBlock, [&](int block) {
     const int first = block * kBlock, count = std::min(kBlock, n - first);
@@ -245,25 +197,107 @@ void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
         globalLightingRgb_[3 * (first + k) + c] = out[3 * k + c];
       }
   });
+}
 
-  // Phase 2: L_i = W_i^T L_g (the i8 step folded in), and the mean term.
-  if (basisPrecision_ == CoeffPrecision::F16)
-    clusterLighting(basesF16_);
-  else
-    clusterLighting(bases_);
-
-  // Phase 3: every chunk of 16 rows, u_p . L_i times albedo.
-  switch (precision_) {
-    case CoeffPrecision::F32:
-      shadeChunks(coeffF32_, rgb);
-      break;
-    case CoeffPrecision::F16:
-      shadeChunks(coeffF16_, rgb);
-      break;
-    case CoeffPrecision::I8:
-      shadeChunks(coeffI8_, rgb);
-      break;
+/// L_i = W_i^T L_g (the i8 step folded in) and the mean term mu_i . L_g.
+template <typename B>
+void ModelRelighter::lightCluster(int c, const std::vector<B>& bases) {
+  const int n = globalBases_;
+  float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
+  const float zero[3] = {0, 0, 0};
+  float tile[3][kChunkRows];
+  for (int first = 0; first < activeRanks_[c]; first += kChunkRows) {
+    kernels::shadeChunk(bases.data() + basisOffset_[c] + static_cast<size_t>(first) * n,
+                        globalLightingRgb_.data(), n, zero, tile);
+    for (int k = first; k < std::min(first + kChunkRows, activeRanks_[c]); ++k)
+      for (int ch = 0; ch < 3; ++ch)
+        li[3 * k + ch] = tile[ch][k - first] * scale_[lightingOffset_[c] + k];
   }
+  float* mean = meanTerm_.data() + 3 * c;
+  const float* lg[3] = {globalLighting_.data(), globalLighting_.data() + n,
+                        globalLighting_.data() + 2 * n};
+  if (hasMean_)
+    kernels::dotRgb(means_.data() + size_t(c) * n, lg, n, mean);
+  else
+    mean[0] = mean[1] = mean[2] = 0;
+}
+
+/// Every chunk of 16 rows of cluster c: u_p . L_i times albedo (eq. 17). A large
+/// cluster (global PCA is one) spreads its chunks over the threads.
+template <typename T>
+void ModelRelighter::shadeCluster(int c, const std::vector<T>& coefficients,
+                                  const Output& out) const {
+  const auto shade = [&](long long begin, long long end) {
+    float shaded[3][kChunkRows];
+    for (long long j = begin; j < end; ++j) {
+      kernels::shadeChunk(coefficients.data() + chunks_[j].coefficientOffset,
+                          clusterLighting_.data() + 3 * lightingOffset_[c], activeRanks_[c],
+                          meanTerm_.data() + 3 * c, shaded);
+      const float* albedo = chunkAlbedo_.data() + j * 3 * kChunkRows;
+      if (!out.image) {
+        const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
+        for (int lane = 0; lane < kChunkRows; ++lane)
+          if (rows[lane] >= 0)
+            for (int ch = 0; ch < 3; ++ch)
+              out.values[3 * rows[lane] + ch] = albedo[ch * kChunkRows + lane] * shaded[ch][lane];
+      } else {
+        const std::int32_t* pixels = chunkPixels_.data() + j * kChunkRows;
+        const float* coverage = chunkCoverage_.data() + j * kChunkRows;
+        for (int lane = 0; lane < kChunkRows; ++lane)
+          if (pixels[lane] >= 0)
+            for (int ch = 0; ch < 3; ++ch)
+              out.values[static_cast<size_t>(out.stride) * pixels[lane] + ch] +=
+                  coverage[lane] * (albedo[ch * kChunkRows + lane] * shaded[ch][lane]);
+      }
+    }
+  };
+  const long long first = clusterChunks_[c], last = clusterChunks_[c + 1];
+  constexpr long long kSerialChunks = 64;
+  if (last - first <= kSerialChunks)
+    shade(first, last);
+  else
+    tbb::parallel_for(tbb::blocked_range<long long>(first, last, 32),
+                      [&](const tbb::blocked_range<long long>& r) { shade(r.begin(), r.end()); });
+}
+
+template <typename B, typename T>
+void ModelRelighter::shadeAll(const std::vector<B>& bases, const std::vector<T>& coefficients,
+                              const Output& out) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int c = range.begin(); c != range.end(); ++c) {
+                        lightCluster(c, bases);
+                        shadeCluster(c, coefficients, out);
+                      }
+                    });
+}
+
+void ModelRelighter::shadeAll(const Output& out) {
+  const auto withBases = [&](const auto& bases) {
+    switch (precision_) {
+      case CoeffPrecision::F32:
+        return shadeAll(bases, coeffF32_, out);
+      case CoeffPrecision::F16:
+        return shadeAll(bases, coeffF16_, out);
+      case CoeffPrecision::I8:
+        return shadeAll(bases, coeffI8_, out);
+    }
+  };
+  if (basisPrecision_ == CoeffPrecision::F16)
+    withBases(basesF16_);
+  else
+    withBases(bases_);
+}
+
+void ModelRelighter::relight(const LatticeLighting& lighting, float* rgb) {
+  lightGlobal(lighting);
+  shadeAll({rgb, 3, false});
+}
+
+void ModelRelighter::relightInto(const LatticeLighting& lighting, float* pixels, int channels) {
+  ACPCA_CHECK(channels == 3 || channels == 4, "channels ", channels);
+  lightGlobal(lighting);
+  shadeAll({pixels, channels, true});
 }
 
 std::vector<float> ModelRelighter::relight(const LatticeLighting& lighting) {

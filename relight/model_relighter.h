@@ -3,9 +3,11 @@
 //   L_g = V_g^T L            (N x 3, over the directions some pixel sees)
 //   L_i = W_i^T L_g          (n_i x 3 per cluster, plus mu_i . L_g with a mean)
 //   b_p = albedo_p (u_p . L_i)
-// in three TBB phases. Each value is computed by one task in a fixed order, so
-// the image is the same for any thread count. All memory is allocated when the
-// relighter is built; a frame allocates nothing.
+// L_g in one TBB phase, then each cluster's L_i and its pixels in a second, so
+// a cluster's lighting is still in cache when its pixels read it. Each value is
+// computed by one task in a fixed order, so the image is the same for any
+// thread count. All memory is allocated when the relighter is built; a frame
+// allocates nothing.
 #include <cstdint>
 #include <vector>
 
@@ -30,6 +32,11 @@ class ModelRelighter {
   /// occupied row, albedo applied, in the model's row order.
   void relight(const LatticeLighting& lighting, float* rgb);
   std::vector<float> relight(const LatticeLighting& lighting);
+  /// Relights straight into an image (width x height pixels of `channels`
+  /// floats, row-major): each occupied pixel gets coverage x its relit value
+  /// added to its first three channels, the caller having put the background,
+  /// weighted by 1 - coverage, there first (ImageComposer::background).
+  void relightInto(const LatticeLighting& lighting, float* pixels, int channels);
 
   /// Bases each cluster uses at the current rank limit.
   const std::vector<int>& activeRanks() const { return activeRanks_; }
@@ -46,10 +53,20 @@ class ModelRelighter {
     int cluster;
     long long coefficientOffset;  ///< element index of the chunk's k-major block
   };
+  /// Where a frame's values go: rgb[stride * target[lane] + c] (= or += weight).
+  struct Output {
+    float* values;
+    int stride;
+    bool image;  ///< add coverage-weighted values at pixel indices, else set rows
+  };
+  void lightGlobal(const LatticeLighting& lighting);
+  template <typename B>
+  void lightCluster(int c, const std::vector<B>& bases);
   template <typename T>
-  void clusterLighting(const std::vector<T>& bases);
-  template <typename T>
-  void shadeChunks(const std::vector<T>& coefficients, float* rgb) const;
+  void shadeCluster(int c, const std::vector<T>& coefficients, const Output& out) const;
+  template <typename B, typename T>
+  void shadeAll(const std::vector<B>& bases, const std::vector<T>& coefficients, const Output& out);
+  void shadeAll(const Output& out);
 
   TransportHeader geometry_;
   CoeffPrecision precision_;
@@ -69,8 +86,11 @@ class ModelRelighter {
   std::vector<float> scale_;               ///< per cluster basis: i8 step, else 1
 
   std::vector<Chunk> chunks_;
-  std::vector<std::int32_t> chunkRows_;  ///< 16 per chunk, -1 for padding
-  std::vector<float> chunkAlbedo_;       ///< 48 per chunk: R x16, G x16, B x16
+  std::vector<long long> clusterChunks_;   ///< per cluster, its first chunk (+ end)
+  std::vector<std::int32_t> chunkRows_;    ///< 16 per chunk, -1 for padding
+  std::vector<std::int32_t> chunkPixels_;  ///< the same rows' pixel indices
+  std::vector<float> chunkCoverage_;       ///< 16 per chunk: the rows' coverage
+  std::vector<float> chunkAlbedo_;         ///< 48 per chunk: R x16, G x16, B x16
   std::vector<float> coeffF32_;
   std::vector<std::uint16_t> coeffF16_;
   std::vector<std::int8_t> coeffI8_;

@@ -2,10 +2,27 @@
 // The inner loops of the model relighter, one per stored element type (float,
 // IEEE half as uint16, int8). They are memory-bound streams: each reads its
 // input once, in order, and sums in a fixed order so that results do not depend
-// on how work is split between threads.
+// on how work is split between threads. Each exists at three instruction-set
+// levels (kernels/), the best the CPU runs chosen at start-up.
 #include <cstdint>
+#include <vector>
+
+#include "core/enum_names.h"
 
 namespace acpca::kernels {
+
+enum class Level { Portable, Avx2, Avx512 };
+inline constexpr EnumNames<Level, 3> kLevelNames{
+    "kernels", {{{Level::Portable, "portable"}, {Level::Avx2, "avx2"}, {Level::Avx512, "avx512"}}}};
+
+/// The levels this build and CPU can run, lowest first.
+std::vector<Level> supportedLevels();
+/// The level in use: the best supported, or the environment's ACPCA_KERNELS
+/// (portable, avx2 or avx512) when it names a supported one.
+Level activeLevel();
+/// Switches every later call to `level` (comparisons and benchmarks); throws
+/// UserError when this build or CPU cannot run it. Not while relighting.
+void useLevel(Level level);
 
 /// Rows shaded together: coefficients are stored k-major in chunks of this many
 /// rows (one 64-byte line per basis in f32), so one load feeds 16 pixels.

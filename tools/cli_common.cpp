@@ -100,6 +100,7 @@ std::string messageWithFlag(const ParameterError& error) {
       {"tolerance", "--tolerance"},
       {"global energy", "--global-energy"},
       {"clusters", "--clusters"},
+      {"clustering dimensions", "--clustering-dims"},
       {"block side", "--block"},
       {"coefficient precision", "--coeffs"},
       {"basis precision", "--bases"},

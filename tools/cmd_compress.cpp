@@ -16,7 +16,7 @@ struct CompressArgs {
   CommonOptions common;
   std::string input, out, method, coeffs = "f32", bases = "f32";
   double tolerance = 0.999, globalEnergy = 0.999;
-  int clusters = 10, block = 0, sampleRows = 16384;
+  int clusters = 10, block = 0, sampleRows = 16384, clusteringDims = kDefaultClusteringDims;
   unsigned long long seed = 1;
   bool exactQuadTree = false, allocateRanks = false;
 };
@@ -33,6 +33,7 @@ void run(const CompressArgs& a) {
   o.coeffs = parseCoeffPrecision(a.coeffs);
   o.bases = parseBasisPrecision(a.bases);
   o.sampleRows = a.sampleRows;
+  o.clusteringDims = a.clusteringDims;
   o.seed = a.seed;
   if (!a.common.quiet) o.log = [](const std::string& s) { std::cerr << "compress: " << s << "\n"; };
   ThreadLimit limit(a.common.threads);
@@ -84,6 +85,9 @@ void registerCompress(CLI::App& app) {
   sub->add_option("--bases", args->bases,
                   "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
   sub->add_option("--sample-rows", args->sampleRows, "Rows sampled for the global basis");
+  sub->add_option("--clustering-dims", args->clusteringDims,
+                  "cpca, adaptive-binary: leading global coefficients rows are clustered on "
+                  "(0: all)");
   sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });

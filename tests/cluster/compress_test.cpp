@@ -104,6 +104,54 @@ TEST(Cpca, RecoversRowsDrawnFromKnownSubspaces) {
   EXPECT_GE(agreeing, 0.95 * k * perCluster);
 }
 
+TEST(AdaptiveBinary, SplitsInterleavedSubspacesApartAndStopsNearPureClusters) {
+  // Four groups of rows, each an offset plus multiples of one direction (rank 1
+  // with a mean), interleaved pixel by pixel so no image block separates them.
+  // The whole needs about 7 bases; each group 1 plus its mean, and halving a
+  // group cannot lower that: splitting must separate the groups and then stop.
+  const int groups = 4, perGroup = 300, n = 64;
+  Synthetic s = synthetic(groups * perGroup, 1, n);
+  std::mt19937 rng(4);
+  std::normal_distribution<float> normal;
+  std::vector<Eigen::RowVectorXf> offsets(groups, Eigen::RowVectorXf(n)),
+      directions(groups, Eigen::RowVectorXf(n));
+  for (int c = 0; c < groups; ++c)
+    for (int k = 0; k < n; ++k) offsets[c][k] = 3 * normal(rng), directions[c][k] = normal(rng);
+  for (int r = 0; r < groups * perGroup; ++r)
+    s.g.row(r) = offsets[r % groups] + normal(rng) * directions[r % groups];
+  ClusterInput in = s.input(0.999, true);
+  in.clusteringDims = 8;
+  BinaryOptions o;
+  o.initialClusters = 1;
+  // Assignment by reconstruction error separates groups only if a cluster's
+  // iteration bases cannot hold two of them, as with transport, whose clusters
+  // need far more than 8 bases: one basis here, as the groups have rank 1.
+  o.split.iterationRank = 1;
+  const double pure = groups * costOf(in, std::vector<int>(perGroup), 1);  // 4 x 2 (300 + 64)
+  // Clusters of more than 200 rows judged on the 8 leading coefficients and the
+  // rest exactly; then every cluster exactly.
+  for (long long exactRows : {200LL, 100000LL}) {
+    o.exactTestRows = exactRows;
+    const Partition p = adaptiveBinary(in, o);
+    EXPECT_GE(p.size(), size_t(groups)) << "exact test below " << exactRows << " rows";
+    EXPECT_LE(p.size(), size_t(2 * groups));
+    double cost = 0;
+    size_t covered = 0;
+    for (const auto& cluster : p) {
+      for (int r : cluster) EXPECT_EQ(r % groups, cluster.front() % groups) << "a mixed cluster";
+      EXPECT_EQ(rankOf(in, cluster), cluster.size() > 1 ? 1 : 0);
+      cost += costOf(in, cluster, rankOf(in, cluster));
+      covered += cluster.size();
+    }
+    EXPECT_EQ(covered, size_t(groups * perGroup));
+    // A stray row or two split off by CPCA's local optimum costs a little more
+    // than the four pure clusters; the whole as one cluster costs 3.3x as much.
+    EXPECT_LE(cost, 1.1 * pure);
+    const std::vector<int> whole = singleCluster(in)[0];
+    EXPECT_GT(costOf(in, whole, rankOf(in, whole)), 3 * pure);
+  }
+}
+
 TEST(Partitions, DegenerateInputsGiveSensibleModels) {
   Synthetic zero = synthetic(4, 4, 8);  // all-zero rows
   EXPECT_EQ(rankOf(zero.input(), singleCluster(zero.input())[0]), 0);

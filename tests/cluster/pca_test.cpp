@@ -43,6 +43,27 @@ TEST(Pca, HonoursTheToleranceAndNeverExceedsIt) {
   }
 }
 
+TEST(Pca, TheFloatRankMatchesTheDoubleRankForEitherGramShape) {
+  // Decaying spectrum on top of a large common row (a mean most of the energy,
+  // as transport has): the float path centres before it multiplies.
+  std::mt19937 rng(8);
+  std::normal_distribution<double> n;
+  for (auto [rows, cols] : {std::pair{50, 120}, std::pair{300, 60}}) {
+    Eigen::MatrixXd x(rows, cols);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) x(i, j) = 100 + n(rng) * std::exp(-0.15 * j);
+    for (bool mean : {false, true})
+      for (double tol : {0.9, 0.99, 0.999}) {
+        const int exact = pcaToTolerance(x, tol, mean, false).rank;
+        EXPECT_NEAR(rankToTolerance(x.cast<float>(), tol, mean), exact, 1)
+            << rows << "x" << cols << " mean " << mean << " tolerance " << tol;
+        EXPECT_GT(exact, mean ? 5 : 0);
+      }
+  }
+  EXPECT_EQ(rankToTolerance(Eigen::MatrixXf::Zero(4, 9), 0.99, true), 0);
+  EXPECT_EQ(rankToTolerance(lowRank(30, 20, 3, 2).cast<float>(), 1.0, false), 3);
+}
+
 TEST(Pca, AllZeroRowsGiveRankZero) {
   const PcaResult pca = pcaToTolerance(Eigen::MatrixXd::Zero(7, 12), 0.999, true);
   EXPECT_EQ(pca.rank, 0);

@@ -15,10 +15,13 @@
 #include "cluster/model_fit.h"
 #include "cluster/model_reference.h"
 #include "cluster/partition.h"
+#include "cluster/quantization.h"
 #include "core/half.h"
 #include "core/statistics.h"
 #include "relight/dense_relight.h"
+#include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/relight_kernels.h"
 #include "tests/lighting_support.h"
 #include "tests/test_support.h"
 
@@ -38,7 +41,7 @@ double maxRelativeDifference(const std::vector<float>& a, const std::vector<floa
 /// A model with every awkward shape, filled with random numbers: clusters of
 /// 1, 15, 16, 17 and 40 rows, a rank-0 cluster, a cluster richer than its rows,
 /// means, and a lattice with directions no basis touches.
-Model randomModel(CoeffPrecision precision, bool mean, unsigned seed) {
+Model randomModel(CoeffPrecision precision, bool mean, unsigned seed, int globalBases = 9) {
   std::mt19937 rng(seed);
   std::normal_distribution<float> gauss;
   Model m;
@@ -54,7 +57,7 @@ Model randomModel(CoeffPrecision precision, bool mean, unsigned seed) {
     g.coverage.push_back(1);
     for (int c = 0; c < 3; ++c) g.albedo.push_back(0.2f + 0.1f * c + 0.001f * r);
   }
-  const int n = 9;
+  const int n = globalBases;
   m.globalBasis = Eigen::MatrixXf::NullaryExpr(24, n, [&] { return gauss(rng); });
   m.globalBasis.row(5).setZero();  // a direction no pixel sees
   m.hasMean = mean;
@@ -110,6 +113,39 @@ TEST(ModelRelighter, MatchesThePlainReferenceOnEveryShapeAndPrecision) {
       EXPECT_LT(maxRelativeDifference(fast, reference), 1e-5)
           << coeffPrecisionName(p) << (mean ? " with mean" : "");
     }
+}
+
+TEST(ModelRelighter, EveryKernelLevelGivesTheSameImageWithinRounding) {
+  const std::vector<kernels::Level> levels = kernels::supportedLevels();
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.front(), kernels::Level::Portable);
+  std::string names;
+  for (kernels::Level level : levels) names += std::string(" ") + kernels::kLevelNames.name(level);
+  RecordProperty("kernel_levels", names);
+  const kernels::Level before = kernels::activeLevel();
+  // 37 global bases: two 16-wide vector steps and a tail in every dot product.
+  const LatticeLighting lighting = randomLighting(24, 5);
+  for (CoeffPrecision p : {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8})
+    for (bool mean : {false, true})
+      for (bool halfBases : {false, true}) {
+        Model m = randomModel(p, mean, 11, 37);
+        if (halfBases) {
+          m.basisPrecision = CoeffPrecision::F16;
+          roundToHalf(m.bases);
+        }
+        const auto reference = relightModelReference(m, {lighting})[0];
+        for (kernels::Level level : levels) {
+          kernels::useLevel(level);
+          const auto image = ModelRelighter(m).relight(lighting);
+          EXPECT_LT(maxRelativeDifference(image, reference), 1e-5)
+              << kernels::kLevelNames.name(level) << " " << coeffPrecisionName(p)
+              << (mean ? " with mean" : "") << (halfBases ? ", f16 bases" : "");
+        }
+      }
+  kernels::useLevel(before);
+  if (levels.back() != kernels::Level::Avx512) {
+    EXPECT_THROW(kernels::useLevel(kernels::Level::Avx512), UserError);
+  }
 }
 
 /// The model truncated to its clusters' first k bases, as a model of its own.
@@ -301,6 +337,27 @@ TEST_F(RelightPlant, HalfBasesRelightExactlyAndCostLittleError) {
               1e-5);
 }
 
+TEST_F(RelightPlant, RelightingStraightIntoTheImageEqualsComposingTheRows) {
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveBinary;
+  o.clusters = 3;
+  const Model m = compressTransport(t, o);
+  ModelRelighter relighter(m);
+  const auto sky = loadEnvironment("sky");
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()).matrix();
+  const ImageComposer composer(m.geometry);
+  const LatticeLighting lighting = lightings()[0];
+  for (Background bg : {Background::Env, Background::Black, Background::Alpha}) {
+    const Image composed =
+        composeImage(m.geometry, relighter.relight(lighting), bg, *sky, rotation);
+    std::vector<float> direct(composed.pixels.size(), -1.0f);
+    composer.background(bg, *sky, rotation, direct.data());
+    relighter.relightInto(lighting, direct.data(), ImageComposer::channels(bg));
+    EXPECT_EQ(direct, composed.pixels) << kBackgroundNames.name(bg);
+  }
+}
+
 TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
   // The blocked Gram path (for clusters too big to copy in double) against the
   // direct one, on the same global projection.
@@ -312,7 +369,10 @@ TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
     ModelOptions o;
     o.tolerance = 0.99;
     o.mean = true;
+    o.floatFits = false;
     const Model direct = buildModel(t.header(), basis, projection, partition, o);
+    o.floatFits = true;
+    const Model inFloat = buildModel(t.header(), basis, projection, partition, o);
     o.largeClusterValues = 0;
     const Model blocked = buildModel(t.header(), basis, projection, partition, o);
     EXPECT_EQ(direct.ranks, blocked.ranks);
@@ -321,6 +381,15 @@ TEST_F(RelightPlant, LargeClustersFittedBlockwiseGiveTheSameModel) {
       EXPECT_LT(maxRelativeDifference(ModelRelighter(blocked).relight(lighting),
                                       ModelRelighter(direct).relight(lighting)),
                 1e-4);
+    // Fitted in float: the same ranks and error; the bases near each cut may
+    // turn a little within nearly equal eigenvalues (float rounding over the
+    // eigengap), which moves pixels by far less than the error itself.
+    EXPECT_EQ(inFloat.ranks, direct.ranks);
+    EXPECT_NEAR(inFloat.transportError, direct.transportError, 1e-5 * direct.transportError);
+    for (const auto& lighting : lightings())
+      EXPECT_LT(maxRelativeDifference(ModelRelighter(inFloat).relight(lighting),
+                                      ModelRelighter(direct).relight(lighting)),
+                1e-3);
   }
 }
 
