@@ -1,0 +1,20 @@
+#!/bin/bash
+# Installs the module into a new virtual environment (Debian's python, system
+# site packages for numpy) and relights a fixture from outside the build tree.
+# Usage: install_into_venv.sh PYTHON BUILD_DIR TRANSPORT_FILE
+set -euo pipefail
+python=$1 build=$2 transport=$(realpath "$3")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$python" -m venv --without-pip --system-site-packages "$work/venv"
+cmake --install "$build" --component python --prefix "$work/venv" > /dev/null
+cd "$work"
+PYTHONPATH= "$work/venv/bin/python" - "$transport" <<'PY'
+import sys
+import adaptive_cpca as ac
+assert ac.__file__.startswith(sys.prefix), f"imported {ac.__file__}, not the venv's copy"
+r = ac.open(sys.argv[1])
+image = r.relight(ac.Environment("sky"))
+assert image.shape == (r.height, r.width, 3) and image.max() > 0, image.shape
+print("installed module relit", sys.argv[1], "from", ac.__file__)
+PY
