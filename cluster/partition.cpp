@@ -181,23 +181,11 @@ ClusterFit fitCluster(const Eigen::MatrixXf& rows, int rank) {
   return f;
 }
 
-}  // namespace
-
-Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const CpcaOptions& o) {
-  if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
-  const int n = static_cast<int>(rowsIn.size());
-  const int k = std::min(o.clusters, n);
-  if (k <= 1) return n ? Partition{rowsIn} : Partition{};
-  // Row-major: assignment reads whole rows.
-  const RowMatrixF x = gatherRowsF(in, rowsIn, in.clusteringWidth());
-  const Eigen::VectorXf norms = x.rowwise().squaredNorm();
-  // A few leading global coefficients carry most of the energy: good enough to
-  // seed and to shortlist candidate clusters.
-  const int reduced = std::min<int>(64, static_cast<int>(x.cols()));
-  const RowMatrixF xr = x.leftCols(reduced);
-
-  // k-means++ seeding on the reduced rows.
-  std::mt19937_64 rng(o.seed);
+/// k-means++ seeding (Arthur and Vassilvitskii 2007) on the rows: k seeds,
+/// each row labelled with its nearest.
+std::vector<int> kMeansPlusPlusLabels(const RowMatrixF& xr, int k, std::uint64_t seed) {
+  const int n = static_cast<int>(xr.rows());
+  std::mt19937_64 rng(seed);
   std::vector<int> seeds{static_cast<int>(rng() % n)};
   Eigen::VectorXd d2 = (xr.rowwise() - xr.row(seeds[0])).rowwise().squaredNorm().cast<double>();
   while (static_cast<int>(seeds.size()) < k) {
@@ -213,13 +201,42 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
     d2 = d2.cwiseMin((xr.rowwise() - xr.row(pick)).rowwise().squaredNorm().cast<double>());
   }
   std::vector<int> label(n);
-  {
-    Eigen::MatrixXf centres(k, reduced);
-    for (int c = 0; c < k; ++c) centres.row(c) = xr.row(seeds[c]);
-    const Eigen::MatrixXf dots = xr * centres.transpose();
-    const Eigen::VectorXf cn = centres.rowwise().squaredNorm();
-    for (int i = 0; i < n; ++i) (cn - 2 * dots.row(i).transpose()).minCoeff(&label[i]);
-  }
+  Eigen::MatrixXf centres(k, xr.cols());
+  for (int c = 0; c < k; ++c) centres.row(c) = xr.row(seeds[c]);
+  const Eigen::MatrixXf dots = xr * centres.transpose();
+  const Eigen::VectorXf cn = centres.rowwise().squaredNorm();
+  for (int i = 0; i < n; ++i) (cn - 2 * dots.row(i).transpose()).minCoeff(&label[i]);
+  return label;
+}
+
+/// Two halves by the sign of each row's first principal coefficient (the
+/// split Sloan's CPCA and principal-direction bisection start from).
+std::vector<int> principalSignLabels(const RowMatrixF& x) {
+  const ClusterFit all = fitCluster(x, 1);
+  std::vector<int> label(x.rows(), 0);
+  if (all.basis.cols() == 0) return label;  // every row the same: one side
+  const Eigen::VectorXf side = (x.rowwise() - all.mean) * all.basis.col(0);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) label[i] = side[i] > 0 ? 1 : 0;
+  return label;
+}
+
+}  // namespace
+
+Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const CpcaOptions& o) {
+  if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
+  const int n = static_cast<int>(rowsIn.size());
+  const int k = std::min(o.clusters, n);
+  if (k <= 1) return n ? Partition{rowsIn} : Partition{};
+  // Row-major: assignment reads whole rows.
+  const RowMatrixF x = gatherRowsF(in, rowsIn, in.clusteringWidth());
+  const Eigen::VectorXf norms = x.rowwise().squaredNorm();
+  // A few leading global coefficients carry most of the energy: good enough to
+  // seed and to shortlist candidate clusters.
+  const int reduced = std::min<int>(64, static_cast<int>(x.cols()));
+  const RowMatrixF xr = x.leftCols(reduced);
+
+  std::vector<int> label =
+      k == 2 && o.splitBySign ? principalSignLabels(x) : kMeansPlusPlusLabels(xr, k, o.seed);
 
   const int candidates = std::min(o.candidates, k);
   for (int iteration = 0; iteration < o.iterations; ++iteration) {

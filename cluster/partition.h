@@ -64,6 +64,9 @@ struct CpcaOptions {
   int iterations = 10;
   int candidates = 16;  ///< clusters (nearest by mean) each row is tested against
   std::uint64_t seed = 1;
+  /// K = 2: start from the halves on either side of the first principal
+  /// direction instead of k-means++ seeds.
+  bool splitBySign = false;
 };
 /// Sloan et al. 2003: k-means++ seeding, then rows move to the cluster whose
 /// mean and bases reconstruct them best, until nothing moves.
@@ -77,10 +80,11 @@ struct BinaryOptions {
   /// 0: N, where the p x p problem becomes the smaller one.
   long long exactTestRows = 0;
 };
-/// Paper 003 sec. 5.2: a few CPCA clusters, each split in two by CPCA while the
-/// halves' costs sum to less than the whole's; recursively, the two halves in
-/// parallel. Large clusters compare costs on the reduced representation, as the
-/// paper does for its first subdivisions; the rest compare exact costs.
+/// Paper 003 sec. 5.2: a few CPCA clusters, each split in two by CPCA (started
+/// from the sign of the first principal coefficient) while the halves' costs
+/// sum to less than the whole's; recursively, the two halves in parallel.
+/// Large clusters are split and judged on the reduced representation, as the
+/// paper does for its first subdivisions; the rest on every coefficient.
 Partition adaptiveBinary(const ClusterInput& in, const BinaryOptions& options);
 
 }  // namespace acpca

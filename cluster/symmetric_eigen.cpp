@@ -22,40 +22,39 @@ void setBlasThreads(int threads) {
 
 std::once_flag singleThreaded;
 
-}  // namespace
+lapack_int syevd(char jobz, lapack_int n, double* a, double* w) {
+  return LAPACKE_dsyevd(LAPACK_COL_MAJOR, jobz, 'L', n, a, n, w);
+}
+lapack_int syevd(char jobz, lapack_int n, float* a, float* w) {
+  return LAPACKE_ssyevd(LAPACK_COL_MAJOR, jobz, 'L', n, a, n, w);
+}
 
-SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
+/// LAPACK's divide and conquer at the matrix's precision; values descending.
+template <typename Result, typename Matrix>
+Result decompose(const Matrix& a, bool wantVectors) {
   std::call_once(singleThreaded, [] { setBlasThreads(1); });
   ACPCA_CHECK(a.rows() == a.cols(), "not square: ", a.rows(), "x", a.cols());
   const lapack_int n = static_cast<lapack_int>(a.rows());
-  SymmetricEigen result;
+  Result result;
   if (n == 0) return result;
   ACPCA_CHECK(a.allFinite(), "non-finite entries in a ", n, "^2 symmetric matrix");
-  Eigen::MatrixXd work = a;
-  Eigen::VectorXd ascending(n);
-  const lapack_int info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, wantVectors ? 'V' : 'N', 'L', n,
-                                         work.data(), n, ascending.data());
-  ACPCA_CHECK(info == 0, "dsyevd failed (info ", info, ") on a ", n, "^2 matrix");
-  result.values = ascending.reverse().cwiseMax(0.0);
+  Matrix work = a;
+  Eigen::Matrix<typename Matrix::Scalar, Eigen::Dynamic, 1> ascending(n);
+  const lapack_int info = syevd(wantVectors ? 'V' : 'N', n, work.data(), ascending.data());
+  ACPCA_CHECK(info == 0, "syevd failed (info ", info, ") on a ", n, "^2 matrix");
+  result.values = ascending.reverse().template cast<double>().cwiseMax(0.0);
   if (wantVectors) result.vectors = work.rowwise().reverse();
   return result;
 }
 
+}  // namespace
+
+SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
+  return decompose<SymmetricEigen>(a, wantVectors);
+}
+
 SymmetricEigenF symmetricEigenFloat(const Eigen::MatrixXf& a, bool wantVectors) {
-  std::call_once(singleThreaded, [] { setBlasThreads(1); });
-  ACPCA_CHECK(a.rows() == a.cols(), "not square: ", a.rows(), "x", a.cols());
-  const lapack_int n = static_cast<lapack_int>(a.rows());
-  SymmetricEigenF result;
-  if (n == 0) return result;
-  ACPCA_CHECK(a.allFinite(), "non-finite entries in a ", n, "^2 symmetric matrix");
-  Eigen::MatrixXf work = a;
-  Eigen::VectorXf ascending(n);
-  const lapack_int info = LAPACKE_ssyevd(LAPACK_COL_MAJOR, wantVectors ? 'V' : 'N', 'L', n,
-                                         work.data(), n, ascending.data());
-  ACPCA_CHECK(info == 0, "ssyevd failed (info ", info, ") on a ", n, "^2 matrix");
-  result.values = ascending.reverse().cast<double>().cwiseMax(0.0);
-  if (wantVectors) result.vectors = work.rowwise().reverse();
-  return result;
+  return decompose<SymmetricEigenF>(a, wantVectors);
 }
 
 int rankForEnergy(const Eigen::VectorXd& values, double total, double fraction) {
