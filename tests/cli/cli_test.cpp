@@ -156,6 +156,9 @@ TEST_F(Cli, CompressInfoAndRelightAModel) {
   expectFailure("compress " + transport_ + " --method kmeans --out " + out.file("x.h5"), "kmeans");
   expectFailure("compress " + transport_ + " --method cpca --tolerance 2 --out " + out.file("x.h5"),
                 "--tolerance");
+  expectFailure("compress " + transport_ + " --method adaptive-binary --clustering-dims -1 --out " +
+                    out.file("x.h5"),
+                "--clustering-dims '-1'");
   expectFailure("compress " + out.file("m.h5") + " --method global --out " + out.file("x.h5"),
                 "not an adaptive-cpca transport");
   EXPECT_FALSE(test::fs::exists(out.file("x.h5")));
