@@ -46,7 +46,7 @@ class BinarySplitter {
 
   double cost(const std::vector<int>& rows, Measure m) const {
     const int width = m == Measure::Exact ? in_.globalBases() : in_.clusteringWidth();
-    const int rank = rankToTolerance(gatherRowsF(in_, rows, width), in_.tolerance, in_.mean);
+    const int rank = rankToTolerance(gatherRows(in_, rows, width), in_.tolerance, in_.mean);
     return clusterCost(rank + (in_.mean ? 1 : 0), static_cast<long long>(rows.size()), width);
   }
 

@@ -78,23 +78,22 @@ ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, do
                            bool subtractMean) {
   const int n = static_cast<int>(g.cols());
   const long long p = static_cast<long long>(rows.size());
-  Eigen::MatrixXf x(p, n);
-  for (long long i = 0; i < p; ++i) x.row(i) = g.row(rows[i]);
+  Eigen::MatrixXf gathered(p, n);
+  for (long long i = 0; i < p; ++i) gathered.row(i) = g.row(rows[i]);
+  const CentredRowsF centred = centreInDouble(gathered, subtractMean);
+  const Eigen::MatrixXf& x = centred.rows;
   ClusterFit fit;
   PcaResult& pca = fit.pca;
-  pca.mean = subtractMean && p > 0 ? Eigen::RowVectorXd(x.cast<double>().colwise().mean())
-                                   : Eigen::RowVectorXd::Zero(n);
-  x = (x.cast<double>().rowwise() - pca.mean).cast<float>();
-  pca.totalEnergy = x.cast<double>().squaredNorm();
+  pca.mean = centred.mean;
+  pca.totalEnergy = centred.energy;
   pca.basis.resize(n, 0);
   fit.coefficients.resize(p, 0);
   if (p == 0 || pca.totalEnergy == 0) {
     pca.eigenvalues = Eigen::VectorXd::Zero(std::min<long long>(p, n));
     return fit;
   }
-  const bool viaRows = p < n;  // the non-zero eigenvalues of x x^T and x^T x agree
-  const Eigen::MatrixXf gram =
-      viaRows ? Eigen::MatrixXf(x * x.transpose()) : Eigen::MatrixXf(x.transpose() * x);
+  const bool viaRows = p < n;
+  const Eigen::MatrixXf gram = smallerGram(x);
   const SymmetricEigenF eig = symmetricEigenFloat(gram, true);
   pca.eigenvalues = eig.values;
   pca.rank = rankForEnergy(eig.values, pca.totalEnergy, tolerance);

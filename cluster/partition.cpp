@@ -53,7 +53,7 @@ std::vector<Block> rootBlocks(const ClusterInput& in, int side) {
 
 int rankOf(const ClusterInput& in, const std::vector<int>& rows) {
   if (rows.empty()) return 0;
-  return rankToTolerance(gatherRowsF(in, rows, in.globalBases()), in.tolerance, in.mean);
+  return rankToTolerance(gatherRows(in, rows, in.globalBases()), in.tolerance, in.mean);
 }
 
 double costOf(const ClusterInput& in, const std::vector<int>& rows, int rank) {
@@ -228,7 +228,7 @@ Partition cpca(const ClusterInput& in, const std::vector<int>& rowsIn, const Cpc
   const int k = std::min(o.clusters, n);
   if (k <= 1) return n ? Partition{rowsIn} : Partition{};
   // Row-major: assignment reads whole rows.
-  const RowMatrixF x = gatherRowsF(in, rowsIn, in.clusteringWidth());
+  const RowMatrixF x = gatherRows(in, rowsIn, in.clusteringWidth());
   const Eigen::VectorXf norms = x.rowwise().squaredNorm();
   // A few leading global coefficients carry most of the energy: good enough to
   // seed and to shortlist candidate clusters.

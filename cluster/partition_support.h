@@ -10,17 +10,8 @@
 
 namespace acpca {
 
-/// Rows `rows` of G, their first `width` columns, in double.
-inline Eigen::MatrixXd gatherRows(const ClusterInput& in, const std::vector<int>& rows, int width) {
-  Eigen::MatrixXd m(rows.size(), width);
-  for (size_t i = 0; i < rows.size(); ++i)
-    m.row(i) = in.coefficients->row(rows[i]).head(width).cast<double>();
-  return m;
-}
-
-/// The same in float.
-inline Eigen::MatrixXf gatherRowsF(const ClusterInput& in, const std::vector<int>& rows,
-                                   int width) {
+/// Rows `rows` of G, their first `width` columns.
+inline Eigen::MatrixXf gatherRows(const ClusterInput& in, const std::vector<int>& rows, int width) {
   Eigen::MatrixXf m(rows.size(), width);
   for (size_t i = 0; i < rows.size(); ++i) m.row(i) = in.coefficients->row(rows[i]).head(width);
   return m;

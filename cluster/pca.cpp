@@ -40,24 +40,33 @@ PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool su
   return result;
 }
 
+CentredRowsF centreInDouble(const Eigen::MatrixXf& input, bool subtractMean) {
+  CentredRowsF c;
+  c.mean = subtractMean && input.rows() > 0
+               ? Eigen::RowVectorXd(input.cast<double>().colwise().mean())
+               : Eigen::RowVectorXd::Zero(input.cols());
+  c.rows = (input.cast<double>().rowwise() - c.mean).cast<float>();
+  c.energy = c.rows.cast<double>().squaredNorm();
+  return c;
+}
+
+Eigen::MatrixXf smallerGram(const Eigen::MatrixXf& x) {
+  Eigen::MatrixXf gram;
+  if (x.rows() < x.cols())
+    gram.noalias() = x * x.transpose();
+  else
+    gram.noalias() = x.transpose() * x;
+  return gram;
+}
+
 int rankToTolerance(const Eigen::MatrixXf& input, double tolerance, bool subtractMean) {
   if (tolerance > 0.9999)
     return pcaToTolerance(input.cast<double>(), tolerance, subtractMean, false).rank;
-  const Eigen::Index p = input.rows();
-  if (p == 0 || input.cols() == 0) return 0;
-  const Eigen::RowVectorXd mean = subtractMean
-                                      ? Eigen::RowVectorXd(input.cast<double>().colwise().mean())
-                                      : Eigen::RowVectorXd::Zero(input.cols());
-  const Eigen::MatrixXf rows = (input.cast<double>().rowwise() - mean).cast<float>();
-  const double total = rows.cast<double>().squaredNorm();
-  if (total == 0) return 0;
-  Eigen::MatrixXf gram;
-  if (p < input.cols())
-    gram.noalias() = rows * rows.transpose();
-  else
-    gram.noalias() = rows.transpose() * rows;
-  const SymmetricEigen eig = symmetricEigen(gram.cast<double>(), false);
-  return rankForEnergy(eig.values, total, tolerance);
+  if (input.rows() == 0 || input.cols() == 0) return 0;
+  const CentredRowsF centred = centreInDouble(input, subtractMean);
+  if (centred.energy == 0) return 0;
+  const SymmetricEigen eig = symmetricEigen(smallerGram(centred.rows).cast<double>(), false);
+  return rankForEnergy(eig.values, centred.energy, tolerance);
 }
 
 }  // namespace acpca

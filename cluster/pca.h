@@ -22,6 +22,17 @@ struct PcaResult {
 PcaResult pcaToTolerance(const Eigen::MatrixXd& rows, double tolerance, bool subtractMean,
                          bool wantBasis = true);
 
+/// Rows centred in double and handed back in float, for the float PCA paths.
+struct CentredRowsF {
+  Eigen::MatrixXf rows;
+  Eigen::RowVectorXd mean;  ///< what was subtracted (zero when not asked)
+  double energy = 0;        ///< squared norm of the centred rows, summed in double
+};
+CentredRowsF centreInDouble(const Eigen::MatrixXf& rows, bool subtractMean);
+
+/// The smaller of x x^T and x^T x (their non-zero eigenvalues agree).
+Eigen::MatrixXf smallerGram(const Eigen::MatrixXf& x);
+
 /// The rank pcaToTolerance would find, from float rows and at about twice the
 /// speed: the mean and the energy are summed in double, the smaller Gram matrix
 /// of the centred rows is formed in float and decomposed in double. Float

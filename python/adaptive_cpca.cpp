@@ -138,15 +138,13 @@ class Relighter {
       py::gil_scoped_release release;
       setRank(maxRank);
       float* pixels = image.mutable_data();
-      composer_->background(bg, *lighting.env, rotationMatrix(lighting.rotation), pixels);
-      if (source_.model) {  // straight into the image
-        source_.model->relightInto(lighting.values, pixels, ImageComposer::channels(bg));
+      if (source_.model) {
+        relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, pixels);
       } else {
         std::vector<double> ms;
-        composer_->addRows(source_.relight({lighting.values}, ms)[0].data(), pixels,
-                           ImageComposer::channels(bg));
+        finish(source_.relight({lighting.values}, ms)[0].data(), *lighting.env, lighting.rotation,
+               bg, exposure, pixels);
       }
-      applyExposure(exposure, bg, pixels);
     }
     return image;
   }
@@ -171,11 +169,9 @@ class Relighter {
       std::vector<LatticeLighting> group;
       std::vector<std::pair<const Environment*, EnvRotation>> frameOf;
       const auto flush = [&](size_t first) {
-        if (source_.model) {  // one frame, straight into its image
-          float* pixels = images.mutable_data() + first * frameValues;
-          composer_->background(bg, *frameOf[0].first, rotationMatrix(frameOf[0].second), pixels);
-          source_.model->relightInto(group[0], pixels, ImageComposer::channels(bg));
-          applyExposure(exposure, bg, pixels);
+        if (source_.model) {  // one frame
+          relightModelInto(group[0], *frameOf[0].first, frameOf[0].second, bg, exposure,
+                           images.mutable_data() + first * frameValues);
           group.clear(), frameOf.clear();
           return;
         }
@@ -234,6 +230,16 @@ class Relighter {
     return *out;
   }
 
+  /// One frame of a model, relit straight into its image.
+  void relightModelInto(const LatticeLighting& lighting, const Environment& env,
+                        const EnvRotation& rotation, Background bg, double exposure,
+                        float* pixels) const {
+    composer_->background(bg, env, rotationMatrix(rotation), pixels);
+    source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
+    applyExposure(exposure, bg, pixels);
+  }
+
+  /// One frame from per-row values (the dense path) into its image.
   void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
               Background bg, double exposure, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
