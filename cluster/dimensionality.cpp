@@ -10,7 +10,7 @@ namespace acpca {
 
 PatchRows readSquarePatch(const TransportReader& transport, int cx, int cy, int side) {
   const TransportHeader& h = transport.header();
-  const int width = h.camera.size.width, height = h.camera.size.height, l = transport.latticeSize();
+  const int width = h.camera.size.width, height = h.camera.size.height, l = transport.rowLength();
   const int x0 = std::max(0, cx - side / 2), x1 = std::min(width, cx - side / 2 + side);
   const int y0 = std::max(0, cy - side / 2), y1 = std::min(height, cy - side / 2 + side);
   PatchRows patch;

@@ -54,7 +54,7 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
   if (!(options.energy > 0 && options.energy <= 1))
     throw ParameterError("global energy", options.energy, "is outside (0, 1]");
   if (options.sampleRows < 1) throw UserError("the global-basis sample needs at least one row");
-  const int l = transport.latticeSize();
+  const int l = transport.rowLength();
   const long long total = transport.rows();
   GlobalBasis result;
   result.basis = Eigen::MatrixXf::Zero(l, 0);
@@ -115,7 +115,7 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
 
 GlobalProjection projectOntoBasis(const TransportReader& transport,
                                   const GlobalBasis& globalBasis) {
-  const int l = transport.latticeSize();
+  const int l = transport.rowLength();
   ACPCA_CHECK(globalBasis.basis.rows() == l, "basis has ", globalBasis.basis.rows(), " rows for ",
               l, " directions");
   const std::vector<int>& active = globalBasis.active;

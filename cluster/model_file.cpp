@@ -150,7 +150,7 @@ Model readModel(const std::string& path) {
   const long long rows = g.rows();
   const long long n = h5::readIntAttribute(f, "global_bases", ctx);
   const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
-  const long long l = g.latticeSize();
+  const long long l = g.rowLength();
   if (n < 0 || n > l || clusters < 0 || clusters > std::max(rows, 1LL))
     throw UserError(concat(ctx, ": sizes in the header do not add up"));
   m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;

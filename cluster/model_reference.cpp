@@ -1,22 +1,20 @@
 #include "cluster/model_reference.h"
 
 #include "core/error.h"
+#include "precompute/transport/row_layout.h"
 
 namespace acpca {
 
 std::vector<std::vector<float>> relightModelReference(
     const Model& m, const std::vector<std::vector<double>>& lightings) {
   const int n = m.globalBases();
-  const long long l = m.globalBasis.rows();
   std::vector<std::vector<float>> out;
+  const Eigen::MatrixXd basis = m.globalBasis.cast<double>();
   for (const auto& lighting : lightings) {
-    ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3 * l, "lighting size ",
-                lighting.size());
     // L_g = V_g^T L (N x 3), in double.
-    Eigen::MatrixXd lg = Eigen::MatrixXd::Zero(n, 3);
-    for (long long j = 0; j < l; ++j)
-      for (int k = 0; k < n; ++k)
-        for (int c = 0; c < 3; ++c) lg(k, c) += double(m.globalBasis(j, k)) * lighting[3 * j + c];
+    const Eigen::MatrixXd lg =
+        basis.transpose() *
+        lightingOnRows<double>(lighting, m.geometry.latticeSize(), m.geometry.channels);
     std::vector<float> rgb(3 * m.rows(), 0.0f);
     for (int cl = 0; cl < m.clusters(); ++cl) {
       const int rank = m.ranks[cl];

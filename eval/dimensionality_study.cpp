@@ -71,7 +71,7 @@ std::vector<std::pair<int, int>> defaultCentres(const TransportReader& transport
           nearestOccupied(h, x0 + (i + 0.5) / 7 * (x1 - x0), y0 + (j + 0.5) / 7 * (y1 - y0));
       candidates.push_back(
           {at, patchDimensionality(readSquarePatch(transport, at.first, at.second, 8),
-                                   transport.latticeSize(), energy)});
+                                   transport.rowLength(), energy)});
     }
   std::stable_sort(
       candidates.begin(), candidates.end(),
@@ -112,7 +112,7 @@ DimensionalityAnalysis analyzeDimensionality(const TransportReader& transport,
       if (patch.rows == lastRows) continue;  // clipped by the image: the same patch again
       lastRows = patch.rows;
       c.area.push_back(double(patch.rows));
-      c.dimensionality.push_back(patchDimensionality(patch, transport.latticeSize(), energy));
+      c.dimensionality.push_back(patchDimensionality(patch, transport.rowLength(), energy));
     }
     const auto fitOver = [&](double lo) {
       std::vector<double> area, dims;

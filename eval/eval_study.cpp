@@ -116,7 +116,7 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
     SparseTransport dense(transport);
     SweepResult r{"dense", "T in memory (f16)"};
     r.compressSeconds = build.seconds();
-    r.costPerPixel = transport.latticeSize();
+    r.costPerPixel = transport.rowLength();
     r.modelBytes = dense.bytesPerFrame();
     const auto first = measureMaps(data, r, std::min(frames, 5),
                                    [&](const auto& l, float* rgb) { dense.relight(l, rgb); });
@@ -151,7 +151,10 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
       keep(r, first, {});
     }
   }
-  if (wants(o, "sh") && !o.shOrders.empty()) {
+  const bool shFits = transport.header().channels == 1;
+  if (wants(o, "sh") && !o.shOrders.empty() && !shFits)
+    log("sh: left out; its fits take one row per pixel, and this transport has R, G and B rows");
+  if (wants(o, "sh") && !o.shOrders.empty() && shFits) {
     const Stopwatch build;
     ShTransport sh(transport, *std::max_element(o.shOrders.begin(), o.shOrders.end()), o.shGroups);
     const double buildSeconds = build.seconds();

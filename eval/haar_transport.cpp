@@ -74,6 +74,8 @@ void haarInverse2d(float* face, int resolution) {
 HaarTransport::HaarTransport(const TransportReader& transport, int bits)
     : resolution_(transport.header().cubemapResolution),
       latticeSize_(transport.latticeSize()),
+      rowLength_(transport.rowLength()),
+      channels_(transport.header().channels),
       rows_(transport.rows()),
       albedo_(transport.header().albedo) {
   if (resolution_ & (resolution_ - 1))
@@ -82,7 +84,7 @@ HaarTransport::HaarTransport(const TransportReader& transport, int bits)
   const int faceSize = resolution_ * resolution_;
   const float keep = bits > 0 ? std::exp2(float(-bits)) : 0.0f;
   const long long chunk = rowsPerBlock(transport);
-  std::vector<float> buffer(static_cast<size_t>(chunk) * latticeSize_);
+  std::vector<float> buffer(static_cast<size_t>(chunk) * rowLength_);
   for (long long first = 0; first < rows_; first += kBlockRows) {
     RowBlock block;
     block.firstRow = first;
@@ -95,16 +97,16 @@ HaarTransport::HaarTransport(const TransportReader& transport, int bits)
       const long long n = std::min(chunk, count - r0);
       transport.readRows(first + r0, n, buffer.data());
       tbb::parallel_for(0LL, n, [&](long long r) {
-        float* row = buffer.data() + r * latticeSize_;
-        for (int f = 0; f * faceSize < latticeSize_; ++f)
+        float* row = buffer.data() + r * rowLength_;
+        for (int f = 0; f * faceSize < rowLength_; ++f)  // every face of every channel
           haarForward2d(row + f * faceSize, resolution_);
       });
       for (long long r = 0; r < n; ++r) {
-        const float* row = buffer.data() + r * latticeSize_;
+        const float* row = buffer.data() + r * rowLength_;
         float largest = 0;
-        for (int j = 0; j < latticeSize_; ++j) largest = std::max(largest, std::abs(row[j]));
+        for (int j = 0; j < rowLength_; ++j) largest = std::max(largest, std::abs(row[j]));
         const float threshold = std::max(largest * keep, std::numeric_limits<float>::min());
-        for (int j = 0; j < latticeSize_; ++j)
+        for (int j = 0; j < rowLength_; ++j)
           if (std::abs(row[j]) >= threshold) {
             entryColumn.push_back(static_cast<std::uint32_t>(j));
             entryRow.push_back(static_cast<std::uint16_t>(r0 + r));
@@ -112,7 +114,7 @@ HaarTransport::HaarTransport(const TransportReader& transport, int bits)
           }
       }
     }
-    block.columnStart.assign(latticeSize_ + 1, 0);
+    block.columnStart.assign(rowLength_ + 1, 0);
     for (auto j : entryColumn) ++block.columnStart[j + 1];
     std::partial_sum(block.columnStart.begin(), block.columnStart.end(), block.columnStart.begin());
     std::vector<std::int64_t> next(block.columnStart.begin(), block.columnStart.end() - 1);
@@ -133,7 +135,7 @@ HaarTransport::HaarTransport(const TransportReader& transport, int bits)
 double HaarTransport::fillRatio() const {
   double kept = 0;
   for (const auto& b : blocks_) kept += b.row.size();
-  const double all = double(rows_) * latticeSize_;
+  const double all = double(rows_) * rowLength_;
   return all > 0 ? kept / all : 0;
 }
 
@@ -172,9 +174,14 @@ void HaarTransport::relight(const LatticeLighting& lighting, int terms, float* r
                     [&](int a, int b) { return mag[a] != mag[b] ? mag[a] > mag[b] : a < b; });
   order.resize(k);
   std::sort(order.begin(), order.end());
+  // With R, G and B rows, term j is column j of each channel's part, lit by
+  // that channel alone.
   double entries = 0;
   for (const auto& b : blocks_)
-    for (int j : order) entries += double(b.columnStart[j + 1] - b.columnStart[j]);
+    for (int j : order)
+      for (int part = 0; part < channels_; ++part)
+        entries += double(b.columnStart[part * latticeSize_ + j + 1] -
+                          b.columnStart[part * latticeSize_ + j]);
   lastCost_ = rows_ ? entries / rows_ : 0;
 
   tbb::parallel_for(0, static_cast<int>(blocks_.size()), [&](int bi) {
@@ -184,19 +191,23 @@ void HaarTransport::relight(const LatticeLighting& lighting, int terms, float* r
     std::fill(out, out + 3 * count, 0.0f);
     constexpr int kBatch = 256;
     float values[kBatch];
-    for (int j : order) {
-      const float l[3] = {light_[j], light_[latticeSize_ + j], light_[2 * latticeSize_ + j]};
-      for (auto e0 = b.columnStart[j]; e0 < b.columnStart[j + 1]; e0 += kBatch) {
-        const int n = static_cast<int>(std::min<std::int64_t>(kBatch, b.columnStart[j + 1] - e0));
-        halfToFloat(b.value.data() + e0, values, n);
-        for (int e = 0; e < n; ++e) {
-          float* o = out + 3 * b.row[e0 + e];
-          o[0] += values[e] * l[0];
-          o[1] += values[e] * l[1];
-          o[2] += values[e] * l[2];
+    for (int term : order)
+      for (int part = 0; part < channels_; ++part) {
+        const int j = part * latticeSize_ + term;
+        float l[3];
+        for (int c = 0; c < 3; ++c)
+          l[c] = channels_ == 1 || c == part ? light_[c * latticeSize_ + term] : 0.0f;
+        for (auto e0 = b.columnStart[j]; e0 < b.columnStart[j + 1]; e0 += kBatch) {
+          const int n = static_cast<int>(std::min<std::int64_t>(kBatch, b.columnStart[j + 1] - e0));
+          halfToFloat(b.value.data() + e0, values, n);
+          for (int e = 0; e < n; ++e) {
+            float* o = out + 3 * b.row[e0 + e];
+            o[0] += values[e] * l[0];
+            o[1] += values[e] * l[1];
+            o[2] += values[e] * l[2];
+          }
         }
       }
-    }
     for (long long r = 0; r < 3 * count; ++r) out[r] *= albedo_[3 * b.firstRow + r];
   });
 }

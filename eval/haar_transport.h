@@ -47,7 +47,7 @@ class HaarTransport {
     std::vector<std::uint16_t> row;         ///< row within the block
     std::vector<std::uint16_t> value;       ///< half
   };
-  int resolution_ = 0, latticeSize_ = 0;
+  int resolution_ = 0, latticeSize_ = 0, rowLength_ = 0, channels_ = 1;
   long long rows_ = 0;
   std::vector<RowBlock> blocks_;
   std::vector<float> albedo_;

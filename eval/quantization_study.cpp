@@ -75,7 +75,9 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   const EvaluationData data = loadEvaluationData(transport, a.envs);
 
   std::vector<ShRow> shRows;
-  if (!a.noSh) {
+  if (!a.noSh && transport.header().channels != 1)
+    log("SH: left out; its fits take one row per pixel, and this transport has R, G and B rows");
+  if (!a.noSh && transport.header().channels == 1) {
     ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
     log(concat("SH: ", sh.groups(), " normal groups"));
     for (int n : a.shOrders)
@@ -107,9 +109,9 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
                     [&](long long first, long long count, const float* rows) {
                       for (long long r = 0; r < count; ++r) {
                         double sum = 0;
-                        for (int j = 0; j < transport.latticeSize(); ++j)
-                          sum += double(rows[r * transport.latticeSize() + j]) *
-                                 rows[r * transport.latticeSize() + j];
+                        for (int j = 0; j < transport.rowLength(); ++j)
+                          sum += double(rows[r * transport.rowLength() + j]) *
+                                 rows[r * transport.rowLength() + j];
                         rowNorm[first + r] = std::sqrt(sum);
                       }
                     });

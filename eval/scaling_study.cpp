@@ -46,12 +46,12 @@ double samePatchGrowth(const SizeResult& previous, const std::string& previousPa
   int counted = 0;
   for (const auto& [x, y] : previous.centres) {
     const int n0 =
-        patchDimensionality(readSquarePatch(before, x, y, 16), before.latticeSize(), energy);
+        patchDimensionality(readSquarePatch(before, x, y, 16), before.rowLength(), energy);
     const int n1 = patchDimensionality(
         readSquarePatch(current, static_cast<int>(std::lround((x + 0.5) * f - 0.5)),
                         static_cast<int>(std::lround((y + 0.5) * f - 0.5)),
                         static_cast<int>(std::lround(16 * f))),
-        current.latticeSize(), energy);
+        current.rowLength(), energy);
     if (n0 > 0) sum += double(n1) / n0, ++counted;
   }
   return counted ? sum / counted : NAN;

@@ -21,6 +21,11 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
       latticeSize_(transport.latticeSize()),
       albedo_(transport.header().albedo) {
   const int bands = shBandsOf(maxCoefficients, "SH coefficients");
+  if (transport.header().channels != 1)
+    throw UserError(
+        concat(transport.path(),
+               ": the SH baselines fit one row per pixel; this transport has R, G and B "
+               "rows (coloured interreflections)"));
   if (normalResolution < 1 || normalResolution > 64)
     throw UserError(
         concat("SH normal groups: cube resolution ", normalResolution, " is outside 1..64"));

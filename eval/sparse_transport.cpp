@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/half.h"
+#include "precompute/transport/row_layout.h"
 #include "precompute/transport/row_stream.h"
 #include "relight/relight_kernels.h"
 
@@ -14,11 +15,15 @@ using kernels::kChunkRows;
 
 SparseTransport::SparseTransport(const TransportReader& transport)
     : latticeSize_(transport.latticeSize()),
-      paddedSize_((transport.latticeSize() + kChunkRows - 1) / kChunkRows * kChunkRows),
+      rowLength_(transport.rowLength()),
+      channels_(transport.header().channels),
+      paddedSize_((transport.rowLength() + kChunkRows - 1) / kChunkRows * kChunkRows),
       albedo_(transport.header().albedo) {
+  ACPCA_CHECK(paddedSize_ / kChunkRows <= 65536, "rows of ", rowLength_,
+              " values need more segments than 16-bit indices hold");
   const long long rows = transport.rows();
   const long long block = rowsPerBlock(transport);
-  std::vector<float> buffer(static_cast<size_t>(block) * latticeSize_);
+  std::vector<float> buffer(static_cast<size_t>(block) * rowLength_);
   std::vector<float> padded(paddedSize_, 0.0f);
   std::uint16_t segment[kChunkRows];
   rowStart_.push_back(0);
@@ -26,7 +31,7 @@ SparseTransport::SparseTransport(const TransportReader& transport)
     const long long count = std::min(block, rows - first);
     transport.readRows(first, count, buffer.data());
     for (long long r = 0; r < count; ++r) {
-      std::copy_n(buffer.data() + r * latticeSize_, latticeSize_, padded.data());
+      std::copy_n(buffer.data() + r * rowLength_, rowLength_, padded.data());
       for (int s = 0; s * kChunkRows < paddedSize_; ++s) {
         const float* v = padded.data() + s * kChunkRows;
         if (std::all_of(v, v + kChunkRows, [](float x) { return x == 0.0f; })) continue;
@@ -48,16 +53,14 @@ long long SparseTransport::bytesPerFrame() const {
 }
 
 double SparseTransport::keptFraction() const {
-  const double all = double(rows()) * latticeSize_;
+  const double all = double(rows()) * rowLength_;
   return all > 0 ? double(values_.size()) / all : 0;
 }
 
 void SparseTransport::relight(const LatticeLighting& lighting, float* rgb) {
-  ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3LL * latticeSize_, "lighting has ",
-              lighting.size(), " values for a lattice of ", latticeSize_);
-  for (int j = 0; j < latticeSize_; ++j)
-    for (int c = 0; c < 3; ++c)
-      light_[c * paddedSize_ + j] = static_cast<float>(lighting[3 * j + c]);
+  const auto onRows = lightingOnRows(lighting, latticeSize_, channels_);
+  for (int e = 0; e < rowLength_; ++e)
+    for (int c = 0; c < 3; ++c) light_[c * paddedSize_ + e] = onRows(e, c);
   const float* light[3] = {light_.data(), light_.data() + paddedSize_,
                            light_.data() + 2 * paddedSize_};
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows(), 256),

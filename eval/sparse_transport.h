@@ -27,7 +27,7 @@ class SparseTransport {
   double keptFraction() const;
 
  private:
-  int latticeSize_ = 0, paddedSize_ = 0;
+  int latticeSize_ = 0, rowLength_ = 0, channels_ = 1, paddedSize_ = 0;
   std::vector<long long> rowStart_;      ///< rows + 1, into segments_
   std::vector<std::uint16_t> segments_;  ///< index of each kept segment
   std::vector<std::uint16_t> values_;    ///< 16 halves per kept segment

@@ -3,24 +3,21 @@
 #include <Eigen/Core>
 
 #include "core/error.h"
+#include "precompute/transport/row_layout.h"
 #include "precompute/transport/row_stream.h"
 
 namespace acpca {
 
 std::vector<std::vector<float>> denseRelight(const TransportReader& transport,
                                              const std::vector<LatticeLighting>& lightings) {
-  const int l = transport.latticeSize();
+  const int l = transport.rowLength();
   const long long rows = transport.rows();
   const int maps = static_cast<int>(lightings.size());
-  // L: l x 3M, column 3m + c holds channel c of map m.
+  // L: (row length) x 3M, columns 3m..3m+2 hold map m as the rows meet it.
   Eigen::MatrixXf lighting(l, 3 * maps);
-  for (int m = 0; m < maps; ++m) {
-    ACPCA_CHECK(lightings[m].size() == 3u * l, "lighting ", m, " has ", lightings[m].size(),
-                " values for a lattice of ", l);
-    for (int j = 0; j < l; ++j)
-      for (int c = 0; c < 3; ++c)
-        lighting(j, 3 * m + c) = static_cast<float>(lightings[m][3 * j + c]);
-  }
+  for (int m = 0; m < maps; ++m)
+    lighting.middleCols(3 * m, 3) =
+        lightingOnRows(lightings[m], transport.latticeSize(), transport.header().channels);
   std::vector<std::vector<float>> result(maps, std::vector<float>(3 * rows));
   if (rows == 0 || maps == 0) return result;
 

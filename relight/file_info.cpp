@@ -16,6 +16,10 @@ nlohmann::json cameraJson(const Camera& c) {
 
 }  // namespace
 
+const char* rowLayoutName(int channels) {
+  return channels == 3 ? "rgb" : "shared";
+}
+
 nlohmann::json rankHistogramJson(const Model& m) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
@@ -31,6 +35,7 @@ nlohmann::json describeModel(const Model& m, const std::string& path) {
           {"height", m.geometry.camera.size.height},
           {"occupied_pixels", m.rows()},
           {"cubemap", m.geometry.cubemapResolution},
+          {"row_layout", rowLayoutName(m.geometry.channels)},
           {"global_bases", m.globalBases()},
           {"clusters", m.clusters()},
           {"cost_per_pixel", m.costPerPixel()},
@@ -57,14 +62,18 @@ nlohmann::json describeTransport(const TransportReader& t) {
           {"directions", t.latticeSize()},
           {"global_bases", nullptr},
           {"clusters", nullptr},
-          {"cost_per_pixel", t.latticeSize()},
+          {"cost_per_pixel", t.rowLength()},
           {"bytes", t.fileBytes()},
           {"method", "dense"},
           {"scene", h.scene},
           {"precision", precisionName(h.precision)},
           {"spp", h.samplesPerPixel},
           {"texel_rays", h.texelRays},
-          {"stored_values", t.rows() * static_cast<long long>(t.latticeSize())}};
+          {"row_layout", rowLayoutName(h.channels)},
+          {"bounces", h.bounces},
+          {"indirect_samples", h.bounces > 0 ? nlohmann::json(h.indirectSamples) : nullptr},
+          {"indirect_cache_cell", h.bounces > 0 ? nlohmann::json(h.indirectCacheCell) : nullptr},
+          {"stored_values", t.rows() * static_cast<long long>(t.rowLength())}};
 }
 
 nlohmann::json describeFile(const std::string& path) {

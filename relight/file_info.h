@@ -9,6 +9,8 @@
 
 namespace acpca {
 
+/// "shared" (one row per pixel for R, G and B) or "rgb" (three side by side).
+const char* rowLayoutName(int channels);
 /// {"rank": clusters} of a model (JSON keys are strings).
 nlohmann::json rankHistogramJson(const Model& model);
 nlohmann::json describeModel(const Model& model, const std::string& path);

@@ -178,9 +178,14 @@ void ModelRelighter::lightGlobal(const LatticeLighting& lighting) {
               " values for a lattice of ", l);
   const int n = globalBases_;
   const int seen = static_cast<int>(seenTexels_.size());
-  for (int i = 0; i < seen; ++i)
+  // With R, G and B rows side by side, channel c's light meets only the c-th
+  // third of V_g's rows (row_layout.h).
+  const bool rgbRows = geometry_.channels == 3;
+  for (int i = 0; i < seen; ++i) {
+    const long long j = seenTexels_[i] % l, part = seenTexels_[i] / l;
     for (int c = 0; c < 3; ++c)
-      light_[c * seen + i] = static_cast<float>(lighting[3 * seenTexels_[i] + c]);
+      light_[c * seen + i] = !rgbRows || c == part ? static_cast<float>(lighting[3 * j + c]) : 0.0f;
+  }
   // L_g = V_g^T L (as n x 3 interleaved, and split by channel), in fixed
   // blocks of 16 columns so each column's summation order never depends on how
   // TBB splits the work.

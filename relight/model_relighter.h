@@ -73,7 +73,7 @@ class ModelRelighter {
   int globalBases_ = 0;
   bool hasMean_ = false;
 
-  std::vector<int> seenTexels_;     ///< lattice texels with a non-zero row of V_g
+  std::vector<int> seenTexels_;     ///< row elements (texel, or channel x texel) V_g sees
   std::vector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
   CoeffPrecision basisPrecision_;
   /// W_i^T in tiles of 16 bases: per tile N x 16 values, global index major.

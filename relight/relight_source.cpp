@@ -41,7 +41,7 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
   s.header = transport->header();
   s.method = "dense";
   s.dense = true;
-  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->latticeSize()) *
+  s.bytesPerPass = transport->rows() * static_cast<long long>(transport->rowLength()) *
                    (transport->header().precision == Precision::F16 ? 2 : 4);
   s.relight = [transport](const std::vector<LatticeLighting>& l, std::vector<double>& ms) {
     const Stopwatch watch;

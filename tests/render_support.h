@@ -12,7 +12,12 @@ struct LoadedTransport {
   TransportHeader header;
   std::vector<float> rows;  // rows x l
   PrecomputeStats stats;
-  int l = 0;
+  int l = 0;           ///< values per row: channels x directions
+  int directions = 0;  ///< lattice texels
+  /// Channel c's part of row r (channel 0's when one row serves R, G and B).
+  const float* part(long long r, int c) const {
+    return row(r) + (header.channels == 3 ? c * directions : 0);
+  }
   const float* row(long long r) const { return rows.data() + r * l; }
 };
 
@@ -23,7 +28,8 @@ inline LoadedTransport precomputeInMemory(const Scene& scene, const PrecomputeOp
   t.stats = precomputeTransport(scene, path, options);
   const TransportReader reader(path);
   t.header = reader.header();
-  t.l = reader.latticeSize();
+  t.l = reader.rowLength();
+  t.directions = reader.latticeSize();
   t.rows.resize(static_cast<size_t>(reader.rows()) * t.l);
   reader.readRows(0, reader.rows(), t.rows.data());
   return t;

@@ -17,7 +17,8 @@
 namespace acpca::test {
 
 /// A transport fixture made at build time: "small-plant" (the plant at 40x40,
-/// a 6x8x8 lattice, f32 rows) or "grid2d" (40x30, 6x8x8, f16).
+/// a 6x8x8 lattice, f32 rows), "grid2d" (40x30, 6x8x8, f16) or
+/// "bounced-plant" (24x24, 6x8x8, f32, one bounce: R, G and B rows).
 inline std::string fixture(const std::string& name) {
   return std::string(ACPCA_FIXTURE_DIR) + "/" + name + ".h5";
 }

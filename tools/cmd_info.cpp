@@ -29,7 +29,8 @@ void runModel(const InfoArgs& a) {
             << "  image        " << m.geometry.camera.size.width << "x"
             << m.geometry.camera.size.height << ", " << m.rows() << " occupied pixels\n"
             << "  lattice      6x" << m.geometry.cubemapResolution << "x"
-            << m.geometry.cubemapResolution << ", N = " << m.globalBases() << " global bases\n"
+            << m.geometry.cubemapResolution << ", N = " << m.globalBases() << " global bases"
+            << (m.geometry.channels == 3 ? " over R, G and B rows" : "") << "\n"
             << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks "
             << rankSummary(m) << "\n"
             << "  cost         " << m.totalCost() << " multiply-adds per frame, "
@@ -44,7 +45,7 @@ void run(const InfoArgs& a) {
   if (isModelFile(a.file)) return runModel(a);
   const TransportReader t(a.file);
   const auto& h = t.header();
-  const long long storedValues = t.rows() * static_cast<long long>(t.latticeSize());
+  const long long storedValues = t.rows() * static_cast<long long>(t.rowLength());
   const nlohmann::json j = describeTransport(t);
   if (!a.jsonPath.empty()) {
     writeJson(a.jsonPath, j);
@@ -58,9 +59,23 @@ void run(const InfoArgs& a) {
             << t.latticeSize() << " directions\n"
             << "  sampling     " << h.samplesPerPixel << " sample(s) per pixel, " << h.texelRays
             << " ray(s) per texel\n"
+            << "  light        "
+            << (h.bounces > 0
+                    ? concat("direct and up to ", h.bounces, " bounce(s): ", h.indirectSamples,
+                             " paths per traced sample, ",
+                             h.indirectCacheCell > 0
+                                 ? concat("visibility cache cell ", h.indirectCacheCell,
+                                          " of the scene's extent")
+                                 : std::string("exact visibility at every vertex"))
+                    : std::string("direct"))
+            << "\n"
+            << "  rows         "
+            << (h.channels == 3 ? "R, G and B side by side (3 x l values per pixel)"
+                                : "one per pixel, shared by R, G and B")
+            << "\n"
             << "  storage      " << precisionName(h.precision) << ", " << storedValues
             << " values, " << formatBytes(t.fileBytes()) << " on disk\n"
-            << "  relight cost " << t.latticeSize() << " multiply-adds per pixel (dense)\n";
+            << "  relight cost " << t.rowLength() << " multiply-adds per pixel (dense)\n";
 }
 
 }  // namespace

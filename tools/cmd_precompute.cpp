@@ -1,5 +1,6 @@
 // `adaptive-cpca precompute`: scene -> transport file (Embree).
 #include <iostream>
+#include <optional>
 
 #include "precompute/render/scene.h"
 #include "precompute/render/transport_renderer.h"
@@ -14,6 +15,8 @@ struct PrecomputeArgs {
   CommonOptions common;
   std::string scene, out, size, camera, precision = "f16", antialiasing = "adaptive";
   int cubemap = 32, spp = kDefaultSamplesPerPixel, texelRays = 1;
+  int bounces = 0, indirectSamples = kDefaultIndirectSamples;
+  double indirectCache = kDefaultIndirectCacheCell;
 };
 
 void run(const PrecomputeArgs& a) {
@@ -25,6 +28,9 @@ void run(const PrecomputeArgs& a) {
   options.texelRays = a.texelRays;
   options.precision = parsePrecision(a.precision);
   options.threads = a.common.threads;
+  options.bounces = a.bounces;
+  options.indirectSamples = a.indirectSamples;
+  options.indirectCacheCell = a.indirectCache;
   Scene scene = loadScene(a.scene);
   if (!a.size.empty()) scene.camera.size = parseSize(a.size, "--size");
   applyCameraSpec(scene, a.camera);
@@ -34,6 +40,12 @@ void run(const PrecomputeArgs& a) {
 
   ThreadLimit limit(a.common.threads);
   Progress progress("precompute " + scene.name, "rows", a.common.quiet);
+  std::optional<Progress> cacheProgress;
+  options.cacheProgress = [&](long long done, long long total) {
+    if (!cacheProgress) cacheProgress.emplace("indirect cache", "image rows", a.common.quiet);
+    cacheProgress->update(done, total);
+    if (done == total) cacheProgress->finish();
+  };
   options.progress = [&](long long done, long long total) { progress.update(done, total); };
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
   progress.finish();
@@ -48,6 +60,16 @@ void run(const PrecomputeArgs& a) {
               << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
               << formatBytes(peakMemoryBytes()) << "; " << stats.supersampledPixels
               << " pixels traced at " << a.spp << " samples, the rest at 1\n";
+  if (a.bounces > 0 && !a.common.quiet)
+    std::cerr << "indirect light: " << a.bounces << " bounce(s), " << a.indirectSamples
+              << " paths per traced sample, " << stats.pathRays << " path rays; "
+              << (stats.channels == 3 ? "R, G and B rows (coloured surfaces)"
+                                      : "one row per pixel (grey surfaces)")
+              << "; visibility cache: "
+              << (a.indirectCache > 0 ? concat(stats.cachePoints, " points, ", stats.cacheRays,
+                                               " rays, ", stats.cacheSeconds, " s")
+                                      : std::string("off (exact shadow rays at every vertex)"))
+              << "\n";
   if (stats.degenerateTriangles > 0 && !a.common.quiet)
     std::cerr << "note: " << stats.degenerateTriangles
               << " zero-area triangles were left out (they cover nothing)\n";
@@ -68,6 +90,14 @@ void run(const PrecomputeArgs& a) {
                                 {"seconds", stats.seconds},
                                 {"threads_used", stats.threadsUsed},
                                 {"row_bytes", stats.bytesWritten},
+                                {"bounces", a.bounces},
+                                {"indirect_samples", a.indirectSamples},
+                                {"indirect_cache_cell", a.indirectCache},
+                                {"channels", stats.channels},
+                                {"path_rays", stats.pathRays},
+                                {"cache_points", stats.cachePoints},
+                                {"cache_rays", stats.cacheRays},
+                                {"cache_seconds", stats.cacheSeconds},
                                 {"peak_memory_bytes", peakMemoryBytes()}});
 }
 
@@ -91,6 +121,16 @@ void registerPrecompute(CLI::App& app) {
   sub->add_option("--texel-rays", args->texelRays,
                   "Occlusion rays per texel (fractional visibility)");
   sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");
+  sub->add_option("--bounces", args->bounces,
+                  "Interreflections: light that bounces up to K times off scene surfaces "
+                  "(default 0: direct light)");
+  sub->add_option("--indirect-samples", args->indirectSamples,
+                  "Paths per traced camera sample for the bounced light (default 64): noise "
+                  "falls as they rise");
+  sub->add_option("--indirect-cache", args->indirectCache,
+                  "Path vertices share the visibility of one point per cell of this size, a "
+                  "fraction of the scene's extent (default 1/1024); 0 traces every vertex's own "
+                  "shadow rays (unbiased, slow)");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
 }

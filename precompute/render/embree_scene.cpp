@@ -36,7 +36,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
   rtcSetDeviceErrorFunction(device_, onEmbreeError, nullptr);
   scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_NONE);
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   epsilon_ = static_cast<float>(1e-5 * scene.extent());
 
   for (const auto& mesh : scene.meshes) {

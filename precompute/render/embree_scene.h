@@ -12,8 +12,10 @@
 
 namespace acpca {
 
-/// Owns an Embree device and the committed scene (high build quality, robust
-/// mode off: we offset shadow-ray origins ourselves).
+/// Owns an Embree device and the committed scene: high build quality, and
+/// robust (watertight) intersection, since light leaking between triangles
+/// through a shared edge shows up in bounced light (tests/physics/
+/// interreflection_test.cpp); shadow-ray origins are offset by us.
 class EmbreeScene {
  public:
   explicit EmbreeScene(const Scene& scene);

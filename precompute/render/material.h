@@ -71,4 +71,42 @@ inline double brdfShape(const Material& m, const Vec3& n, const Vec3& toViewer,
   return (1 - m.specular) * invPi + m.specular * (m.exponent + 2) * 0.5 * invPi * lobe;
 }
 
+/// brdfShape at one surface point and view, in float over light directions,
+/// for the shadow-ray loops.
+class LobeShape {
+ public:
+  LobeShape(const Material& m, const Eigen::Vector3f& n, const Eigen::Vector3f& toViewer)
+      : n_(n),
+        v_(toViewer),
+        mirrored_(2 * n.dot(toViewer) * n - toViewer),
+        phong_(m.type == Material::Type::Phong && m.specular > 0),
+        ggx_(m.type == Material::Type::Ggx && m.specular > 0),
+        ks_(float(m.specular)),
+        s_(float(m.exponent)),
+        alpha_(float(m.roughness)),
+        cosO_(n.dot(toViewer)) {}
+
+  /// Diffuse: the same 1/pi for every direction.
+  bool constant() const { return !phong_ && !ggx_; }
+
+  /// f / albedo for light along the unit direction (dx, dy, dz), cosI = n . d.
+  float operator()(float dx, float dy, float dz, float cosI) const {
+    constexpr float invPi = std::numbers::inv_pi_v<float>;
+    if (phong_) {
+      const float c = mirrored_.x() * dx + mirrored_.y() * dy + mirrored_.z() * dz;
+      return (1 - ks_) * invPi + ks_ * (s_ + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s_) : 0.0f);
+    }
+    if (ggx_) {  // microfacet GGX without Fresnel
+      const Eigen::Vector3f h = (Eigen::Vector3f(dx, dy, dz) + v_).normalized();
+      return (1 - ks_) * invPi + ks_ * ggxSpecular(cosI, cosO_, n_.dot(h), alpha_);
+    }
+    return invPi;
+  }
+
+ private:
+  Eigen::Vector3f n_, v_, mirrored_;
+  bool phong_, ggx_;
+  float ks_, s_, alpha_, cosO_;
+};
+
 }  // namespace acpca

@@ -9,13 +9,17 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
+#include <unordered_map>
 
 #include "core/error.h"
 #include "core/ordered_pipeline.h"
 #include "core/stopwatch.h"
 #include "precompute/render/embree_scene.h"
+#include "precompute/render/indirect_light.h"
 #include "precompute/render/sample_patterns.h"
+#include "precompute/render/shadow_rays.h"
 
 namespace acpca {
 
@@ -24,60 +28,79 @@ namespace {
 /// Image rows per band: the unit of parallel work and of ordered writing.
 constexpr int kBandRows = 1;
 
-/// Computes transport rows for bands of kBandRows image rows. Shadow rays go
-/// out as rtcOccluded16 packets of a 4x4 block of neighbouring texels from one
-/// point: the fastest of the layouts `bench rays` measures on our scenes.
+/// Computes transport rows for bands of kBandRows image rows: the direct part
+/// by the lattice's shadow rays from each traced camera sample, and with
+/// bounces the indirect part (indirect_light.h) in the same row.
 class BandRenderer {
  public:
-  BandRenderer(const EmbreeScene& scene, const GBuffer& gbuffer, const TexelDirections& dirs,
-               const CubeLattice& lattice, Antialiasing mode)
-      : scene_(scene),
-        gbuffer_(gbuffer),
+  BandRenderer(const GBuffer& gbuffer, const ShadowRays& shadows, const CubeLattice& lattice,
+               Antialiasing mode, const IndirectLight* indirect)
+      : gbuffer_(gbuffer),
         mode_(mode),
-        dirs_(dirs),
-        blocks_(texelBlocks(lattice)),
-        l_(lattice.size()) {
-    // A cone around each block's directions, to skip blocks wholly below a
-    // point's horizon with one dot product.
-    for (const auto& block : blocks_) {
-      Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-      forEachDirection(block, [&](const Eigen::Vector3f& d) { centre += d; });
-      centre.normalize();
-      float minCos = 1;
-      forEachDirection(block,
-                       [&](const Eigen::Vector3f& d) { minCos = std::min(minCos, centre.dot(d)); });
-      const float sinSpread = std::sqrt(std::max(0.0f, 1 - minCos * minCos)) + 1e-4f;
-      cones_.push_back({centre, minCos < 0 ? 2.0f : sinSpread});
-    }
-  }
+        shadows_(shadows),
+        indirect_(indirect),
+        l_(lattice.size()),
+        channels_(indirect ? indirect->settings().channels : 1) {}
+
+  int rowLength() const { return channels_ * l_; }
+
+  struct Counts {
+    long long shadowRays = 0, pathRays = 0, supersampled = 0;
+  };
 
   /// Fills out (one row per occupied pixel of image rows [y0, y0 + kBandRows), in
-  /// row-major order) and returns the occlusion rays traced.
-  long long render(int y0, std::vector<float>& out, long long& supersampled) const {
+  /// row-major order) and counts the rays traced.
+  Counts render(int y0, std::vector<float>& out) const {
     const int width = gbuffer_.size.width;
     const int y1 = std::min(y0 + kBandRows, gbuffer_.size.height);
     int rows = 0;
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < width; ++x) rows += hits(x, y) > 0;
-    out.assign(static_cast<size_t>(rows) * l_, 0.0f);
-    long long rays = 0;
+    const size_t length = rowLength();
+    out.assign(static_cast<size_t>(rows) * length, 0.0f);
+    Counts counts;
     int row = 0;
     std::vector<float> weights;
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < width; ++x) {
         if (hits(x, y) == 0) continue;
         sampleWeights(gbuffer_, x, y, mode_, weights);
-        supersampled +=
+        counts.supersampled +=
             std::count_if(weights.begin() + 1, weights.end(), [](float w) { return w > 0; }) > 0;
+        float* target = out.data() + row * length;
         for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
           const PixelSample& ps = gbuffer_.at(x, y, s);
-          if (weights[s] > 0)
-            rays += trace(ps, scene_.materials()[ps.material], weights[s],
-                          out.data() + static_cast<size_t>(row) * l_);
+          if (weights[s] > 0) counts.shadowRays += traceDirect(ps, weights[s], target);
         }
+        // Light arriving straight from the lattice has its colour in every channel.
+        for (int c = 1; c < channels_; ++c) std::copy_n(target, l_, target + c * l_);
+        if (indirect_)
+          for (int s = 0; s < gbuffer_.samplesPerPixel; ++s)
+            if (weights[s] > 0) {
+              const auto rays =
+                  indirect_->add(gbuffer_.at(x, y, s), sampleSeed(x, y, s), weights[s], target);
+              counts.pathRays += rays.paths;
+              counts.shadowRays += rays.shadow;
+            }
         ++row;
       }
-    return rays;
+    return counts;
+  }
+
+  /// The cache pre-pass over one band: the cells its paths reach, in order.
+  void collectCells(int y0, std::unordered_map<std::uint64_t, PathVertex>& cells,
+                    std::vector<std::uint64_t>& order) const {
+    cells.clear(), order.clear();
+    const int y1 = std::min(y0 + kBandRows, gbuffer_.size.height);
+    std::vector<float> weights;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < gbuffer_.size.width; ++x) {
+        if (hits(x, y) == 0) continue;
+        sampleWeights(gbuffer_, x, y, mode_, weights);
+        for (int s = 0; s < gbuffer_.samplesPerPixel; ++s)
+          if (weights[s] > 0)
+            indirect_->collectCells(gbuffer_.at(x, y, s), sampleSeed(x, y, s), cells, order);
+      }
   }
 
  private:
@@ -87,103 +110,30 @@ class BandRenderer {
     return n;
   }
 
+  /// Seeds a camera sample's paths by where it is, so that they never depend
+  /// on which thread renders them.
+  std::uint64_t sampleSeed(int x, int y, int s) const {
+    return (static_cast<std::uint64_t>(y) * gbuffer_.size.width + x) * gbuffer_.samplesPerPixel + s;
+  }
+
   /// Adds weight x V x cos x (f / albedo) of one pixel sample to its row.
-  long long trace(const PixelSample& ps, const Material& m, float weight, float* row) const {
-    constexpr float invPi = std::numbers::inv_pi_v<float>;
-    const Eigen::Vector3f n = ps.normal, ng = ps.geometricNormal;
-    const bool flat = n == ng;  // one horizon to test
-    const Eigen::Vector3f mirrored = 2 * n.dot(ps.toViewer) * n - ps.toViewer;
-    const bool glossy = m.type == Material::Type::Phong && m.specular > 0;
-    const bool ggx = m.type == Material::Type::Ggx && m.specular > 0;
-    const float ks = float(m.specular), s = float(m.exponent), alpha = float(m.roughness);
-    const Eigen::Vector3f v = ps.toViewer;
-    const float cosO = n.dot(v);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(64) RTCRay16 ray;
-    alignas(64) int valid[16];
-    for (int i = 0; i < 16; ++i) {
-      ray.org_x[i] = ps.origin.x(), ray.org_y[i] = ps.origin.y(), ray.org_z[i] = ps.origin.z();
-      ray.tnear[i] = scene_.rayEpsilon(), ray.time[i] = 0, ray.mask[i] = ~0u;
-      ray.id[i] = i, ray.flags[i] = 0;
-    }
-    long long rays = 0;
-    float cosine[16];
-    size_t slot[16];
-    const int k = dirs_.raysPerTexel;
-    for (size_t b = 0; b < blocks_.size(); ++b) {
-      // All of the block is below the horizon when n is more than 90 degrees
-      // plus the block's spread away from its axis.
-      if (n.dot(cones_[b].axis) < -cones_[b].sinSpread) continue;
-      const auto& block = blocks_[b];
-      for (int r = 0; r < k; ++r) {
-        int active = 0;
-        for (int i = 0; i < 16; ++i) {
-          const int j = block[i] >= 0 ? block[i] : block[0];
-          const size_t q = static_cast<size_t>(j) * k + r;
-          slot[i] = q;
-          cosine[i] = n.x() * dirs_.x[q] + n.y() * dirs_.y[q] + n.z() * dirs_.z[q];
-          // Light must arrive above the shading horizon (the cosine) and above
-          // the true surface: from below the geometric horizon the surface
-          // itself is in the way (docs/scenes.md, "Shading normals").
-          const bool above =
-              cosine[i] > 0 &&
-              (flat || ng.x() * dirs_.x[q] + ng.y() * dirs_.y[q] + ng.z() * dirs_.z[q] > 0);
-          valid[i] = block[i] >= 0 && above ? -1 : 0;
-          active += valid[i] != 0;
-        }
-        if (active == 0) continue;
-        for (int i = 0; i < 16; ++i) {
-          ray.dir_x[i] = dirs_.x[slot[i]], ray.dir_y[i] = dirs_.y[slot[i]];
-          ray.dir_z[i] = dirs_.z[slot[i]];
-          ray.tfar[i] = std::numeric_limits<float>::infinity();
-        }
-        rtcOccluded16(valid, scene_.handle(), &context, &ray);
-        rays += active;
-        for (int i = 0; i < 16; ++i) {
-          if (!valid[i] || ray.tfar[i] < 0) continue;  // occluded rays come back with tfar = -inf
-          const size_t q = slot[i];
-          float shape = invPi;
-          if (glossy) {  // Phong of design.md section 4, divided by the albedo
-            const float c =
-                mirrored.x() * dirs_.x[q] + mirrored.y() * dirs_.y[q] + mirrored.z() * dirs_.z[q];
-            shape =
-                (1 - ks) * invPi + ks * (s + 2) * 0.5f * invPi * (c > 0 ? std::pow(c, s) : 0.0f);
-          } else if (ggx) {  // microfacet GGX without Fresnel, divided by the albedo
-            const Eigen::Vector3f h =
-                (Eigen::Vector3f(dirs_.x[q], dirs_.y[q], dirs_.z[q]) + v).normalized();
-            shape = (1 - ks) * invPi + ks * ggxSpecular(cosine[i], cosO, n.dot(h), alpha);
-          }
-          row[block[i]] += weight * dirs_.weight[q] * cosine[i] * shape;
-        }
-      }
-    }
-    return rays;
+  long long traceDirect(const PixelSample& ps, float weight, float* row) const {
+    const Material& m = shadows_.scene().materials()[ps.material];
+    const LobeShape shape(m, ps.normal, ps.toViewer);
+    const TexelDirections& dirs = shadows_.directions();
+    return shadows_.trace(
+        ps.origin, ps.normal, ps.geometricNormal, 0.0f, [&](int j, size_t q, float cosine) {
+          row[j] +=
+              weight * dirs.weight[q] * cosine * shape(dirs.x[q], dirs.y[q], dirs.z[q], cosine);
+        });
   }
 
-  template <typename F>
-  void forEachDirection(const std::array<int, 16>& block, F&& f) const {
-    for (int j : block)
-      if (j >= 0)
-        for (int r = 0; r < dirs_.raysPerTexel; ++r) {
-          const size_t q = static_cast<size_t>(j) * dirs_.raysPerTexel + r;
-          f(Eigen::Vector3f(dirs_.x[q], dirs_.y[q], dirs_.z[q]));
-        }
-  }
-
-  struct Cone {
-    Eigen::Vector3f axis;
-    float sinSpread;  ///< every direction d of the block has d.axis >= cos(spread)
-  };
-
-  const EmbreeScene& scene_;
   const GBuffer& gbuffer_;
   const Antialiasing mode_;
-  const TexelDirections& dirs_;
-  std::vector<std::array<int, 16>> blocks_;
-  std::vector<Cone> cones_;
-  int l_;
+  const ShadowRays& shadows_;
+  const IndirectLight* indirect_;
+  const int l_;
+  const int channels_;
 };
 
 void validateOptions(const PrecomputeOptions& o) {
@@ -194,6 +144,14 @@ void validateOptions(const PrecomputeOptions& o) {
   if (o.texelRays < 1 || o.texelRays > 1024)
     throw ParameterError("rays per texel", o.texelRays, "is out of range 1..1024");
   if (o.threads < 0) throw ParameterError("threads", o.threads, "must be >= 0");
+  if (o.bounces < 0 || o.bounces > kMaxBounces)
+    throw ParameterError("bounces", o.bounces, concat("is out of range 0..", kMaxBounces));
+  if (o.indirectSamples < 1 || o.indirectSamples > kMaxIndirectSamples)
+    throw ParameterError("indirect samples", o.indirectSamples,
+                         concat("is out of range 1..", kMaxIndirectSamples));
+  if (!(o.indirectCacheCell >= 0 && o.indirectCacheCell <= 0.1))
+    throw ParameterError("indirect cache cell", o.indirectCacheCell,
+                         "is out of range 0..0.1 (a fraction of the scene's extent; 0: no cache)");
 }
 
 int arenaThreads(int threads) {
@@ -208,11 +166,11 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
                          Sink&& sink) {
   struct Slot {
     int y0 = 0;
-    long long rays = 0, supersampled = 0;
+    BandRenderer::Counts counts;
     std::vector<float> rows;
   };
   std::atomic<unsigned long long> threadMask{0};
-  std::atomic<long long> rays{0}, supersampled{0};
+  std::atomic<long long> shadowRays{0}, pathRays{0}, supersampled{0};
   int next = firstBand;
   const Stopwatch watch;
   runOrderedPipeline<Slot>(
@@ -224,18 +182,50 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
       },
       [&](Slot& slot) {
         threadMask |= 1ull << (tbb::this_task_arena::current_thread_index() & 63);
-        slot.supersampled = 0;
-        slot.rays = renderer.render(slot.y0, slot.rows, slot.supersampled);
-        rays += slot.rays;
-        supersampled += slot.supersampled;
+        slot.counts = renderer.render(slot.y0, slot.rows);
+        shadowRays += slot.counts.shadowRays;
+        pathRays += slot.counts.pathRays;
+        supersampled += slot.counts.supersampled;
       },
       [&](Slot& slot) { sink(slot.rows); });
   PrecomputeStats stats;
   stats.transportSeconds = watch.seconds();
-  stats.occlusionRays = rays;
+  stats.occlusionRays = shadowRays;
+  stats.pathRays = pathRays;
   stats.supersampledPixels = supersampled;
   stats.threadsUsed = std::popcount(threadMask.load());
   return stats;
+}
+
+/// The cache's pre-pass: every band's path vertices, in parallel, merged into
+/// the cache in band order (so its cells and their points never depend on the
+/// thread count), then every cell's visibility traced.
+void buildIndirectCache(const BandRenderer& renderer, IndirectLight& indirect, int height,
+                        int threads, PrecomputeStats& stats,
+                        const std::function<void(long long, long long)>& progress) {
+  struct Slot {
+    int y0 = 0;
+    std::unordered_map<std::uint64_t, PathVertex> cells;
+    std::vector<std::uint64_t> order;
+  };
+  const Stopwatch watch;
+  const int bands = (height + kBandRows - 1) / kBandRows;
+  int next = 0;
+  runOrderedPipeline<Slot>(
+      2 * threads,
+      [&](Slot& slot) {
+        if (next >= bands) return false;
+        slot.y0 = kBandRows * next++;
+        return true;
+      },
+      [&](Slot& slot) { renderer.collectCells(slot.y0, slot.cells, slot.order); },
+      [&](Slot& slot) {
+        indirect.mergeCells(slot.cells, slot.order);
+        if (progress) progress(std::min(slot.y0 + kBandRows, height), height);
+      });
+  stats.cacheRays = indirect.fillCache();
+  stats.cachePoints = indirect.cachedPoints();
+  stats.cacheSeconds = watch.seconds();
 }
 
 /// Everything a transport pass over a scene needs, built once inside the arena.
@@ -245,11 +235,30 @@ struct TransportPass {
         embree(scene),
         gbuffer(renderGBuffer(embree, scene.camera, options.samplesPerPixel)),
         dirs(makeTexelDirections(lattice, options.texelRays)),
-        renderer(embree, gbuffer, dirs, lattice, options.antialiasing) {}
+        shadows(embree, dirs, lattice),
+        indirect(options.bounces > 0
+                     ? std::make_unique<IndirectLight>(embree, shadows, lattice.size(), scene,
+                                                       indirectSettings(scene, options))
+                     : nullptr),
+        renderer(gbuffer, shadows, lattice, options.antialiasing, indirect.get()) {}
+
+  static IndirectSettings indirectSettings(const Scene& scene, const PrecomputeOptions& o) {
+    IndirectSettings s;
+    s.bounces = o.bounces;
+    s.samples = o.indirectSamples;
+    s.cacheCell = o.indirectCacheCell;
+    s.channels = sceneIsGrey(scene) ? 1 : 3;
+    return s;
+  }
+
+  int channels() const { return indirect ? indirect->settings().channels : 1; }
+
   const CubeLattice lattice;
   const EmbreeScene embree;
   const GBuffer gbuffer;
   const TexelDirections dirs;
+  const ShadowRays shadows;
+  const std::unique_ptr<IndirectLight> indirect;
   const BandRenderer renderer;
 };
 
@@ -262,8 +271,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);
   return arena.execute([&] {
-    const TransportPass pass(scene, options);
-    const CubeLattice& lattice = pass.lattice;
+    TransportPass pass(scene, options);
     const EmbreeScene& embree = pass.embree;
     const GBuffer& gbuffer = pass.gbuffer;
 
@@ -275,6 +283,12 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     header.texelRays = options.texelRays;
     header.precision = options.precision;
     header.scene = scene.name;
+    header.channels = pass.channels();
+    if (options.bounces > 0) {
+      header.bounces = options.bounces;
+      header.indirectSamples = options.indirectSamples;
+      header.indirectCacheCell = options.indirectCacheCell;
+    }
     const ImageSize size = scene.camera.size;
     for (int y = 0; y < size.height; ++y)
       for (int x = 0; x < size.width; ++x) {
@@ -297,16 +311,24 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
 
     TransportWriter writer(outPath, header);
     const BandRenderer& renderer = pass.renderer;
+    PrecomputeStats cache;
+    if (pass.indirect && options.indirectCacheCell > 0)
+      buildIndirectCache(renderer, *pass.indirect, size.height, threads, cache,
+                         options.cacheProgress);
     long long written = 0;
     const int bands = (size.height + kBandRows - 1) / kBandRows;
     PrecomputeStats stats =
         runBands(renderer, 0, bands, threads, [&](const std::vector<float>& rows) {
-          const long long count = static_cast<long long>(rows.size()) / lattice.size();
+          const long long count = static_cast<long long>(rows.size()) / renderer.rowLength();
           writer.writeRows(written, count, rows.data());
           written += count;
           if (options.progress) options.progress(written, header.rows());
         });
     writer.finish();
+    stats.cachePoints = cache.cachePoints;
+    stats.cacheRays = cache.cacheRays;
+    stats.cacheSeconds = cache.cacheSeconds;
+    stats.channels = header.channels;
     stats.triangles = scene.triangleCount();
     stats.degenerateTriangles = embree.degenerateTriangles();
     stats.occupiedPixels = header.rows();
@@ -375,8 +397,10 @@ PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOption
   validateOptions(options);
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);
+  PrecomputeOptions direct = options;  // the rate of the shadow rays: direct light alone
+  direct.bounces = 0;
   return arena.execute([&] {
-    const TransportPass pass(scene, options);
+    const TransportPass pass(scene, direct);
     const CubeLattice& lattice = pass.lattice;
     const BandRenderer& renderer = pass.renderer;
     // The middle rows of the image, where the scene's detail usually is (the same

@@ -21,6 +21,13 @@ inline constexpr EnumNames<Antialiasing, 2> kAntialiasingNames{
 /// Camera samples per pixel unless told otherwise: enough for silhouettes and
 /// texture edges (docs/scenes.md, "Anti-aliasing").
 inline constexpr int kDefaultSamplesPerPixel = 4;
+/// Interreflections (docs/scenes.md, "Interreflections"): paths per traced
+/// camera sample, and the visibility cache's cell as a fraction of the scene's
+/// extent, unless told otherwise.
+inline constexpr int kDefaultIndirectSamples = 64;
+inline constexpr double kDefaultIndirectCacheCell = 1.0 / 1024;
+inline constexpr int kMaxBounces = 16;
+inline constexpr int kMaxIndirectSamples = 1 << 16;
 
 struct PrecomputeOptions {
   int cubemapResolution = 32;
@@ -31,8 +38,18 @@ struct PrecomputeOptions {
   int texelRays = 1;  ///< occlusion rays per texel (> 1: fractional visibility)
   Precision precision = Precision::F16;
   int threads = 0;  ///< 0: all cores
+  /// Light that bounces off scene surfaces before reaching a pixel: up to this
+  /// many bounces (0: direct light alone, the transport of design.md section 4).
+  int bounces = 0;
+  int indirectSamples = kDefaultIndirectSamples;  ///< paths per traced camera sample
+  /// Path vertices look up the visibility of a point in the same cell of this
+  /// size (a fraction of the scene's extent) and facing the same way; 0: trace
+  /// each vertex's own shadow rays (unbiased, and slow).
+  double indirectCacheCell = kDefaultIndirectCacheCell;
   /// Called from one thread as rows are written: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
+  /// The same for the indirect cache's pre-pass: (image rows done, in total).
+  std::function<void(long long, long long)> cacheProgress;
 };
 
 struct PrecomputeStats {
@@ -45,6 +62,11 @@ struct PrecomputeStats {
   double transportSeconds = 0;       ///< the occlusion-ray pass alone
   int threadsUsed = 0;               ///< distinct threads that computed rows
   long long supersampledPixels = 0;  ///< pixels that traced more than their centre sample
+  int channels = 1;                  ///< rows per pixel: 3 when bounced light is coloured
+  long long pathRays = 0;            ///< closest-hit rays of the indirect paths
+  long long cachePoints = 0;         ///< points of the indirect visibility cache
+  long long cacheRays = 0;           ///< their shadow rays (not in occlusionRays)
+  double cacheSeconds = 0;           ///< the cache's pre-pass and tracing
   double raysPerSecond() const {
     return transportSeconds > 0 ? occlusionRays / transportSeconds : 0;
   }

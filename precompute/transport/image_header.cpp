@@ -30,6 +30,8 @@ void writeImageHeader(hid_t f, const TransportHeader& h, bool withNormals, const
   h5::writeAttribute(f, "camera_target", toVector(h.camera.target), ctx);
   h5::writeAttribute(f, "camera_up", toVector(h.camera.up), ctx);
   h5::writeAttribute(f, "camera_fov_deg", h.camera.fovDegrees, ctx);
+  // Written only for RGB rows, so files of scalar rows stay as they were.
+  if (h.channels != 1) h5::writeAttribute(f, "channels", static_cast<long long>(h.channels), ctx);
   const hsize_t n = h.rows();
   h5::writeDataset(f, "pixels", {n}, h.pixels.data(), ctx);
   h5::writeDataset(f, "albedo", {n, 3}, h.albedo.data(), ctx);
@@ -53,6 +55,12 @@ TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ct
   h.camera.target = readVec3(f, "camera_target", ctx);
   h.camera.up = readVec3(f, "camera_up", ctx);
   h.camera.fovDegrees = h5::readDoubleAttribute(f, "camera_fov_deg", ctx);
+  if (h5::hasAttribute(f, "channels")) {
+    const long long channels = h5::readIntAttribute(f, "channels", ctx);
+    if (channels != 1 && channels != 3)
+      throw UserError(concat(ctx, ": attribute 'channels' is ", channels, ", not 1 or 3"));
+    h.channels = static_cast<int>(channels);
+  }
 
   // Every shape is checked against the header before anything is allocated.
   const long long n = h5::readIntAttribute(f, "occupied_pixels", ctx);

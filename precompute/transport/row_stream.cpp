@@ -9,7 +9,7 @@
 namespace acpca {
 
 long long rowsPerBlock(const TransportReader& transport, long long bytes) {
-  return std::max<long long>(1, bytes / (4ll * transport.latticeSize()));
+  return std::max<long long>(1, bytes / (4ll * transport.rowLength()));
 }
 
 void streamRowBlocks(const TransportReader& transport, long long blockRows,
@@ -19,7 +19,7 @@ void streamRowBlocks(const TransportReader& transport, long long blockRows,
     std::vector<float> rows;
   };
   const long long total = transport.rows();
-  const int l = transport.latticeSize();
+  const int l = transport.rowLength();
   long long next = 0;
   runOrderedPipeline<Block>(
       2 * tbb::this_task_arena::max_concurrency(),

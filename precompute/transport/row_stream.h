@@ -12,7 +12,7 @@ namespace acpca {
 long long rowsPerBlock(const TransportReader& transport, long long bytes = 8ll << 20);
 
 /// Calls process(first, count, rows) for consecutive blocks covering every row;
-/// rows holds count x latticeSize floats. Block boundaries do not depend on the
+/// rows holds count x rowLength floats. Block boundaries do not depend on the
 /// thread count, so per-block results are deterministic.
 void streamRowBlocks(const TransportReader& transport, long long blockRows,
                      const std::function<void(long long, long long, const float*)>& process);

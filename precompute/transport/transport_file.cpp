@@ -25,6 +25,12 @@ void TransportHeader::validate(const std::string& context) const {
     throw UserError(concat(context, ": cube-map resolution ", cubemapResolution, " out of range"));
   if (samplesPerPixel < 1 || texelRays < 1)
     throw UserError(concat(context, ": samples per pixel and rays per texel must be >= 1"));
+  if (channels != 1 && channels != 3)
+    throw UserError(concat(context, ": ", channels, " channels per row, not 1 or 3"));
+  if (bounces < 0 || indirectSamples < 0 || !(indirectCacheCell >= 0) ||
+      (bounces > 0 && indirectSamples < 1))
+    throw UserError(concat(context, ": bounces ", bounces, " with ", indirectSamples,
+                           " indirect samples and cache cell ", indirectCacheCell));
   const long long n = rows();
   if (n > camera.size.pixels())
     throw UserError(concat(context, ": ", n, " rows for a ", camera.size.width, "x",
@@ -49,8 +55,8 @@ namespace {
 constexpr const char* kRowsDataset = "transport";
 
 // About 1 MiB chunks: large enough for fast streaming, small enough to cache.
-hsize_t rowsPerChunk(int latticeSize, Precision p) {
-  const hsize_t rowBytes = static_cast<hsize_t>(latticeSize) * (p == Precision::F16 ? 2 : 4);
+hsize_t rowsPerChunk(int rowLength, Precision p) {
+  const hsize_t rowBytes = static_cast<hsize_t>(rowLength) * (p == Precision::F16 ? 2 : 4);
   return std::clamp<hsize_t>((1u << 20) / rowBytes, 1, 4096);
 }
 
@@ -67,6 +73,13 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   h5::writeAttribute(f, "spp", static_cast<long long>(header.samplesPerPixel), ctx);
   h5::writeAttribute(f, "texel_rays", static_cast<long long>(header.texelRays), ctx);
   h5::writeAttribute(f, "precision", std::string(precisionName(header.precision)), ctx);
+  // Written only with indirect light, so a direct transport stays byte for byte
+  // what it was.
+  if (header.bounces > 0) {
+    h5::writeAttribute(f, "bounces", static_cast<long long>(header.bounces), ctx);
+    h5::writeAttribute(f, "indirect_samples", static_cast<long long>(header.indirectSamples), ctx);
+    h5::writeAttribute(f, "indirect_cache_cell", header.indirectCacheCell, ctx);
+  }
   writeImageHeader(f, header, true, ctx);
   const hsize_t n = header.rows();
 
@@ -80,8 +93,9 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   const hsize_t l = header.latticeSize();
   h5::writeDataset(f, "lattice_solid_angle", {l}, lattice.solidAngles().data(), ctx);
   h5::writeDataset(f, "lattice_direction", {l, 3}, directions.data(), ctx);
-  const hsize_t dims[2] = {n, l}, maxDims[2] = {H5S_UNLIMITED, l};
-  const hsize_t chunk[2] = {rowsPerChunk(header.latticeSize(), header.precision), l};
+  const hsize_t width = header.rowLength();
+  const hsize_t dims[2] = {n, width}, maxDims[2] = {H5S_UNLIMITED, width};
+  const hsize_t chunk[2] = {rowsPerChunk(header.rowLength(), header.precision), width};
   h5::Handle space(H5Screate_simple(2, dims, maxDims), H5Sclose);
   h5::Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   h5::check(H5Pset_chunk(create.get(), 2, chunk), ctx, "chunk layout");
@@ -101,7 +115,7 @@ void TransportWriter::writeRows(long long firstRow, long long count, const float
   ACPCA_CHECK(firstRow == nextRow_ && count >= 0 && firstRow + count <= header_.rows(), "rows ",
               firstRow, "+", count, " after ", nextRow_);
   if (count == 0) return;
-  const hsize_t l = header_.latticeSize();
+  const hsize_t l = header_.rowLength();
   const hsize_t start[2] = {static_cast<hsize_t>(firstRow), 0}, size[2] = {(hsize_t)count, l};
   h5::Handle fileSpace(H5Dget_space(rows_.get()), H5Sclose);
   h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr),
@@ -158,8 +172,15 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
   if (precision != "f16" && precision != "f32")
     throw UserError(concat(ctx, ": attribute 'precision' is '", precision, "', not f16 or f32"));
   h.precision = parsePrecision(precision);
+  if (h5::hasAttribute(f, "bounces")) {
+    h.bounces =
+        static_cast<int>(std::clamp(h5::readIntAttribute(f, "bounces", ctx), -1LL, 1LL << 20));
+    h.indirectSamples = static_cast<int>(
+        std::clamp(h5::readIntAttribute(f, "indirect_samples", ctx), -1LL, 1LL << 30));
+    h.indirectCacheCell = h5::readDoubleAttribute(f, "indirect_cache_cell", ctx);
+  }
   if (h5::datasetShape(f, kRowsDataset, ctx) !=
-      std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.latticeSize())})
+      std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.rowLength())})
     throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));
   h.validate(ctx);
 
@@ -174,7 +195,7 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
 void TransportReader::readRows(long long first, long long count, float* out) const {
   ACPCA_CHECK(first >= 0 && count >= 0 && first + count <= rows(), "rows ", first, "+", count);
   if (count == 0) return;
-  const hsize_t l = latticeSize();
+  const hsize_t l = rowLength();
   const hsize_t start[2] = {static_cast<hsize_t>(first), 0}, size[2] = {(hsize_t)count, l};
   h5::Handle fileSpace(H5Dget_space(rows_.get()), H5Sclose);
   h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr),

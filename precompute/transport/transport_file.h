@@ -31,6 +31,16 @@ struct TransportHeader {
   int texelRays = 1;
   Precision precision = Precision::F16;
   std::string scene;
+  /// Rows per pixel layout: 1, one row shared by R, G and B (the light reaching
+  /// the pixel has the colour of the lighting); 3, the R, G and B rows side by
+  /// side (light that bounced off coloured surfaces carries their colour).
+  int channels = 1;
+  /// How the transport was made: bounces of indirect light (0: direct only),
+  /// paths per pixel sample, and the visibility cache's cell (relative to the
+  /// scene's extent; 0: exact shadow rays at every path vertex).
+  int bounces = 0;
+  int indirectSamples = 0;
+  double indirectCacheCell = 0;
 
   std::vector<std::int32_t> pixels;  ///< linear index y*W+x of each row, increasing
   std::vector<float> albedo;         ///< 3 per row, linear RGB
@@ -39,6 +49,8 @@ struct TransportHeader {
 
   long long rows() const { return static_cast<long long>(pixels.size()); }
   int latticeSize() const { return 6 * cubemapResolution * cubemapResolution; }
+  /// Values per row: channels x latticeSize, channel c's at [c l, (c + 1) l).
+  int rowLength() const { return channels * latticeSize(); }
   /// Throws UserError when sizes or values do not agree (context names the file).
   void validate(const std::string& context) const;
 };
@@ -49,7 +61,7 @@ class TransportWriter {
  public:
   TransportWriter(const std::string& path, const TransportHeader& header);
   ~TransportWriter();
-  /// rows: count x latticeSize floats, row-major; firstRow must follow the last block.
+  /// rows: count x rowLength floats, row-major; firstRow must follow the last block.
   void writeRows(long long firstRow, long long count, const float* rows);
   /// Marks the file complete and moves it into place.
   void finish();
@@ -72,7 +84,8 @@ class TransportReader {
   const TransportHeader& header() const { return header_; }
   long long rows() const { return header_.rows(); }
   int latticeSize() const { return header_.latticeSize(); }
-  /// Reads rows [first, first + count) as floats into out (count x latticeSize).
+  int rowLength() const { return header_.rowLength(); }
+  /// Reads rows [first, first + count) as floats into out (count x rowLength).
   /// Not thread-safe: call from one thread at a time.
   void readRows(long long first, long long count, float* out) const;
   /// Size of the file on disk.

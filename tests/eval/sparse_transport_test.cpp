@@ -43,5 +43,15 @@ TEST_F(SparsePlant, SparseDenseRelightSkipsZerosAndMatchesTheFile) {
   }
 }
 
+TEST(SparseTransport, RgbRowsRelightAsTheFile) {
+  const TransportReader t(test::fixture("bounced-plant"));
+  ASSERT_EQ(t.header().channels, 3);
+  const auto all = test::plantLightings();
+  const auto dense = denseRelight(t, all);
+  SparseTransport sparse(t);
+  for (size_t k = 0; k < all.size(); ++k)
+    EXPECT_LT(relativeL2(sparse.relight(all[k]), dense[k]), std::ldexp(1.0, -11));
+}
+
 }  // namespace
 }  // namespace acpca

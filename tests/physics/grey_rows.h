@@ -18,7 +18,8 @@ inline std::vector<double> greyRows(const LoadedTransport& t, const Environment&
     double sum = 0;
     for (int c = 0; c < 3; ++c) {
       double dot = 0;
-      for (int j = 0; j < t.l; ++j) dot += double(t.row(r)[j]) * L[3 * j + c];
+      const float* part = t.part(r, c);
+      for (int j = 0; j < t.directions; ++j) dot += double(part[j]) * L[3 * j + c];
       sum += t.header.albedo[3 * r + c] * dot;
     }
     out[r] = sum / 3;

@@ -231,6 +231,63 @@ TEST_F(RelightPlant, KeepingEverythingEqualsTheDenseRelight) {
   }
 }
 
+TEST(RelightBouncedPlant, RgbRowsKeptWholeRelightAsTheDenseTransport) {
+  const TransportReader t(test::fixture("bounced-plant"));
+  ASSERT_EQ(t.header().channels, 3);
+  const auto all = test::plantLightings();
+  const auto dense = denseRelight(t, all);
+  for (Method method :
+       {Method::Global, Method::Cpca, Method::AdaptiveQuad, Method::AdaptiveBinary}) {
+    CompressOptions o;
+    o.method = method;
+    o.globalEnergy = 1;
+    o.tolerance = 1;
+    o.clusters = 4;
+    const Model m = compressTransport(t, o);
+    EXPECT_EQ(m.geometry.channels, 3);
+    EXPECT_EQ(m.globalBasis.rows(), 3 * t.latticeSize());
+    EXPECT_LT(m.transportError, 1e-4) << methodName(method);
+    const auto reference = relightModelReference(m, all);
+    ModelRelighter relighter(m);
+    for (size_t k = 0; k < all.size(); ++k) {
+      EXPECT_LT(relativeL2(reference[k], dense[k]), 1e-4) << methodName(method);
+      EXPECT_LT(relativeL2(relighter.relight(all[k]), dense[k]), 1e-4) << methodName(method);
+    }
+  }
+}
+
+TEST(RelightBouncedPlant, ChannelsMeetOnlyTheirOwnLight) {
+  // Red light alone lights only the red channel, through the red third of the rows.
+  const TransportReader t(test::fixture("bounced-plant"));
+  const int l = t.latticeSize();
+  LatticeLighting red = test::plantLightings()[0];
+  for (int j = 0; j < l; ++j) red[3 * j + 1] = red[3 * j + 2] = 0;
+  const auto dense = denseRelight(t, {red})[0];
+  std::vector<float> rows(static_cast<size_t>(t.rows()) * t.rowLength());
+  t.readRows(0, t.rows(), rows.data());
+  double lit = 0;
+  for (long long r = 0; r < t.rows(); ++r) {
+    double expected = 0;
+    for (int j = 0; j < l; ++j) expected += double(rows[r * 3 * l + j]) * red[3 * j];
+    expected *= t.header().albedo[3 * r];
+    EXPECT_NEAR(dense[3 * r], expected, 1e-5 * std::max(1.0, expected));
+    EXPECT_EQ(dense[3 * r + 1], 0.0f);
+    EXPECT_EQ(dense[3 * r + 2], 0.0f);
+    lit += expected;
+  }
+  EXPECT_GT(lit, 0);
+  CompressOptions o;
+  o.method = Method::Global;
+  o.globalEnergy = 1;
+  o.tolerance = 1;
+  ModelRelighter relighter(compressTransport(t, o));
+  const auto fast = relighter.relight(red);
+  for (long long r = 0; r < t.rows(); ++r) {
+    EXPECT_EQ(fast[3 * r + 1], 0.0f);
+    EXPECT_EQ(fast[3 * r + 2], 0.0f);
+  }
+}
+
 TEST_F(RelightPlant, CompressedModelsMatchTheReferenceWithOneOrTwoThreads) {
   const TransportReader t(path());
   const auto all = lightings();
