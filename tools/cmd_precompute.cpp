@@ -40,11 +40,18 @@ void run(const PrecomputeArgs& a) {
 
   ThreadLimit limit(a.common.threads);
   Progress progress("precompute " + scene.name, "rows", a.common.quiet);
-  std::optional<Progress> cacheProgress;
+  std::optional<Progress> cacheProgress, cacheFillProgress;
   options.cacheProgress = [&](long long done, long long total) {
-    if (!cacheProgress) cacheProgress.emplace("indirect cache", "image rows", a.common.quiet);
+    if (!cacheProgress)
+      cacheProgress.emplace("indirect cache: paths", "image rows", a.common.quiet);
     cacheProgress->update(done, total);
     if (done == total) cacheProgress->finish();
+  };
+  options.cacheFillProgress = [&](long long done, long long total) {
+    if (!cacheFillProgress)
+      cacheFillProgress.emplace("indirect cache: visibility", "points", a.common.quiet);
+    cacheFillProgress->update(done, total);
+    if (done == total) cacheFillProgress->finish();
   };
   options.progress = [&](long long done, long long total) { progress.update(done, total); };
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);

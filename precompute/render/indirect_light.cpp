@@ -186,15 +186,20 @@ void IndirectLight::mergeCells(const std::unordered_map<std::uint64_t, PathVerte
       cellVertex_.push_back(band.at(key));
 }
 
-long long IndirectLight::fillCache() {
+long long IndirectLight::fillCache(const std::function<void(long long, long long)>& progress) {
   visibility_.assign(cellVertex_.size() * words_, 0);
   std::atomic<long long> rays{0};
-  tbb::parallel_for(std::size_t(0), cellVertex_.size(), [&](std::size_t c) {
-    const PathVertex& v = cellVertex_[c];
-    std::uint64_t* bits = visibility_.data() + c * words_;
-    rays += shadows_.trace(v.origin, v.geometricNormal, v.geometricNormal, kCacheHorizonCos,
-                           [&](int, std::size_t q, float) { bits[q >> 6] |= 1ull << (q & 63); });
-  });
+  const std::size_t points = cellVertex_.size(), batch = 4096;
+  // Batches in turn, each in parallel, so that progress is reported from here.
+  for (std::size_t first = 0; first < points; first += batch) {
+    tbb::parallel_for(first, std::min(points, first + batch), [&](std::size_t c) {
+      const PathVertex& v = cellVertex_[c];
+      std::uint64_t* bits = visibility_.data() + c * words_;
+      rays += shadows_.trace(v.origin, v.geometricNormal, v.geometricNormal, kCacheHorizonCos,
+                             [&](int, std::size_t q, float) { bits[q >> 6] |= 1ull << (q & 63); });
+    });
+    if (progress) progress(static_cast<long long>(std::min(points, first + batch)), points);
+  }
   return rays;
 }
 

@@ -4,6 +4,7 @@
 // with every lattice direction gathered at each path vertex (docs/scenes.md,
 // "Interreflections").
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -43,18 +44,18 @@ class IndirectLight {
 
   const IndirectSettings& settings() const { return settings_; }
 
-  /// The cache's pre-pass: the vertices of every path of these camera samples
-  /// (pixel samples in image order) name the cells the main pass will look up;
-  /// each cell's first vertex in that order stands for it. Called once, from
-  /// one thread, bands in order.
+  /// The cache's pre-pass: the vertices of every path of a camera sample name
+  /// the cells the main pass will look up; the first vertex of a cell in image
+  /// order stands for it. Thread-safe: bands are collected in parallel.
   void collectCells(const PixelSample& ps, std::uint64_t seed,
                     std::unordered_map<std::uint64_t, PathVertex>& firstInBand,
                     std::vector<std::uint64_t>& order) const;
   /// Appends a band's cells not seen in earlier bands (bands in image order).
   void mergeCells(const std::unordered_map<std::uint64_t, PathVertex>& band,
                   const std::vector<std::uint64_t>& order);
-  /// Traces every cell's visibility (in parallel). Returns the rays traced.
-  long long fillCache();
+  /// Traces every cell's visibility (in parallel), calling progress(points
+  /// done, points) from the calling thread. Returns the rays traced.
+  long long fillCache(const std::function<void(long long, long long)>& progress);
   long long cachedPoints() const { return static_cast<long long>(cellVertex_.size()); }
 
   /// Adds weight times the indirect light of one camera sample (seeded by its

@@ -201,8 +201,7 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
 /// the cache in band order (so its cells and their points never depend on the
 /// thread count), then every cell's visibility traced.
 void buildIndirectCache(const BandRenderer& renderer, IndirectLight& indirect, int height,
-                        int threads, PrecomputeStats& stats,
-                        const std::function<void(long long, long long)>& progress) {
+                        int threads, PrecomputeStats& stats, const PrecomputeOptions& options) {
   struct Slot {
     int y0 = 0;
     std::unordered_map<std::uint64_t, PathVertex> cells;
@@ -221,9 +220,10 @@ void buildIndirectCache(const BandRenderer& renderer, IndirectLight& indirect, i
       [&](Slot& slot) { renderer.collectCells(slot.y0, slot.cells, slot.order); },
       [&](Slot& slot) {
         indirect.mergeCells(slot.cells, slot.order);
-        if (progress) progress(std::min(slot.y0 + kBandRows, height), height);
+        if (options.cacheProgress)
+          options.cacheProgress(std::min(slot.y0 + kBandRows, height), height);
       });
-  stats.cacheRays = indirect.fillCache();
+  stats.cacheRays = indirect.fillCache(options.cacheFillProgress);
   stats.cachePoints = indirect.cachedPoints();
   stats.cacheSeconds = watch.seconds();
 }
@@ -313,8 +313,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     const BandRenderer& renderer = pass.renderer;
     PrecomputeStats cache;
     if (pass.indirect && options.indirectCacheCell > 0)
-      buildIndirectCache(renderer, *pass.indirect, size.height, threads, cache,
-                         options.cacheProgress);
+      buildIndirectCache(renderer, *pass.indirect, size.height, threads, cache, options);
     long long written = 0;
     const int bands = (size.height + kBandRows - 1) / kBandRows;
     PrecomputeStats stats =

@@ -48,8 +48,9 @@ struct PrecomputeOptions {
   double indirectCacheCell = kDefaultIndirectCacheCell;
   /// Called from one thread as rows are written: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
-  /// The same for the indirect cache's pre-pass: (image rows done, in total).
-  std::function<void(long long, long long)> cacheProgress;
+  /// The same for the indirect cache: its pre-pass (image rows done, in total),
+  /// then its visibility (points done, in total).
+  std::function<void(long long, long long)> cacheProgress, cacheFillProgress;
 };
 
 struct PrecomputeStats {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Compares our dense relight of a scene with Blender Cycles (direct light,
-# the same lattice lighting, camera and materials: render_cycles.py), and
+# Compares our dense relight of a scene with Blender Cycles (direct light, or
+# up to K bounces with --bounces K; the same lattice lighting, camera and materials: render_cycles.py), and
 # Cycles with itself under another seed (its own noise). Not part of CI: needs
 # Debian's `blender` (apt-get install blender) and a few minutes per scene.
 #
@@ -8,6 +8,7 @@
 #     --size WxH (160x120)  --camera SPEC (auto:65,150 or none)
 #     --samples N (Cycles samples per pixel, 1024)  --spp N (ours, 16)  --cubemap R (32)
 #     --texel-rays N (ours, 1: shadow rays per lattice texel)
+#     --bounces K (0: direct light)  --indirect-samples N (ours, 256: paths per sample)
 #
 # Writes OUT_DIR/{t.h5, ours.exr, lattice.exr, cycles.exr, cycles-2.exr,
 # comparison.json} and prints relative L2 (all covered pixels, full pixels,
@@ -17,7 +18,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 scene=$1 env=$2 out=$3
 shift 3
-size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1
+size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1 bounces=0
+indirect_samples=256
 while [ $# -gt 0 ]; do
   case $1 in
     --size) size=$2 ;;
@@ -26,6 +28,8 @@ while [ $# -gt 0 ]; do
     --spp) spp=$2 ;;
     --cubemap) cubemap=$2 ;;
     --texel-rays) texel_rays=$2 ;;
+    --bounces) bounces=$2 ;;
+    --indirect-samples) indirect_samples=$2 ;;
     *) echo "compare.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift 2
@@ -38,7 +42,7 @@ camera_flag=()
 [ "$camera" != none ] && camera_flag=(--camera "$camera")
 # Every sample traced (--aa full): Cycles integrates the whole pixel too.
 "$cli" precompute --scene "$scene" --size "$size" --spp "$spp" --aa full --cubemap "$cubemap" \
-  --texel-rays "$texel_rays" \
+  --texel-rays "$texel_rays" --bounces "$bounces" --indirect-samples "$indirect_samples" \
   --precision f32 "${camera_flag[@]}" --quiet --out "$out/t.h5"
 "$cli" relight "$out/t.h5" --env "$env" --background black --exr-float --quiet --out "$out/ours.exr"
 # The lattice as Cycles sees it: piecewise constant per texel, 2048x1024.
@@ -52,7 +56,8 @@ render() {  # seed, output, image to compare with, json
   rm -f "$2" "$4"
   blender -b --factory-startup --python-exit-code 1 --python scripts/cycles/render_cycles.py -- \
     --scene "$scene" --width "$width" --height "$height" --camera "$cam" \
-    --env "$out/lattice.exr" --samples "$samples" --seed "$1" --out "$2" --ours "$3" \
+    --env "$out/lattice.exr" --samples "$samples" --seed "$1" --bounces "$bounces" \
+    --out "$2" --ours "$3" \
     --json "$4" >"$out/blender-$1.log" 2>&1 || { tail -30 "$out/blender-$1.log" >&2; exit 1; }
 }
 render 1 "$out/cycles.exr" "$out/ours.exr" "$out/ours-vs-cycles.json"

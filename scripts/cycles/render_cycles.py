@@ -1,18 +1,19 @@
-"""Renders one of our scene files with Blender's Cycles, direct light only,
-under a lattice exported by `adaptive-cpca envmap`, and compares the result
+"""Renders one of our scene files with Blender's Cycles, direct light or up
+to K bounces (--bounces), under a lattice exported by `adaptive-cpca envmap`, and compares the result
 with our dense relight of the same scene.
 
 Run by scripts/cycles/compare.sh inside Blender:
   blender -b --factory-startup --python render_cycles.py -- \
       --scene S.json --width W --height H --env lattice.exr --ours ours.exr \
-      --out cycles.exr --samples N --seed K [--camera EYE,TARGET,UP,FOV]
+      --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV]
 
 The fairness rules of ../shared/docs/reference-renders.md: the same
 geometry (our Y-up world is Blender's (x, -z, y)), a pinhole camera with our
 vertical field of view, the lattice's piecewise-constant radiance with
 Closest lookup, Diffuse and Glossy (GGX) BSDFs with our parameters instead of
-the importers' Principled ones, no bounces, a one-pixel box filter and a
-transparent film (alpha = coverage).
+the importers' Principled ones, K total, diffuse and glossy bounces with
+clamping off and caustics on, a one-pixel box filter and a transparent film
+(alpha = coverage).
 """
 
 import argparse
@@ -49,6 +50,7 @@ def parse_args():
     p.add_argument("--out", required=True)
     p.add_argument("--samples", type=int, default=512)
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--bounces", type=int, default=0, help="indirect bounces (ours: --bounces)")
     p.add_argument("--json", help="write the comparison here")
     return p.parse_args(argv)
 
@@ -307,7 +309,7 @@ def add_world(env_path):
     world.cycles.sample_map_resolution = 2048
 
 
-def configure_cycles(samples, seed):
+def configure_cycles(samples, seed, bounces):
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     c = scene.cycles
@@ -316,9 +318,12 @@ def configure_cycles(samples, seed):
     c.use_adaptive_sampling = False
     c.use_denoising = False
     c.seed = seed
-    c.max_bounces = 0
-    c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = 0
-    c.volume_bounces = c.transparent_max_bounces = 0
+    # Bounces K: total, diffuse and glossy; caustics on, so that glossy-to-diffuse
+    # paths count as ours do.
+    c.max_bounces = bounces
+    c.diffuse_bounces = c.glossy_bounces = bounces
+    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = 0
+    c.caustics_reflective = c.caustics_refractive = True
     c.sample_clamp_direct = 0
     c.sample_clamp_indirect = 0
     c.light_sampling_threshold = 0
@@ -384,7 +389,7 @@ def main():
         eye, target, up, fov = cam["eye"], cam["target"], cam["up"], cam["fov"]
     add_camera(eye, target, up, fov, a.width, a.height)
     add_world(os.path.abspath(a.env))
-    configure_cycles(a.samples, a.seed)
+    configure_cycles(a.samples, a.seed, a.bounces)
     for o in bpy.context.scene.objects:  # for the log: what Cycles renders
         print("object", o.name, o.type, [s.material.name for s in o.material_slots if s.material],
               tuple(round(v, 4) for v in o.dimensions))
