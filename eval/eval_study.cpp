@@ -151,10 +151,7 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
       keep(r, first, {});
     }
   }
-  const bool shFits = transport.header().channels == 1;
-  if (wants(o, "sh") && !o.shOrders.empty() && !shFits)
-    log("sh: left out; its fits take one row per pixel, and this transport has R, G and B rows");
-  if (wants(o, "sh") && !o.shOrders.empty() && shFits) {
+  if (wants(o, "sh") && !o.shOrders.empty()) {
     const Stopwatch build;
     ShTransport sh(transport, *std::max_element(o.shOrders.begin(), o.shOrders.end()), o.shGroups);
     const double buildSeconds = build.seconds();

@@ -75,9 +75,7 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   const EvaluationData data = loadEvaluationData(transport, a.envs);
 
   std::vector<ShRow> shRows;
-  if (!a.noSh && transport.header().channels != 1)
-    log("SH: left out; its fits take one row per pixel, and this transport has R, G and B rows");
-  if (!a.noSh && transport.header().channels == 1) {
+  if (!a.noSh) {
     ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
     log(concat("SH: ", sh.groups(), " normal groups"));
     for (int n : a.shOrders)

@@ -19,13 +19,9 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
     : rows_(transport.rows()),
       maxCoefficients_(maxCoefficients),
       latticeSize_(transport.latticeSize()),
+      channels_(transport.header().channels),
       albedo_(transport.header().albedo) {
   const int bands = shBandsOf(maxCoefficients, "SH coefficients");
-  if (transport.header().channels != 1)
-    throw UserError(
-        concat(transport.path(),
-               ": the SH baselines fit one row per pixel; this transport has R, G and B "
-               "rows (coloured interreflections)"));
   if (normalResolution < 1 || normalResolution > 64)
     throw UserError(
         concat("SH normal groups: cube resolution ", normalResolution, " is outside 1..64"));
@@ -62,18 +58,23 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
   // each group's rows light.
   Eigen::MatrixXd weightedSh = sh_;
   for (int j = 0; j < latticeSize_; ++j) weightedSh.row(j) *= lattice.solidAngle(j);
-  projections_.resize(rows_, maxCoefficients_);
-  energies_.assign(rows_, 0);
+  // With R, G and B rows each channel's row is fitted on its own: fit row
+  // p channels + c (the row-major [count, channels l] block read as
+  // [count channels, l]).
+  const long long fitRows = rows_ * channels_;
+  projections_.resize(fitRows, maxCoefficients_);
+  energies_.assign(fitRows, 0);
   std::vector<std::vector<unsigned char>> lit(groupCount,
                                               std::vector<unsigned char>(latticeSize_, 0));
   streamRowBlocks(
       transport, rowsPerBlock(transport), [&](long long first, long long count, const float* rows) {
         const Eigen::Map<
             const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
-            block(rows, count, latticeSize_);
-        projections_.middleRows(first, count).noalias() = block.cast<double>() * weightedSh;
-        for (long long r = 0; r < count; ++r) {
-          std::vector<unsigned char>& mask = lit[groupOfRow_[first + r]];
+            block(rows, count * channels_, latticeSize_);
+        projections_.middleRows(first * channels_, count * channels_).noalias() =
+            block.cast<double>() * weightedSh;
+        for (long long r = 0; r < count * channels_; ++r) {
+          std::vector<unsigned char>& mask = lit[groupOfRow_[(first * channels_ + r) / channels_]];
           double energy = 0;
           for (int j = 0; j < latticeSize_; ++j) {
             const double f = block(r, j);
@@ -82,7 +83,7 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
             std::atomic_ref<unsigned char> flag(mask[j]);
             if (!flag.load(std::memory_order_relaxed)) flag.store(1, std::memory_order_relaxed);
           }
-          energies_[first + r] = energy;
+          energies_[first * channels_ + r] = energy;
         }
       });
 
@@ -123,11 +124,12 @@ ShCoefficients ShTransport::fit(int n, ShFit fit) const {
   ShCoefficients c;
   c.n = n;
   c.fit = fit;
-  c.values.resize(static_cast<size_t>(rows_) * n);
-  c.norms.resize(rows_);
-  c.bounds.resize(rows_);
-  tbb::parallel_for(0LL, rows_, [&](long long p) {
-    const ShSupportFit& f = *fits[groupOfRow_[p]];
+  const long long fitRows = rows_ * channels_;
+  c.values.resize(static_cast<size_t>(fitRows) * n);
+  c.norms.resize(fitRows);
+  c.bounds.resize(fitRows);
+  tbb::parallel_for(0LL, fitRows, [&](long long p) {
+    const ShSupportFit& f = *fits[groupOfRow_[p / channels_]];
     std::vector<double> coefficients(n);
     f.fit(fit, projections_.row(p).data(), energies_[p], coefficients.data());
     double norm = 0;
@@ -145,7 +147,7 @@ ShStatistics ShTransport::statistics(const ShCoefficients& c) const {
   ShStatistics s;
   std::vector<double> conditions, norms, ratios;
   for (int g = 0; g < groups(); ++g) conditions.push_back(factored(g, c.n).conditionNumber());
-  for (long long p = 0; p < rows_; ++p) {
+  for (size_t p = 0; p < c.bounds.size(); ++p) {
     if (!(c.bounds[p] > 0)) continue;  // a row with no energy has c = 0
     norms.push_back(c.norms[p]);
     ratios.push_back(c.norms[p] / c.bounds[p]);
@@ -162,8 +164,8 @@ ShStatistics ShTransport::statistics(const ShCoefficients& c) const {
 void ShTransport::relight(const ShCoefficients& c, const LatticeLighting& lighting, float* rgb) {
   ACPCA_CHECK(static_cast<long long>(lighting.size()) == 3LL * latticeSize_, "lighting has ",
               lighting.size(), " values for a lattice of ", latticeSize_);
-  ACPCA_CHECK(static_cast<long long>(c.values.size()) == rows_ * c.n, "coefficients ",
-              c.values.size(), " for ", rows_, " rows of ", c.n);
+  ACPCA_CHECK(static_cast<long long>(c.values.size()) == rows_ * channels_ * c.n, "coefficients ",
+              c.values.size(), " for ", rows_, " rows of ", channels_, " x ", c.n);
   const int n = c.n;
   // Per group and channel: the integral of each SH function against the
   // lighting over the support, Y_S^T L_S (eq. 5's dual vector, exact on the lattice).
@@ -180,10 +182,13 @@ void ShTransport::relight(const ShCoefficients& c, const LatticeLighting& lighti
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows_, 1024),
                     [&](const tbb::blocked_range<long long>& range) {
                       for (long long p = range.begin(); p < range.end(); ++p) {
-                        const Eigen::Map<const Eigen::VectorXf> u(c.values.data() + p * n, n);
                         const auto l = lightingOnSupports_.middleCols(3 * groupOfRow_[p], 3);
-                        for (int ch = 0; ch < 3; ++ch)
+                        for (int ch = 0; ch < 3; ++ch) {
+                          const long long fitRow = p * channels_ + (channels_ == 3 ? ch : 0);
+                          const Eigen::Map<const Eigen::VectorXf> u(c.values.data() + fitRow * n,
+                                                                    n);
                           rgb[3 * p + ch] = albedo_[3 * p + ch] * u.dot(l.col(ch));
+                        }
                       }
                     });
 }
@@ -191,12 +196,12 @@ void ShTransport::relight(const ShCoefficients& c, const LatticeLighting& lighti
 double ShTransport::costPerPixel(int n) const {
   double supportTexels = 0;
   for (const auto& s : supports_) supportTexels += s.size();
-  return rows_ ? n + n * supportTexels / rows_ : 0;
+  return rows_ ? channels_ * n + n * supportTexels / rows_ : 0;
 }
 
 long long ShTransport::frameBytes(const ShCoefficients& c) const {
   const int bytes = c.storage == CoeffPrecision::F32 ? 4 : c.storage == CoeffPrecision::F16 ? 2 : 1;
-  return rows_ * (static_cast<long long>(c.n) * bytes + 4 + 12);
+  return rows_ * (static_cast<long long>(channels_) * c.n * bytes + 4 + 12);
 }
 
 void storeShCoefficients(ShCoefficients& c, CoeffPrecision storage) {

@@ -65,14 +65,15 @@ class ShTransport {
 
   long long rows_ = 0;
   int maxCoefficients_ = 0, latticeSize_ = 0;
+  int channels_ = 1;  ///< 3: R, G and B rows, each fitted on its own
   Eigen::MatrixXd sh_;            ///< latticeSize x maxCoefficients
   Eigen::MatrixXf shTransposed_;  ///< maxCoefficients x latticeSize, for the frame projection
   std::vector<int> groupOfRow_;
   std::vector<std::vector<int>> supports_;
   std::vector<Eigen::MatrixXd> grams_;  ///< per group, maxCoefficients^2
-  /// rows x maxCoefficients: b = Y^T W f of every row
+  /// (rows x channels) x maxCoefficients: b = Y^T W f of every row (and channel)
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> projections_;
-  std::vector<double> energies_;  ///< per row: sum_j w_j f_j^2
+  std::vector<double> energies_;  ///< per row (and channel): sum_j w_j f_j^2
   std::vector<float> albedo_;
   /// Factorizations by (n, group), made on first use.
   mutable std::vector<std::vector<std::unique_ptr<ShSupportFit>>> fits_;

@@ -22,8 +22,12 @@ namespace {
 py::dict precompute(const std::string& scene, const std::string& out,
                     const std::optional<std::pair<int, int>>& size, const std::string& camera,
                     int cubemap, int spp, const std::string& aa, int texelRays,
-                    const std::string& precision, int threads, const py::object& progress) {
+                    const std::string& precision, int bounces, int indirectSamples,
+                    double indirectCache, int threads, const py::object& progress) {
   PrecomputeOptions o;
+  o.bounces = bounces;
+  o.indirectSamples = indirectSamples;
+  o.indirectCacheCell = indirectCache;
   o.cubemapResolution = cubemap;
   o.samplesPerPixel = spp;
   o.antialiasing = kAntialiasingNames.parse(aa);
@@ -41,6 +45,8 @@ py::dict precompute(const std::string& scene, const std::string& out,
       context.check();
       if (!progress.is_none()) context.callPython([&] { progress(done, total); });
     };
+    // The indirect cache's stages are cancel points too.
+    o.cacheProgress = o.cacheFillProgress = [&](long long, long long) { context.check(); };
     stats = precomputeTransport(s, out, o);
   });
   py::dict d;
@@ -51,6 +57,10 @@ py::dict precompute(const std::string& scene, const std::string& out,
   d["rays_per_second"] = stats.raysPerSecond();
   d["supersampled_pixels"] = stats.supersampledPixels;
   d["bytes_written"] = stats.bytesWritten;
+  d["channels"] = stats.channels;
+  d["path_rays"] = stats.pathRays;
+  d["cache_points"] = stats.cachePoints;
+  d["cache_seconds"] = stats.cacheSeconds;
   return d;
 }
 
@@ -100,11 +110,14 @@ void registerLongCalls(py::module_& m) {
   m.def("precompute", &precompute, py::arg("scene"), py::arg("out"), py::kw_only(),
         py::arg("size") = py::none(), py::arg("camera") = "", py::arg("cubemap") = 32,
         py::arg("spp") = kDefaultSamplesPerPixel, py::arg("aa") = "adaptive",
-        py::arg("texel_rays") = 1, py::arg("precision") = "f16", py::arg("threads") = 0,
+        py::arg("texel_rays") = 1, py::arg("precision") = "f16", py::arg("bounces") = 0,
+        py::arg("indirect_samples") = kDefaultIndirectSamples,
+        py::arg("indirect_cache") = kDefaultIndirectCacheCell, py::arg("threads") = 0,
         py::arg("progress") = py::none(),
         "Ray-trace a scene (built-in name or JSON file) into the transport file `out`, as "
-        "`adaptive-cpca precompute`; size is (width, height). progress(done, total) is called "
-        "between bands of rows. Ctrl-C stops it and leaves no file.");
+        "`adaptive-cpca precompute`; size is (width, height); bounces > 0 adds interreflections. "
+        "progress(done, total) is called between bands of rows. Ctrl-C stops it and leaves no "
+        "file.");
   m.def("compress", &compress, py::arg("transport"), py::arg("out"), py::kw_only(),
         py::arg("method") = "adaptive-quad", py::arg("tolerance") = 0.999,
         py::arg("global_energy") = 0.999, py::arg("clusters") = 10, py::arg("block") = 0,

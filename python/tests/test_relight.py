@@ -188,6 +188,22 @@ def test_precompute_and_compress_make_the_clis_files(tmp_path):
         ac.compress(str(tmp_path / "py.h5"), str(tmp_path / "x.h5"), method="zip")
 
 
+def test_bounced_light_from_python_is_the_clis_with_rgb_rows(tmp_path):
+    stats = ac.precompute("plant", str(tmp_path / "py.h5"), size=(16, 12), cubemap=4, spp=1,
+                          bounces=1, indirect_samples=8)
+    cli("precompute", "--scene", "plant", "--size", "16x12", "--cubemap", "4", "--spp", "1",
+        "--bounces", "1", "--indirect-samples", "8", "--out", str(tmp_path / "cli.h5"))
+    assert stats["channels"] == 3 and stats["path_rays"] > 0
+    info = ac.info(str(tmp_path / "py.h5"))
+    assert info["row_layout"] == "rgb" and info["bounces"] == 1
+    assert info["indirect_samples"] == 8
+    sky = ac.Environment("sky")
+    assert np.array_equal(ac.Relighter(str(tmp_path / "py.h5")).relight(sky),
+                          ac.Relighter(str(tmp_path / "cli.h5")).relight(sky))
+    with pytest.raises(ac.Error, match="bounces"):
+        ac.precompute("plant", str(tmp_path / "x.h5"), size=(4, 4), bounces=99)
+
+
 def test_a_callback_error_or_ctrl_c_stops_the_work_and_leaves_no_file(tmp_path):
     out = tmp_path / "t.h5"
 

@@ -8,7 +8,7 @@
 #     --size WxH (160x120)  --camera SPEC (auto:65,150 or none)
 #     --samples N (Cycles samples per pixel, 1024)  --spp N (ours, 16)  --cubemap R (32)
 #     --texel-rays N (ours, 1: shadow rays per lattice texel)
-#     --bounces K (0: direct light)  --indirect-samples N (ours, 256: paths per sample)
+#     --bounces K (0: direct light)  --indirect-samples N (ours, 64: paths per traced sample)
 #
 # Writes OUT_DIR/{t.h5, ours.exr, lattice.exr, cycles.exr, cycles-2.exr,
 # comparison.json} and prints relative L2 (all covered pixels, full pixels,
@@ -19,7 +19,7 @@ cd "$(dirname "$0")/../.."
 scene=$1 env=$2 out=$3
 shift 3
 size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1 bounces=0
-indirect_samples=256
+indirect_samples=64
 while [ $# -gt 0 ]; do
   case $1 in
     --size) size=$2 ;;

@@ -91,6 +91,14 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
   expectFailure("precompute --scene sphere --size 100000x100000 --out " + out.file("t.h5"),
                 "out of range");
   expectFailure("precompute --scene sphere --cubemap 0 --out " + out.file("t.h5"), "cubemap");
+  expectFailure("precompute --scene sphere --bounces 99 --out " + out.file("t.h5"),
+                "--bounces '99'");
+  expectFailure(
+      "precompute --scene sphere --bounces 1 --indirect-samples 0 --out " + out.file("t.h5"),
+      "--indirect-samples '0'");
+  expectFailure(
+      "precompute --scene sphere --bounces 1 --indirect-cache 2 --out " + out.file("t.h5"),
+      "--indirect-cache '2'");
   expectFailure("precompute --scene sphere --size 8x8 --out /nonexistent-dir/t.h5",
                 "nonexistent-dir");
   {

@@ -223,5 +223,41 @@ TEST_F(ShTransportTest, SameCoefficientsAndImageWithOneOrTwoThreads) {
   EXPECT_EQ(run(1), run(2));
 }
 
+TEST(ShTransport, RgbRowsFitEachChannelAsItsOwnTransport) {
+  // Channel c of the bounced plant's SH relight equals the SH relight of a
+  // transport holding only channel c's rows.
+  const TransportReader rgb(test::fixture("bounced-plant"));
+  ASSERT_EQ(rgb.header().channels, 3);
+  const int l = rgb.latticeSize();
+  std::vector<float> rows(static_cast<size_t>(rgb.rows()) * 3 * l);
+  rgb.readRows(0, rgb.rows(), rows.data());
+  const CubeLattice lattice(rgb.header().cubemapResolution);
+  const LatticeLighting sky = computeLighting(*loadEnvironment("sky"), lattice, {});
+  ShTransport sh(rgb, 25, 4);
+  std::vector<float> image(3 * rgb.rows());
+  sh.relight(sh.fit(25, ShFit::Cls), sky, image.data());
+  EXPECT_GT(sh.costPerPixel(25), 3 * 25);
+  test::TempDir dir;
+  for (int c = 0; c < 3; ++c) {
+    TransportHeader header = rgb.header();
+    header.channels = 1;
+    header.bounces = 0;
+    std::vector<float> part(static_cast<size_t>(rgb.rows()) * l);
+    for (long long r = 0; r < rgb.rows(); ++r)
+      std::copy_n(rows.data() + (r * 3 + c) * l, l, part.data() + r * l);
+    const std::string path = dir.file(concat("channel", c, ".h5"));
+    {
+      TransportWriter writer(path, header);
+      writer.writeRows(0, rgb.rows(), part.data());
+      writer.finish();
+    }
+    const TransportReader one(path);
+    ShTransport shOne(one, 25, 4);
+    std::vector<float> alone(3 * rgb.rows());
+    shOne.relight(shOne.fit(25, ShFit::Cls), sky, alone.data());
+    for (long long r = 0; r < rgb.rows(); ++r) ASSERT_EQ(image[3 * r + c], alone[3 * r + c]) << r;
+  }
+}
+
 }  // namespace
 }  // namespace acpca
