@@ -293,5 +293,20 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
   }
 }
 
+TEST(CompressBouncedPlant, RgbRowsModelRoundTripsWithItsLayout) {
+  test::TempDir dir;
+  const TransportReader t(test::fixture("bounced-plant"));
+  CompressOptions o;
+  o.method = Method::AdaptiveQuad;
+  const Model m = compressTransport(t, o);
+  ASSERT_EQ(m.geometry.channels, 3);
+  ASSERT_EQ(m.globalBasis.rows(), 3 * t.latticeSize());
+  writeModel(m, dir.file("m.h5"));
+  const Model back = readModel(dir.file("m.h5"));
+  EXPECT_EQ(back.geometry.channels, 3);
+  EXPECT_EQ(back.globalBasis, m.globalBasis);
+  EXPECT_EQ(back.coeffF32, m.coeffF32);
+}
+
 }  // namespace
 }  // namespace acpca
