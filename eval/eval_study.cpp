@@ -116,7 +116,8 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
     SparseTransport dense(transport);
     SweepResult r{"dense", "T in memory (f16)"};
     r.compressSeconds = build.seconds();
-    r.costPerPixel = transport.rowLength();
+    r.costPerPixel =
+        transport.latticeSize();  // RGB triples: a value of an RGB row meets one channel
     r.modelBytes = dense.bytesPerFrame();
     const auto first = measureMaps(data, r, std::min(frames, 5),
                                    [&](const auto& l, float* rgb) { dense.relight(l, rgb); });

@@ -182,7 +182,7 @@ void HaarTransport::relight(const LatticeLighting& lighting, int terms, float* r
       for (int part = 0; part < channels_; ++part)
         entries += double(b.columnStart[part * latticeSize_ + j + 1] -
                           b.columnStart[part * latticeSize_ + j]);
-  lastCost_ = rows_ ? entries / rows_ : 0;
+  lastCost_ = rows_ ? entries / rows_ / channels_ : 0;  // in RGB triples
 
   tbb::parallel_for(0, static_cast<int>(blocks_.size()), [&](int bi) {
     const RowBlock& b = blocks_[bi];

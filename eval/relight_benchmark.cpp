@@ -128,7 +128,7 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
       dense.times =
           timeFrames(a.denseFrames, [&] { sparse.relight(lightings[0], dense.images[0].data()); });
       dense.bytes = double(sparse.bytesPerFrame());
-      dense.costPerPixel = sparse.keptFraction() * reader.rowLength();
+      dense.costPerPixel = sparse.keptFraction() * reader.latticeSize();  // in RGB triples
       out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n",
                        loadSeconds, 100 * sparse.keptFraction());
       // Image error over the lightings as the evaluation defines it (design.md 7).

@@ -196,7 +196,8 @@ void ShTransport::relight(const ShCoefficients& c, const LatticeLighting& lighti
 double ShTransport::costPerPixel(int n) const {
   double supportTexels = 0;
   for (const auto& s : supports_) supportTexels += s.size();
-  return rows_ ? channels_ * n + n * supportTexels / rows_ : 0;
+  // In RGB triples: with R, G and B rows each channel has its own n coefficients.
+  return rows_ ? n + n * supportTexels / rows_ : 0;
 }
 
 long long ShTransport::frameBytes(const ShCoefficients& c) const {

@@ -62,7 +62,7 @@ nlohmann::json describeTransport(const TransportReader& t) {
           {"directions", t.latticeSize()},
           {"global_bases", nullptr},
           {"clusters", nullptr},
-          {"cost_per_pixel", t.rowLength()},
+          {"cost_per_pixel", t.latticeSize()},
           {"bytes", t.fileBytes()},
           {"method", "dense"},
           {"scene", h.scene},

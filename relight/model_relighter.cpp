@@ -54,6 +54,10 @@ ModelRelighter::ModelRelighter(const Model& m)
     if (n > 0 && m.globalBasis.row(j).cwiseAbs().maxCoeff() > 0)
       seenTexels_.push_back(static_cast<int>(j));
   const long long seen = static_cast<long long>(seenTexels_.size());
+  for (int c = 0; c <= 3; ++c)
+    partStart_[c] = static_cast<int>(std::lower_bound(seenTexels_.begin(), seenTexels_.end(),
+                                                      c * (l / std::max(1, m.geometry.channels))) -
+                                     seenTexels_.begin());
   globalBasis_.resize(seen * n);
   for (int k = 0; k < n; ++k)
     for (long long i = 0; i < seen; ++i)
@@ -163,7 +167,9 @@ long long ModelRelighter::bytesPerFrame() const {
 }
 
 double ModelRelighter::costPerPixel() const {
-  double cost = static_cast<double>(globalBasis_.size());  // V_g^T L
+  // V_g^T L, in multiply-adds of RGB triples: with R, G and B rows each value
+  // meets one channel, so three of them make one triple.
+  double cost = static_cast<double>(globalBasis_.size()) / geometry_.channels;
   std::vector<long long> rowsOf(activeRanks_.size(), 0);
   for (const Chunk& chunk : chunks_) rowsOf[chunk.cluster] += kChunkRows;
   for (size_t c = 0; c < activeRanks_.size(); ++c)
@@ -194,8 +200,23 @@ void ModelRelighter::lightGlobal(const LatticeLighting& lighting) {
   tbb::parallel_for(0, (n + kBlock - 1) / kBlock, [&](int block) {
     const int first = block * kBlock, count = std::min(kBlock, n - first);
     float out[3 * kBlock];
-    kernels::dotRgbColumns(globalBasis_.data() + static_cast<size_t>(first) * seen, count, light,
-                           seen, out);
+    if (rgbRows) {
+      // Each channel meets its own third of the column alone: seenTexels_ is
+      // sorted, so that third is one run [partStart_[c], partStart_[c + 1]).
+      for (int k = 0; k < count; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const int begin = partStart_[c], length = partStart_[c + 1] - begin;
+          using Vec = Eigen::Map<const Eigen::VectorXf>;
+          out[3 * k + c] =
+              length > 0
+                  ? Vec(globalBasis_.data() + static_cast<size_t>(first + k) * seen + begin, length)
+                        .dot(Vec(light[c] + begin, length))
+                  : 0.0f;
+        }
+    } else {
+      kernels::dotRgbColumns(globalBasis_.data() + static_cast<size_t>(first) * seen, count, light,
+                             seen, out);
+    }
     for (int k = 0; k < count; ++k)
       for (int c = 0; c < 3; ++c) {
         globalLighting_[c * n + first + k] = out[3 * k + c];

@@ -8,6 +8,7 @@
 // computed by one task in a fixed order, so the image is the same for any
 // thread count. All memory is allocated when the relighter is built; a frame
 // allocates nothing.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -73,7 +74,9 @@ class ModelRelighter {
   int globalBases_ = 0;
   bool hasMean_ = false;
 
-  std::vector<int> seenTexels_;     ///< row elements (texel, or channel x texel) V_g sees
+  std::vector<int> seenTexels_;  ///< row elements (texel, or channel x texel) V_g sees
+  /// With R, G and B rows: where each channel's elements start in seenTexels_.
+  std::array<int, 4> partStart_{};
   std::vector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
   CoeffPrecision basisPrecision_;
   /// W_i^T in tiles of 16 bases: per tile N x 16 values, global index major.

@@ -75,7 +75,8 @@ void run(const InfoArgs& a) {
             << "\n"
             << "  storage      " << precisionName(h.precision) << ", " << storedValues
             << " values, " << formatBytes(t.fileBytes()) << " on disk\n"
-            << "  relight cost " << t.rowLength() << " multiply-adds per pixel (dense)\n";
+            << "  relight cost " << t.latticeSize()
+            << " multiply-adds of RGB triples per pixel (dense)\n";
 }
 
 }  // namespace

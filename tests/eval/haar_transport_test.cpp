@@ -56,7 +56,7 @@ TEST(HaarTransport, KeepingEveryTermIsTheDenseRelight) {
       // Half-precision wavelet values: about 2^-11 relative per term.
       EXPECT_LT(relativeL2(exact.relight(lightings[k], transport.latticeSize()), truth[k]), 2e-3)
           << name;
-      EXPECT_NEAR(exact.lastCostPerPixel(), exact.fillRatio() * transport.rowLength(), 1e-6);
+      EXPECT_NEAR(exact.lastCostPerPixel(), exact.fillRatio() * transport.latticeSize(), 1e-6);
       // No terms: black; a few terms: an approximation, worse than all of them.
       for (float v : exact.relight(lightings[k], 0)) ASSERT_EQ(v, 0.0f);
       EXPECT_EQ(exact.lastCostPerPixel(), 0.0);
