@@ -188,6 +188,16 @@ TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
   EXPECT_THROW(relighter.setRankFraction(1.5), UserError);
 }
 
+/// Every global basis and every cluster basis kept: a model equal to T.
+CompressOptions keepingEverything(Method method) {
+  CompressOptions o;
+  o.method = method;
+  o.globalEnergy = 1;
+  o.tolerance = 1;
+  o.clusters = 4;
+  return o;
+}
+
 class RelightPlant : public test::SmallPlantSuite {
  protected:
   static std::vector<LatticeLighting> lightings() { return test::plantLightings(); }
@@ -202,12 +212,7 @@ TEST_F(RelightPlant, KeepingEverythingMatchesTheDenseRelight) {
   const auto dense = denseRelight(t, lightings);
   for (Method method : {Method::Global, Method::Block, Method::Cpca, Method::AdaptiveQuad,
                         Method::AdaptiveBinary}) {
-    CompressOptions o;
-    o.method = method;
-    o.globalEnergy = 1;
-    o.tolerance = 1;
-    o.clusters = 4;
-    const Model m = compressTransport(t, o);
+    const Model m = compressTransport(t, keepingEverything(method));
     EXPECT_LT(m.transportError, 1e-4) << methodName(method);
     const auto relit = relightModelReference(m, lightings);
     for (size_t k = 0; k < lightings.size(); ++k)
@@ -220,12 +225,7 @@ TEST_F(RelightPlant, KeepingEverythingEqualsTheDenseRelight) {
   const auto all = lightings();
   const auto dense = denseRelight(t, all);
   for (Method method : {Method::Global, Method::Cpca, Method::AdaptiveQuad}) {
-    CompressOptions o;
-    o.method = method;
-    o.globalEnergy = 1;
-    o.tolerance = 1;
-    o.clusters = 4;
-    ModelRelighter relighter(compressTransport(t, o));
+    ModelRelighter relighter(compressTransport(t, keepingEverything(method)));
     for (size_t k = 0; k < all.size(); ++k)
       EXPECT_LT(relativeL2(relighter.relight(all[k]), dense[k]), 1e-4) << methodName(method);
   }
@@ -238,12 +238,7 @@ TEST(RelightBouncedPlant, RgbRowsKeptWholeRelightAsTheDenseTransport) {
   const auto dense = denseRelight(t, all);
   for (Method method :
        {Method::Global, Method::Cpca, Method::AdaptiveQuad, Method::AdaptiveBinary}) {
-    CompressOptions o;
-    o.method = method;
-    o.globalEnergy = 1;
-    o.tolerance = 1;
-    o.clusters = 4;
-    const Model m = compressTransport(t, o);
+    const Model m = compressTransport(t, keepingEverything(method));
     EXPECT_EQ(m.geometry.channels, 3);
     EXPECT_EQ(m.globalBasis.rows(), 3 * t.latticeSize());
     EXPECT_LT(m.transportError, 1e-4) << methodName(method);
@@ -276,11 +271,7 @@ TEST(RelightBouncedPlant, ChannelsMeetOnlyTheirOwnLight) {
     lit += expected;
   }
   EXPECT_GT(lit, 0);
-  CompressOptions o;
-  o.method = Method::Global;
-  o.globalEnergy = 1;
-  o.tolerance = 1;
-  ModelRelighter relighter(compressTransport(t, o));
+  ModelRelighter relighter(compressTransport(t, keepingEverything(Method::Global)));
   const auto fast = relighter.relight(red);
   for (long long r = 0; r < t.rows(); ++r) {
     EXPECT_EQ(fast[3 * r + 1], 0.0f);
