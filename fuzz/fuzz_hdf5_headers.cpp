@@ -135,6 +135,11 @@ void writeTransport(const std::string& path, FuzzedDataProvider& in) {
   h.camera.size = {in.ConsumeIntegralInRange(1, 4), in.ConsumeIntegralInRange(1, 4)};
   h.cubemapResolution = in.ConsumeIntegralInRange(1, 2);
   h.precision = in.ConsumeBool() ? Precision::F16 : Precision::F32;
+  if (in.ConsumeBool()) {  // R, G and B rows of bounced light
+    h.channels = 3;
+    h.bounces = 1;
+    h.indirectSamples = 8;
+  }
   h.scene = "fuzz";
   for (int p = 0; p < h.camera.size.pixels(); ++p)
     if (in.ConsumeBool()) {
@@ -143,7 +148,7 @@ void writeTransport(const std::string& path, FuzzedDataProvider& in) {
       h.coverage.push_back(1.0f);
       h.normals.insert(h.normals.end(), {0.0f, 0.0f, 1.0f});
     }
-  std::vector<float> rows(h.rows() * h.latticeSize());
+  std::vector<float> rows(h.rows() * h.rowLength());
   for (auto& v : rows) v = in.ConsumeFloatingPointInRange(0.0f, 1.0f);
   TransportWriter writer(path, h);
   writer.writeRows(0, h.rows(), rows.data());

@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   return fuzz::runReader([&] {
     const TransportReader reader(path);
     const long long rows = std::min<long long>(reader.rows(), 8);
-    std::vector<float> values(static_cast<size_t>(rows) * reader.latticeSize());
+    std::vector<float> values(static_cast<size_t>(rows) * reader.rowLength());
     reader.readRows(0, rows, values.data());
     fuzz::requireFinite(values, "transport value");
   });
