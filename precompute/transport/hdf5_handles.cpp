@@ -69,9 +69,18 @@ Handle createFile(const std::string& path) {
   Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_V110), path,
         "file format bounds");
-  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), path,
+  // No object timestamps (HDF5 keeps them by default): equal runs write equal bytes.
+  Handle create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  check(H5Pset_obj_track_times(create.get(), false), path, "object timestamps");
+  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()), path,
                         "cannot create the file (is the directory writable?)"),
                 H5Fclose);
+}
+
+Handle datasetCreation() {
+  Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  check(H5Pset_obj_track_times(create.get(), false), "HDF5", "object timestamps");
+  return create;
 }
 
 void closeWrittenFile(Handle& file, const std::string& path) {
@@ -149,7 +158,8 @@ Handle openDataset(hid_t file, const std::string& name, const std::string& ctx) 
 void writeWhole(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
                 const void* data, const std::string& ctx) {
   Handle space(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose);
-  Handle set(checkId(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+  const Handle create = datasetCreation();
+  Handle set(checkId(H5Dcreate2(file, name.c_str(), type, space.get(), H5P_DEFAULT, create.get(),
                                 H5P_DEFAULT),
                      ctx, "cannot create dataset " + name),
              H5Dclose);

@@ -41,6 +41,9 @@ hid_t checkId(hid_t id, const std::string& context, const std::string& what);
 Handle halfType();
 
 Handle createFile(const std::string& path);
+/// A dataset creation property list without object timestamps (files of equal
+/// runs are equal byte for byte).
+Handle datasetCreation();
 /// Flushes and closes a file being written; throws a WriteError naming it when
 /// the data did not reach the disk (disk full, directory removed).
 void closeWrittenFile(Handle& file, const std::string& path);

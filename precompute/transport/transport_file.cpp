@@ -97,7 +97,7 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   const hsize_t dims[2] = {n, width}, maxDims[2] = {H5S_UNLIMITED, width};
   const hsize_t chunk[2] = {rowsPerChunk(header.rowLength(), header.precision), width};
   h5::Handle space(H5Screate_simple(2, dims, maxDims), H5Sclose);
-  h5::Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  h5::Handle create = h5::datasetCreation();
   h5::check(H5Pset_chunk(create.get(), 2, chunk), ctx, "chunk layout");
   h5::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
   h5::check(H5Pset_chunk_cache(access.get(), 521, 32u << 20, 1.0), ctx, "chunk cache");
