@@ -65,7 +65,7 @@ class ShTransport {
 
   long long rows_ = 0;
   int maxCoefficients_ = 0, latticeSize_ = 0;
-  int channels_ = 1;  ///< 3: R, G and B rows, each fitted on its own
+  int channels_ = 1;              ///< 3: R, G and B rows, each fitted on its own
   Eigen::MatrixXd sh_;            ///< latticeSize x maxCoefficients
   Eigen::MatrixXf shTransposed_;  ///< maxCoefficients x latticeSize, for the frame projection
   std::vector<int> groupOfRow_;
