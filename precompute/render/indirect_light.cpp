@@ -91,13 +91,7 @@ bool sceneIsGrey(const Scene& scene) {
 IndirectLight::IndirectLight(const EmbreeScene& scene, const ShadowRays& shadows, int latticeSize,
                              const Scene& source, const IndirectSettings& settings)
     : scene_(scene), shadows_(shadows), l_(latticeSize), settings_(settings) {
-  Eigen::AlignedBox3d box;
-  for (const auto& m : source.meshes)
-    for (const auto& v : m.vertices) box.extend(v.cast<double>());
-  for (const auto& s : source.spheres) {
-    box.extend(s.center - Vec3::Constant(s.radius));
-    box.extend(s.center + Vec3::Constant(s.radius));
-  }
+  const Eigen::AlignedBox3d box = source.bounds();
   lo_ = box.isEmpty() ? Eigen::Vector3f::Zero() : Eigen::Vector3f(box.min().cast<float>());
   // 2^19 cells per axis at most: the key packs three 19-bit cell indices.
   cell_ = float(std::max(settings.cacheCell * source.extent(), source.extent() / (1 << 19)));

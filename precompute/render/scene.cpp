@@ -14,7 +14,7 @@ long long Scene::triangleCount() const {
   return n;
 }
 
-double Scene::extent() const {
+Eigen::AlignedBox3d Scene::bounds() const {
   Eigen::AlignedBox3d box;
   for (const auto& m : meshes)
     for (const auto& v : m.vertices) box.extend(v.cast<double>());
@@ -22,6 +22,11 @@ double Scene::extent() const {
     box.extend(s.center - Vec3::Constant(s.radius));
     box.extend(s.center + Vec3::Constant(s.radius));
   }
+  return box;
+}
+
+double Scene::extent() const {
+  const Eigen::AlignedBox3d box = bounds();
   return box.isEmpty() ? 1.0 : std::max(1e-6, box.diagonal().norm());
 }
 

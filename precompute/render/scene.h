@@ -67,6 +67,8 @@ struct Scene {
   std::vector<Sphere> spheres;
 
   long long triangleCount() const;
+  /// The bounding box of all geometry (empty for an empty scene).
+  Eigen::AlignedBox3d bounds() const;
   /// Diagonal of the bounding box of all geometry (sets ray offsets).
   double extent() const;
   /// Throws UserError naming the object and what is wrong: non-finite or
