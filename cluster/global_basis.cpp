@@ -113,6 +113,83 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
   return result;
 }
 
+namespace {
+
+/// Rows are zero below their own horizon, and the lattice orders a face by
+/// rows of texels, so about half of a floor pixel's row is zero in whole runs
+/// (the down face, the lower halves of the side faces). The product skips runs
+/// that are zero in every row of a group: rows with the same zero runs are
+/// grouped, and each group meets only the basis rows of its non-zero runs.
+class ZeroRunProduct {
+ public:
+  /// Runs are half faces of the lattice: a side face's lower half is below
+  /// an upward normal's horizon (12 runs per channel, at most 64 in a row).
+  ZeroRunProduct(const GlobalBasis& globalBasis, int latticeSize, int rowLength) {
+    const std::vector<int>& active = globalBasis.active;
+    runLength_ = std::max({1, latticeSize / 12, (rowLength + 63) / 64});
+    runOf_.resize(active.size());
+    for (size_t k = 0; k < active.size(); ++k) runOf_[k] = active[k] / runLength_;
+    basis_.resize(static_cast<Eigen::Index>(active.size()), globalBasis.globalBases());
+    for (size_t k = 0; k < active.size(); ++k) basis_.row(k) = globalBasis.basis.row(active[k]);
+  }
+
+  const RowMatrixF& basis() const { return basis_; }
+
+  /// out = t * basis, t holding the active directions of a block's rows.
+  void multiply(const RowMatrixF& t, Eigen::Ref<RowMatrixF> out) const {
+    const Eigen::Index count = t.rows(), a = t.cols();
+    std::vector<std::uint64_t> runs(count, 0);
+    for (Eigen::Index r = 0; r < count; ++r)
+      for (Eigen::Index k = 0; k < a; ++k)
+        if (t(r, k) != 0) runs[r] |= std::uint64_t{1} << runOf_[k];
+    std::vector<int> order(count);
+    for (Eigen::Index r = 0; r < count; ++r) order[r] = static_cast<int>(r);
+    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return runs[x] < runs[y]; });
+    // Groups of consecutive sorted rows: at least kMinRows (a GEMM that pays
+    // for gathering its basis rows), then only rows adding no non-zero run.
+    constexpr Eigen::Index kMinRows = 256;
+    for (Eigen::Index begin = 0; begin < count;) {
+      std::uint64_t used = runs[order[begin]];
+      Eigen::Index end = begin + 1;
+      while (end < count && (end - begin < kMinRows || (runs[order[end]] & ~used) == 0))
+        used |= runs[order[end++]];
+      multiplyGroup(t, {order.begin() + begin, order.begin() + end}, used, out);
+      begin = end;
+    }
+  }
+
+ private:
+  void multiplyGroup(const RowMatrixF& t, const std::vector<int>& rows, std::uint64_t used,
+                     Eigen::Ref<RowMatrixF> out) const {
+    std::vector<int> columns;
+    for (size_t k = 0; k < runOf_.size(); ++k)
+      if (used >> runOf_[k] & 1) columns.push_back(static_cast<int>(k));
+    const auto n = static_cast<Eigen::Index>(rows.size());
+    if (columns.empty()) {
+      for (int r : rows) out.row(r).setZero();
+      return;
+    }
+    RowMatrixF tg(n, static_cast<Eigen::Index>(columns.size()));
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (size_t c = 0; c < columns.size(); ++c) tg(i, c) = t(rows[i], columns[c]);
+    RowMatrixF product;
+    if (columns.size() == runOf_.size()) {
+      product.noalias() = tg * basis_;
+    } else {
+      RowMatrixF bg(static_cast<Eigen::Index>(columns.size()), basis_.cols());
+      for (size_t c = 0; c < columns.size(); ++c) bg.row(c) = basis_.row(columns[c]);
+      product.noalias() = tg * bg;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) out.row(rows[i]) = product.row(i);
+  }
+
+  int runLength_ = 256;
+  std::vector<int> runOf_;  ///< run of each active direction
+  RowMatrixF basis_;        ///< active directions x N
+};
+
+}  // namespace
+
 GlobalProjection projectOntoBasis(const TransportReader& transport,
                                   const GlobalBasis& globalBasis) {
   const int l = transport.rowLength();
@@ -120,8 +197,8 @@ GlobalProjection projectOntoBasis(const TransportReader& transport,
               l, " directions");
   const std::vector<int>& active = globalBasis.active;
   const int a = static_cast<int>(active.size());
-  Eigen::MatrixXf basis(a, globalBasis.globalBases());
-  for (int k = 0; k < a; ++k) basis.row(k) = globalBasis.basis.row(active[k]);
+  const ZeroRunProduct product(globalBasis, transport.latticeSize(), l);
+  const RowMatrixF& basis = product.basis();
   const long long total = transport.rows();
   GlobalProjection g;
   g.coefficients.resize(total, basis.cols());
@@ -135,13 +212,14 @@ GlobalProjection projectOntoBasis(const TransportReader& transport,
   // (a second product as large as the first). Per row the difference may
   // carry rounding noise of either sign; only sums are used.
   const bool formResidual = 1 - globalBasis.heldOutEnergyKept < 1e-4;
-  streamRowBlocks(transport, rowsPerBlock(transport),
+  // Blocks of a few thousand rows, so that rows sharing zero runs form groups.
+  streamRowBlocks(transport, rowsPerBlock(transport, 48ll << 20),
                   [&](long long first, long long count, const float* block) {
                     RowMatrixF t(count, a);  // the seen directions of the block's rows
                     for (long long r = 0; r < count; ++r)
                       for (int k = 0; k < a; ++k) t(r, k) = block[r * l + active[k]];
                     auto coefficients = g.coefficients.middleRows(first, count);
-                    coefficients.noalias() = t * basis;
+                    product.multiply(t, coefficients);
                     RowMatrixF residual;
                     if (formResidual) {
                       residual = t;

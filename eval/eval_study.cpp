@@ -81,6 +81,15 @@ SweepSettings EvalOptions::defaultSweep() {
   return s;
 }
 
+void EvalOptions::useQuickSweep() {
+  sweep.globalEnergies = {0.999};
+  sweep.tolerances = {0.99, 0.999};
+  sweep.blockSizes = {8, 16};
+  sweep.cpcaClusters = {10, 1000};
+  haarTerms = {50, 200};
+  shOrders = {16, 64};
+}
+
 void validateEvalOptions(const EvalOptions& o) {
   checkSweepMethods(sweptMethods(o));
   for (int k : o.haarTerms)

@@ -31,6 +31,10 @@ struct EvalOptions {
   /// eval's sweep: two global energies, three tolerances, four block sides and
   /// CPCA cluster counts (at the highest energy only: its fits are the slowest).
   static SweepSettings defaultSweep();
+  /// The quick sweep for the headline size (`eval --quick`): every method, one
+  /// global energy, two tolerances, fewer blocks, CPCA counts, Haar terms and
+  /// SH orders; about half an hour at 1024x1024 on two cores (docs/results.md).
+  void useQuickSweep();
 };
 
 /// Throws ParameterError for an unknown method, a non-positive Haar term count,

@@ -14,10 +14,27 @@ struct EvalArgs {
   CommonOptions common;
   std::string input, out;
   std::vector<std::string> shFits{"uls", "cls", "ceb"};
+  bool quick = false;
   EvalOptions options;
+  CLI::App* command = nullptr;
 };
 
+/// --quick sets the sweep's lists the command line left alone.
+void applyQuickSweep(EvalArgs& a) {
+  EvalOptions quick = a.options;
+  quick.useQuickSweep();
+  EvalOptions& o = a.options;
+  const auto given = [&](const char* flag) { return a.command->count(flag) > 0; };
+  if (!given("--global-energies")) o.sweep.globalEnergies = quick.sweep.globalEnergies;
+  if (!given("--tolerances")) o.sweep.tolerances = quick.sweep.tolerances;
+  if (!given("--block-sizes")) o.sweep.blockSizes = quick.sweep.blockSizes;
+  if (!given("--cpca-clusters")) o.sweep.cpcaClusters = quick.sweep.cpcaClusters;
+  if (!given("--haar-terms")) o.haarTerms = quick.haarTerms;
+  if (!given("--sh-orders")) o.shOrders = quick.shOrders;
+}
+
 void run(EvalArgs& a) {
+  if (a.quick) applyQuickSweep(a);
   EvalOptions& o = a.options;
   o.shFits.clear();
   for (const auto& f : a.shFits) o.shFits.push_back(parseShFit(f));
@@ -63,9 +80,14 @@ void registerEval(CLI::App& app) {
   sub->add_option("--sh-groups", o.shGroups,
                   "Cube resolution the rows' normals are grouped on for the SH fits (1..64)")
       ->check(CLI::Range(1, 64));
+  sub->add_flag("--quick", args->quick,
+                "The quick sweep for large images: g 0.999, tolerances 0.99 and 0.999, blocks 8 "
+                "and 16, CPCA K = 10 and 1000, Haar k = 50 and 200, SH n = 16 and 64 (lists "
+                "given on the command line win)");
   sub->add_option("--frames", o.sweep.timingFrames, "Timed frames per setting (median)")
       ->check(CLI::PositiveNumber);
   args->common.add(*sub);
+  args->command = sub;
   sub->callback([args] { run(*args); });
 }
 

@@ -125,6 +125,29 @@ TEST_F(Reports, EvalWritesEveryFileWithOneRowPerMethodSettingAndMap) {
   EXPECT_NE(summary.str().find("## Who wins"), std::string::npos);
 }
 
+TEST_F(Reports, QuickEvalSweepsItsListsAndKeepsTheOnesGiven) {
+  TempDir out;
+  // --quick: one global energy (0.999) and tolerances 0.99, 0.999; a list on
+  // the command line (here the block sides) wins over the quick one.
+  const RunResult r = runCli("eval " + transport() + " --env sky --out " + out.file("r") +
+                             " --quick --methods block,haar --block-sizes 4 --frames 1 --quiet"
+                             " --json " +
+                             out.file("eval.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto json = nlohmann::json::parse(std::ifstream(out.file("eval.json")));
+  std::set<std::pair<double, double>> blockSettings;
+  std::set<std::string> haarSettings;
+  for (const auto& row : json["results"]) {
+    if (row["method"] == "block") {
+      EXPECT_EQ(row["setting"], "B=4");
+      blockSettings.insert({row["global_energy"].get<double>(), row["tolerance"].get<double>()});
+    }
+    if (row["method"] == "haar") haarSettings.insert(row["setting"].get<std::string>());
+  }
+  EXPECT_EQ(blockSettings, (std::set<std::pair<double, double>>{{0.999, 0.99}, {0.999, 0.999}}));
+  EXPECT_EQ(haarSettings.size(), 2u);  // k = 50 and 200
+}
+
 TEST_F(Reports, EvalRefusesUnknownMethodsBeforeWorking) {
   TempDir out;
   expectFailure("eval " + transport() + " --methods global,wavelets --out " + out.file("r"),

@@ -5,6 +5,7 @@
 
 #include "cluster/compress.h"
 #include "cluster/cost_model.h"
+#include "cluster/global_basis.h"
 #include "cluster/model_file.h"
 #include "cluster/model_reference.h"
 #include "cluster/rank_allocation.h"
@@ -290,6 +291,35 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
     ADD_FAILURE() << "a model whose products overflow was accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GlobalProjection, SkippingZeroRunsGivesTheFullProduct) {
+  // The projection multiplies each group of rows without the lattice runs that
+  // are zero in all of them; the result must be T V_g itself, for one row per
+  // pixel and for R, G and B rows, and the plant's rows must have such runs.
+  for (const char* name : {"small-plant", "bounced-plant"}) {
+    const TransportReader t(test::fixture(name));
+    const GlobalBasis basis = computeGlobalBasis(t, {0.999, 16384, 1});
+    const GlobalProjection g = projectOntoBasis(t, basis);
+    const int l = t.rowLength();
+    std::vector<float> rows(static_cast<size_t>(t.rows()) * l);
+    t.readRows(0, t.rows(), rows.data());
+    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        dense(rows.data(), t.rows(), l);
+    const Eigen::MatrixXd exact = dense.cast<double>() * basis.basis.cast<double>();
+    ASSERT_EQ(g.coefficients.rows(), exact.rows());
+    double worst = 0;
+    for (Eigen::Index r = 0; r < exact.rows(); ++r) {
+      const double scale = dense.row(r).cast<double>().norm() + 1e-30;
+      worst = std::max(worst, (g.coefficients.row(r).cast<double>() - exact.row(r)).norm() / scale);
+    }
+    EXPECT_LT(worst, 1e-5) << name;
+    const int half = t.latticeSize() / 12;  // half a face: the product's run
+    long long zeroRuns = 0;
+    for (Eigen::Index r = 0; r < dense.rows(); ++r)
+      for (int j = 0; j + half <= l; j += half) zeroRuns += dense.row(r).segment(j, half).isZero(0);
+    EXPECT_GT(zeroRuns, dense.rows() * (l / half) / 5) << name << ": too few zero runs to test";
   }
 }
 
