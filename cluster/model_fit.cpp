@@ -14,8 +14,12 @@ namespace acpca {
 
 namespace {
 
+/// A fitted cluster. Its basis is kept in float, as the model stores it (not
+/// in pca.basis, left empty): with a thousand clusters of rank ~170 over
+/// N ~ 2000 the bases in double alone were 3.8 GB at 1024x1024.
 struct ClusterFit {
   PcaResult pca;
+  Eigen::MatrixXf basis;         // N x n
   Eigen::MatrixXf coefficients;  // p x n
 };
 
@@ -55,8 +59,8 @@ ClusterFit fitLargeCluster(const RowMatrixF& g, const std::vector<int>& rows, do
   pca.eigenvalues = eig.values;
   pca.rank = pca.totalEnergy > 0 ? rankForEnergy(eig.values, pca.totalEnergy, tolerance) : 0;
   pca.residualEnergy = std::max(0.0, pca.totalEnergy - eig.values.head(pca.rank).sum());
-  pca.basis = eig.vectors.leftCols(pca.rank);
-  const Eigen::MatrixXf basis = pca.basis.cast<float>();
+  fit.basis = eig.vectors.leftCols(pca.rank).cast<float>();
+  const Eigen::MatrixXf& basis = fit.basis;
   const Eigen::RowVectorXf mean = pca.mean.cast<float>();
   fit.coefficients.resize(p, pca.rank);
   tbb::parallel_for(0LL, (p + kBlock - 1) / kBlock, [&](long long b) {
@@ -86,7 +90,7 @@ ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, do
   PcaResult& pca = fit.pca;
   pca.mean = centred.mean;
   pca.totalEnergy = centred.energy;
-  pca.basis.resize(n, 0);
+  fit.basis.resize(n, 0);
   fit.coefficients.resize(p, 0);
   if (p == 0 || pca.totalEnergy == 0) {
     pca.eigenvalues = Eigen::VectorXd::Zero(std::min<long long>(p, n));
@@ -97,7 +101,7 @@ ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, do
   const SymmetricEigenF eig = symmetricEigenFloat(gram, true);
   pca.eigenvalues = eig.values;
   pca.rank = rankForEnergy(eig.values, pca.totalEnergy, tolerance);
-  Eigen::MatrixXf basis;
+  Eigen::MatrixXf& basis = fit.basis;
   if (viaRows) {  // v_k = x^T u_k / sigma_k
     basis = x.transpose() * eig.vectors.leftCols(pca.rank);
     for (int k = 0; k < pca.rank; ++k) basis.col(k).normalize();
@@ -105,7 +109,6 @@ ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, do
     basis = eig.vectors.leftCols(pca.rank);
   }
   fit.coefficients = x * basis;
-  pca.basis = basis.cast<double>();
   pca.residualEnergy =
       std::max(0.0, pca.totalEnergy - fit.coefficients.cast<double>().squaredNorm());
   return fit;
@@ -174,6 +177,8 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
       rows.row(i) = projection.coefficients.row(partition[c][i]).cast<double>();
     fits[c].pca = pcaToTolerance(rows, tolerance, options.mean, true);
     fits[c].coefficients = ((rows.rowwise() - fits[c].pca.mean) * fits[c].pca.basis).cast<float>();
+    fits[c].basis = fits[c].pca.basis.cast<float>();
+    fits[c].pca.basis.resize(0, 0);
   });
   if (options.allocateRanks) {
     std::vector<Eigen::VectorXd> spectra;
@@ -191,7 +196,7 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
       const int r = std::min(ranks[c], f.pca.rank);
       f.pca.residualEnergy = std::max(0.0, f.pca.totalEnergy - f.pca.eigenvalues.head(r).sum());
       f.pca.rank = r;
-      f.pca.basis = f.pca.basis.leftCols(r).eval();
+      f.basis = f.basis.leftCols(r).eval();
       f.coefficients = f.coefficients.leftCols(r).eval();
     }
   }
@@ -200,6 +205,13 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
   m.basisOffsets.push_back(0);
   m.coefficientOffsets.push_back(0);
   m.means.assign(static_cast<size_t>(clusters) * n, 0.0f);
+  size_t basisValues = 0, coefficientValues = 0;  // reserved: no doubling while appending
+  for (const ClusterFit& f : fits) {
+    basisValues += static_cast<size_t>(f.basis.size());
+    coefficientValues += static_cast<size_t>(f.coefficients.size());
+  }
+  m.bases.reserve(basisValues);
+  m.coeffF32.reserve(coefficientValues);
   double clusterResidual = 0, quantizationError = 0;
   for (int c = 0; c < clusters; ++c) {
     ClusterFit& f = fits[c];
@@ -207,8 +219,7 @@ Model buildModel(const TransportHeader& geometry, const GlobalBasis& basis,
     m.clusterRows.insert(m.clusterRows.end(), partition[c].begin(), partition[c].end());
     m.rowOffsets.push_back(m.clusterRows.size());
     m.ranks.push_back(rank);
-    const Eigen::MatrixXf b = f.pca.basis.cast<float>();
-    m.bases.insert(m.bases.end(), b.data(), b.data() + b.size());
+    m.bases.insert(m.bases.end(), f.basis.data(), f.basis.data() + f.basis.size());
     m.basisOffsets.push_back(m.bases.size());
     for (int k = 0; k < n; ++k) m.means[static_cast<size_t>(c) * n + k] = float(f.pca.mean[k]);
     clusterResidual += f.pca.residualEnergy;

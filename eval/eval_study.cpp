@@ -86,6 +86,7 @@ void EvalOptions::useQuickSweep() {
   sweep.tolerances = {0.99, 0.999};
   sweep.blockSizes = {8, 16};
   sweep.cpcaClusters = {10, 1000};
+  sweep.cpcaMatchingBinary = true;  // the paper's comparison at the same K
   haarTerms = {50, 200};
   shOrders = {16, 64};
 }

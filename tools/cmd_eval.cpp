@@ -82,7 +82,8 @@ void registerEval(CLI::App& app) {
       ->check(CLI::Range(1, 64));
   sub->add_flag("--quick", args->quick,
                 "The quick sweep for large images: g 0.999, tolerances 0.99 and 0.999, blocks 8 "
-                "and 16, CPCA K = 10 and 1000, Haar k = 50 and 200, SH n = 16 and 64 (lists "
+                "and 16, CPCA K = 10, 1000 and adaptive-binary's count, Haar k = 50 and 200, SH n "
+                "= 16 and 64 (lists "
                 "given on the command line win)");
   sub->add_option("--frames", o.sweep.timingFrames, "Timed frames per setting (median)")
       ->check(CLI::PositiveNumber);
