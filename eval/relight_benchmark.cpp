@@ -49,6 +49,16 @@ struct Measured {
 /// Times the first lighting; relights the others once, for the errors. With
 /// everyLevel, also times the first lighting with each other kernel level the
 /// CPU runs (rows named for their level, no error).
+/// Models and transports are compared pixel by pixel: they must cover the
+/// same pixels of the same image (a transport made again by another build
+/// may cover a few more or fewer).
+void requireSameImage(const std::string& path, const std::vector<std::int32_t>& pixels,
+                      const std::string& reference, const std::vector<std::int32_t>& expected) {
+  if (pixels != expected)
+    throw UserError(concat(path, ": covers ", pixels.size(), " pixels, not the ", expected.size(),
+                           " of ", reference, ": not made from the same transport"));
+}
+
 std::vector<Measured> measureModel(const std::string& path,
                                    const std::vector<LatticeLighting>& lightings, int frames,
                                    bool everyLevel = false) {
@@ -102,6 +112,14 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
   Measured main;
   {
     const Model header = readModel(a.model);
+    // Every file is checked before any is timed.
+    for (const auto& path : a.baselines) {
+      if (!isModelFile(path)) throw UserError(concat(path, ": not an adaptive-cpca model file"));
+      requireSameImage(path, readModel(path).geometry.pixels, a.model, header.geometry.pixels);
+    }
+    if (!a.transport.empty())
+      requireSameImage(a.transport, TransportReader(a.transport).header().pixels, a.model,
+                       header.geometry.pixels);
     const CubeLattice lattice(header.geometry.cubemapResolution);
     std::vector<LatticeLighting> lightings;
     for (const auto& e : envs)
@@ -114,9 +132,6 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
 
     if (!a.transport.empty()) {
       const TransportReader reader(a.transport);
-      if (reader.rows() != static_cast<long long>(main.images[0].size() / 3))
-        throw UserError(concat(a.transport, ": ", reader.rows(), " rows, but the model has ",
-                               main.images[0].size() / 3, ": not the same image"));
       const Stopwatch load;
       SparseTransport sparse(reader);
       const double loadSeconds = load.seconds();

@@ -29,6 +29,7 @@ void applyQuickSweep(EvalArgs& a) {
   if (!given("--tolerances")) o.sweep.tolerances = quick.sweep.tolerances;
   if (!given("--block-sizes")) o.sweep.blockSizes = quick.sweep.blockSizes;
   if (!given("--cpca-clusters")) o.sweep.cpcaClusters = quick.sweep.cpcaClusters;
+  o.sweep.cpcaMatchingBinary = quick.sweep.cpcaMatchingBinary;
   if (!given("--haar-terms")) o.haarTerms = quick.haarTerms;
   if (!given("--sh-orders")) o.shOrders = quick.shOrders;
 }

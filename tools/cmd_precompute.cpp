@@ -2,6 +2,7 @@
 #include <iostream>
 #include <optional>
 
+#include "core/ranks.h"
 #include "precompute/render/scene.h"
 #include "precompute/render/transport_renderer.h"
 #include "tools/cli_common.h"
@@ -36,26 +37,34 @@ void run(const PrecomputeArgs& a) {
   applyCameraSpec(scene, a.camera);
   scene.validate();
 
-  for (const auto& w : samplingWarnings(scene, options)) std::cerr << "warning: " << w << "\n";
+  if (ranks::rank() == 0)
+    for (const auto& w : samplingWarnings(scene, options)) std::cerr << "warning: " << w << "\n";
 
   ThreadLimit limit(a.common.threads);
-  Progress progress("precompute " + scene.name, "rows", a.common.quiet);
+  // Under mpirun every rank renders; rank 0 writes and reports.
+  const bool lead = ranks::rank() == 0;
+  const bool quiet = a.common.quiet || !lead;
+  Progress progress("precompute " + scene.name, "rows", quiet);
   std::optional<Progress> cacheProgress, cacheFillProgress;
   options.cacheProgress = [&](long long done, long long total) {
-    if (!cacheProgress)
-      cacheProgress.emplace("indirect cache: paths", "image rows", a.common.quiet);
+    if (!cacheProgress) cacheProgress.emplace("indirect cache: paths", "image rows", quiet);
     cacheProgress->update(done, total);
     if (done == total) cacheProgress->finish();
   };
   options.cacheFillProgress = [&](long long done, long long total) {
     if (!cacheFillProgress)
-      cacheFillProgress.emplace("indirect cache: visibility", "points", a.common.quiet);
+      cacheFillProgress.emplace("indirect cache: visibility", "points", quiet);
     cacheFillProgress->update(done, total);
     if (done == total) cacheFillProgress->finish();
   };
   options.progress = [&](long long done, long long total) { progress.update(done, total); };
+  options.log = [&](const std::string& line) {
+    // One write per line: the ranks share mpirun's stderr.
+    if (!a.common.quiet) std::cerr << ("precompute: " + line + "\n");
+  };
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
   progress.finish();
+  if (!lead) return;
 
   const double raysPerSecond = stats.raysPerSecond();
   if (!a.common.quiet)
@@ -64,7 +73,9 @@ void run(const PrecomputeArgs& a) {
               << 6 * a.cubemap * a.cubemap << " directions, " << formatBytes(stats.bytesWritten)
               << " of rows; " << stats.occlusionRays << " occlusion rays in "
               << stats.transportSeconds << " s (" << raysPerSecond / 1e6 << " M rays/s, "
-              << stats.threadsUsed << " threads), total " << stats.seconds << " s, peak memory "
+              << stats.threadsUsed << " threads"
+              << (ranks::distributed() ? concat(" over ", ranks::count(), " ranks") : std::string())
+              << "), total " << stats.seconds << " s, peak memory "
               << formatBytes(peakMemoryBytes()) << "; " << stats.supersampledPixels
               << " pixels traced at " << a.spp << " samples, the rest at 1\n";
   if (a.bounces > 0 && !a.common.quiet)
@@ -96,6 +107,7 @@ void run(const PrecomputeArgs& a) {
                                 {"transport_seconds", stats.transportSeconds},
                                 {"seconds", stats.seconds},
                                 {"threads_used", stats.threadsUsed},
+                                {"ranks", ranks::count()},
                                 {"row_bytes", stats.bytesWritten},
                                 {"bounces", a.bounces},
                                 {"indirect_samples", a.indirectSamples},

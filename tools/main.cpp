@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/ranks.h"
 #include "core/warning.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -54,10 +55,25 @@ void refuseUnknownSubcommand(const CLI::App& app, int argc, char** argv) {
                          " (adaptive-cpca --help lists them)"));
 }
 
+/// Under `mpirun -np K` with K > 1 only the commands that deal their work over
+/// ranks may run; any other would run K times and race for its outputs.
+void refuseUndistributedCommand(int argc, char** argv) {
+  if (!ranks::distributed() || argc < 2) return;
+  const std::string word = argv[1];
+  if (word == "precompute" || word == "--help" || word == "-h" || word == "--version") return;
+  throw UserError(concat("'", word, "' does not run over MPI ranks (this job has ", ranks::count(),
+                         "); only precompute does: run ", word, " as one process"));
+}
+
 }  // namespace
 }  // namespace acpca::cli
 
 int main(int argc, char** argv) {
+  // mpirun -np K: MPI starts here and ends when main returns.
+  acpca::ranks::Session mpi(argc, argv);
+  // A failing rank ends the whole job: the others may be waiting on it.
+  const auto fail = [](int code) { return acpca::ranks::abortAll(code); };
+  const std::string rank = acpca::ranks::prefix();
   CLI::App app{"adaptive-cpca: relight fixed-view images under all-frequency environment lighting"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "adaptive-cpca 0.1.0");
@@ -76,18 +92,20 @@ int main(int argc, char** argv) {
       [](const std::string& text) { std::cerr << "adaptive-cpca: warning: " << text << "\n"; });
   try {
     acpca::cli::refuseUnknownSubcommand(app, argc, argv);
+    acpca::cli::refuseUndistributedCommand(argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return code == 0 ? 0 : fail(code);
   } catch (const acpca::ParameterError& e) {
-    std::cerr << "adaptive-cpca: error: " << acpca::cli::messageWithFlag(e) << "\n";
-    return 1;
+    std::cerr << "adaptive-cpca: " << rank << "error: " << acpca::cli::messageWithFlag(e) << "\n";
+    return fail(1);
   } catch (const acpca::UserError& e) {
-    std::cerr << "adaptive-cpca: error: " << e.what() << "\n";
-    return 1;
+    std::cerr << "adaptive-cpca: " << rank << "error: " << e.what() << "\n";
+    return fail(1);
   } catch (const std::exception& e) {
-    std::cerr << "adaptive-cpca: internal error: " << e.what() << "\n";
-    return 3;
+    std::cerr << "adaptive-cpca: " << rank << "internal error: " << e.what() << "\n";
+    return fail(3);
   }
   return 0;
 }

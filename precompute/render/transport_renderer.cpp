@@ -8,13 +8,18 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "core/error.h"
 #include "core/ordered_pipeline.h"
+#include "core/ranks.h"
 #include "core/stopwatch.h"
 #include "precompute/render/embree_scene.h"
 #include "precompute/render/indirect_light.h"
@@ -161,9 +166,9 @@ int arenaThreads(int threads) {
 /// Runs the band pipeline over image rows [firstBand, lastBand) * kBandRows: bands are
 /// computed in parallel and handed to `sink` in order (so output is identical for
 /// any thread count).
-template <typename Sink>
-PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBand, int threads,
-                         Sink&& sink) {
+template <typename Sink, typename OnStart>
+PrecomputeStats runBands(const BandRenderer& renderer, const std::vector<int>& bands, int threads,
+                         Sink&& sink, OnStart&& onStart) {
   struct Slot {
     int y0 = 0;
     BandRenderer::Counts counts;
@@ -171,13 +176,14 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
   };
   std::atomic<unsigned long long> threadMask{0};
   std::atomic<long long> shadowRays{0}, pathRays{0}, supersampled{0};
-  int next = firstBand;
+  size_t next = 0;
   const Stopwatch watch;
   runOrderedPipeline<Slot>(
       2 * threads,
       [&](Slot& slot) {
-        if (next >= lastBand) return false;
-        slot.y0 = kBandRows * next++;
+        if (next >= bands.size()) return false;
+        onStart(bands[next]);
+        slot.y0 = kBandRows * bands[next++];
         return true;
       },
       [&](Slot& slot) {
@@ -194,6 +200,69 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
   stats.pathRays = pathRays;
   stats.supersampledPixels = supersampled;
   stats.threadsUsed = std::popcount(threadMask.load());
+  return stats;
+}
+
+template <typename Sink>
+PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBand, int threads,
+                         Sink&& sink) {
+  std::vector<int> bands(std::max(0, lastBand - firstBand));
+  std::iota(bands.begin(), bands.end(), firstBand);
+  return runBands(renderer, bands, threads, sink, [](int) {});
+}
+
+/// Bands per tile, the unit an MPI job deals to its ranks (tile t goes to rank
+/// t mod K): a few dozen tiles per image keep the ranks evenly loaded.
+constexpr int kTileBands = 16 / kBandRows;
+
+/// Writes every band of the image in order, the bands of an MPI job's other
+/// ranks received from them (rank 0), or renders this rank's tiles and sends
+/// them to rank 0 (the others). A single process renders and writes them all.
+/// The rows of a band never depend on who renders it, so the file does not
+/// depend on the rank count. Returns this rank's counts.
+PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int threads,
+                               const std::function<void(const std::vector<float>&)>& write,
+                               const PrecomputeOptions& options) {
+  const int bandCount = (height + kBandRows - 1) / kBandRows;
+  const int rank = ranks::rank(), count = ranks::count();
+  const auto owner = [&](int band) { return band / kTileBands % count; };
+  std::vector<int> mine;
+  for (int band = 0; band < bandCount; ++band)
+    if (owner(band) == rank) mine.push_back(band);
+  // A fault-injection switch for the tests: the rank that starts this band dies.
+  const char* fault = std::getenv("ACPCA_FAULT_BAND");
+  const int faultBand = fault ? std::atoi(fault) : -1;
+  const auto onStart = [&](int band) {
+    if (count > 1 && band % kTileBands == 0 && options.log)
+      options.log(concat(ranks::prefix(), "starts tile ", band / kTileBands, " (image rows ",
+                         band * kBandRows, "-",
+                         std::min(height, (band + kTileBands) * kBandRows) - 1, ")"));
+    if (band == faultBand) {
+      if (options.log) options.log(concat(ranks::prefix(), "fault injected at band ", band));
+      std::raise(SIGKILL);
+    }
+  };
+  const auto tag = [](int band) { return band % 32767; };  // MPI guarantees tags up to 32767
+  size_t mineDone = 0;
+  int nextToWrite = 0;
+  const auto writeOthersBefore = [&](int end) {
+    for (; nextToWrite < end; ++nextToWrite)
+      write(ranks::receive(owner(nextToWrite), tag(nextToWrite)));
+  };
+  PrecomputeStats stats = runBands(
+      renderer, mine, threads,
+      [&](const std::vector<float>& rows) {
+        const int band = mine[mineDone++];
+        if (rank == 0) {
+          writeOthersBefore(band);
+          write(rows);
+          nextToWrite = band + 1;
+        } else {
+          ranks::send(0, tag(band), rows);
+        }
+      },
+      onStart);
+  if (rank == 0) writeOthersBefore(bandCount);
   return stats;
 }
 
@@ -309,21 +378,31 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
         header.normals.insert(header.normals.end(), n.data(), n.data() + 3);
       }
 
-    TransportWriter writer(outPath, header);
+    // Only rank 0 of an MPI job writes; every rank builds the same header.
+    std::optional<TransportWriter> writer;
+    if (ranks::rank() == 0) writer.emplace(outPath, header);
     const BandRenderer& renderer = pass.renderer;
-    PrecomputeStats cache;
+    PrecomputeStats cache;  // each rank builds the same cache (same paths, same order)
     if (pass.indirect && options.indirectCacheCell > 0)
       buildIndirectCache(renderer, *pass.indirect, size.height, threads, cache, options);
     long long written = 0;
-    const int bands = (size.height + kBandRows - 1) / kBandRows;
-    PrecomputeStats stats =
-        runBands(renderer, 0, bands, threads, [&](const std::vector<float>& rows) {
+    PrecomputeStats stats = renderAllBands(
+        renderer, size.height, threads,
+        [&](const std::vector<float>& rows) {
           const long long count = static_cast<long long>(rows.size()) / renderer.rowLength();
-          writer.writeRows(written, count, rows.data());
+          writer->writeRows(written, count, rows.data());
           written += count;
           if (options.progress) options.progress(written, header.rows());
-        });
-    writer.finish();
+        },
+        options);
+    stats.occlusionRays = ranks::sum(stats.occlusionRays);
+    stats.pathRays = ranks::sum(stats.pathRays);
+    stats.supersampledPixels = ranks::sum(stats.supersampledPixels);
+    stats.threadsUsed = static_cast<int>(ranks::sum(stats.threadsUsed));
+    if (writer) {
+      writer->finish();
+      stats.bytesWritten = writer->bytesWritten();
+    }
     stats.cachePoints = cache.cachePoints;
     stats.cacheRays = cache.cacheRays;
     stats.cacheSeconds = cache.cacheSeconds;
@@ -331,7 +410,6 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     stats.triangles = scene.triangleCount();
     stats.degenerateTriangles = embree.degenerateTriangles();
     stats.occupiedPixels = header.rows();
-    stats.bytesWritten = writer.bytesWritten();
     stats.seconds = watch.seconds();
     return stats;
   });

@@ -48,6 +48,8 @@ struct PrecomputeOptions {
   double indirectCacheCell = kDefaultIndirectCacheCell;
   /// Called from one thread as rows are written: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
+  /// Lines worth a log (under MPI: which rank starts which tile).
+  std::function<void(const std::string&)> log;
   /// The same for the indirect cache: its pre-pass (image rows done, in total),
   /// then its visibility (points done, in total).
   std::function<void(long long, long long)> cacheProgress, cacheFillProgress;

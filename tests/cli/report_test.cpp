@@ -130,7 +130,8 @@ TEST_F(Reports, QuickEvalSweepsItsListsAndKeepsTheOnesGiven) {
   // --quick: one global energy (0.999) and tolerances 0.99, 0.999; a list on
   // the command line (here the block sides) wins over the quick one.
   const RunResult r = runCli("eval " + transport() + " --env sky --out " + out.file("r") +
-                             " --quick --methods block,haar --block-sizes 4 --frames 1 --quiet"
+                             " --quick --methods block,haar,adaptive-binary,cpca --block-sizes 4"
+                             " --cpca-clusters 3 --frames 1 --quiet"
                              " --json " +
                              out.file("eval.json"));
   ASSERT_EQ(r.status, 0) << r.output;
@@ -146,6 +147,29 @@ TEST_F(Reports, QuickEvalSweepsItsListsAndKeepsTheOnesGiven) {
   }
   EXPECT_EQ(blockSettings, (std::set<std::pair<double, double>>{{0.999, 0.99}, {0.999, 0.999}}));
   EXPECT_EQ(haarSettings.size(), 2u);  // k = 50 and 200
+  // CPCA with K = 3 and with as many clusters as adaptive binary found, at
+  // both tolerances.
+  int cpcaSettings = 0;
+  for (const auto& row : json["results"]) cpcaSettings += row["method"] == "cpca";
+  EXPECT_EQ(cpcaSettings, 4);
+}
+
+TEST_F(Reports, RelightBenchRefusesFilesOfAnotherImageByName) {
+  TempDir out;
+  const std::string model = out.file("m.h5"), other = out.file("other.h5");
+  ASSERT_EQ(runCli("compress " + transport() + " --method global --quiet --out " + model).status,
+            0);
+  ASSERT_EQ(runCli("precompute --scene plant --size 24x24 --cubemap 8 --quiet --out " +
+                   out.file("t24.h5"))
+                .status,
+            0);
+  ASSERT_EQ(
+      runCli("compress " + out.file("t24.h5") + " --method global --quiet --out " + other).status,
+      0);
+  expectFailure("bench relight " + model + " --baseline " + other + " --frames 1",
+                "other.h5: covers");
+  expectFailure("bench relight " + model + " --transport " + out.file("t24.h5") + " --frames 1",
+                "t24.h5: covers");
 }
 
 TEST_F(Reports, EvalRefusesUnknownMethodsBeforeWorking) {

@@ -1,0 +1,132 @@
+#include "core/ranks.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "core/error.h"
+
+#ifdef ACPCA_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace acpca::ranks {
+
+namespace {
+
+int thisRank = 0, rankCount = 1;
+
+#ifdef ACPCA_WITH_MPI
+bool started = false;
+
+/// mpirun (Open MPI, or a PMI/PMIx launcher) leaves these in each rank's
+/// environment; a plain start has none, and skips MPI_Init's start-up cost.
+bool launchedByMpirun() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
+constexpr long long kChunk = 1ll << 28;  // floats per message: counts are ints
+#endif
+
+}  // namespace
+
+Session::Session(int& argc, char**& argv) {
+#ifdef ACPCA_WITH_MPI
+  if (!launchedByMpirun()) return;
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
+  started = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &thisRank);
+  MPI_Comm_size(MPI_COMM_WORLD, &rankCount);
+#else
+  (void)argc;
+  (void)argv;
+#endif
+}
+
+Session::~Session() {
+#ifdef ACPCA_WITH_MPI
+  if (started) MPI_Finalize();
+#endif
+}
+
+int rank() {
+  return thisRank;
+}
+
+int count() {
+  return rankCount;
+}
+
+bool built() {
+#ifdef ACPCA_WITH_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+void send(int to, int tag, const std::vector<float>& values) {
+#ifdef ACPCA_WITH_MPI
+  long long size = static_cast<long long>(values.size());
+  MPI_Send(&size, 1, MPI_LONG_LONG, to, tag, MPI_COMM_WORLD);
+  for (long long first = 0; first < size; first += kChunk)
+    MPI_Send(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), MPI_FLOAT, to,
+             tag, MPI_COMM_WORLD);
+#else
+  (void)to, (void)tag, (void)values;
+  ACPCA_CHECK(false, "send without MPI");
+#endif
+}
+
+std::vector<float> receive(int from, int tag) {
+#ifdef ACPCA_WITH_MPI
+  long long size = 0;
+  MPI_Recv(&size, 1, MPI_LONG_LONG, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<float> values(static_cast<size_t>(size));
+  for (long long first = 0; first < size; first += kChunk)
+    MPI_Recv(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), MPI_FLOAT,
+             from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return values;
+#else
+  (void)from, (void)tag;
+  ACPCA_CHECK(false, "receive without MPI");
+  return {};
+#endif
+}
+
+long long sum(long long value) {
+#ifdef ACPCA_WITH_MPI
+  if (rankCount > 1) {
+    long long total = 0;
+    MPI_Allreduce(&value, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    return total;
+  }
+#endif
+  return value;
+}
+
+int max(int value) {
+#ifdef ACPCA_WITH_MPI
+  if (rankCount > 1) {
+    int largest = 0;
+    MPI_Allreduce(&value, &largest, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return largest;
+  }
+#endif
+  return value;
+}
+
+int abortAll(int code) {
+#ifdef ACPCA_WITH_MPI
+  if (rankCount > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  return code;
+}
+
+std::string prefix() {
+  return rankCount > 1 ? concat("rank ", thisRank, " of ", rankCount, ": ") : std::string();
+}
+
+}  // namespace acpca::ranks

@@ -1,0 +1,48 @@
+#pragma once
+// The ranks of an MPI job (`mpirun -np K adaptive-cpca ...`). A process that
+// mpirun did not start, or a build without MPI (ACPCA_MPI off), is rank 0 of
+// 1, and every function here is then a no-op or an identity: callers need no
+// #ifdef. Only one thread at a time may call these (MPI_THREAD_SERIALIZED).
+#include <string>
+#include <vector>
+
+namespace acpca::ranks {
+
+/// Lives in main(): starts MPI when mpirun started the process (its
+/// environment says so) and ends it on the way out.
+class Session {
+ public:
+  Session(int& argc, char**& argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+int rank();
+int count();
+inline bool distributed() {
+  return count() > 1;
+}
+/// Whether this build can run distributed at all.
+bool built();
+
+/// Sends floats to rank `to` under `tag` (blocks until the receiver has
+/// them when they are large: the receiver's pace bounds the memory in flight).
+void send(int to, int tag, const std::vector<float>& values);
+/// Receives what `send` sent from rank `from` under `tag`, whatever its length.
+std::vector<float> receive(int from, int tag);
+
+/// The sum over every rank (integers: exact, whatever the order).
+long long sum(long long value);
+/// The largest value over every rank.
+int max(int value);
+
+/// Ends every rank of the job with this exit code (a rank that failed while
+/// others wait on it must not wait in MPI_Finalize); returns the code as is
+/// when not distributed.
+int abortAll(int code);
+
+/// "rank 2 of 3: " under mpirun, "" otherwise: for messages that name a rank.
+std::string prefix();
+
+}  // namespace acpca::ranks
