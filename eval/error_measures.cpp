@@ -48,6 +48,14 @@ double costAtError(std::vector<ErrorCostPoint> points, double target) {
   return -1;
 }
 
+double costBoundAtError(const std::vector<ErrorCostPoint>& points, double target) {
+  double bound = -1;
+  for (const auto& p : points)
+    if (p.error > 0 && p.error <= target && p.cost > 0 && (bound < 0 || p.cost < bound))
+      bound = p.cost;
+  return bound;
+}
+
 std::vector<std::string> hdriSearchPath() {
   std::vector<std::string> dirs;
   const char* path = std::getenv("ACPCA_HDRI_PATH");

@@ -22,6 +22,10 @@ struct ErrorCostPoint {
 /// (cheapest cost for at most a given error) linearly in log-log between the
 /// two settings that bracket the target. Negative when no two settings bracket it.
 double costAtError(std::vector<ErrorCostPoint> points, double targetError);
+/// When no two settings bracket the target but some are already more accurate:
+/// the cost of the cheapest of those, an upper bound on the cost of reaching
+/// the target (the method gets there at most that dear). Negative otherwise.
+double costBoundAtError(const std::vector<ErrorCostPoint>& points, double targetError);
 
 /// Where the evaluation set's HDRIs are looked for: the directories of
 /// $ACPCA_HDRI_PATH (colon-separated) when set, else the world maps of Debian's

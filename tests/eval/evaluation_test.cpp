@@ -54,5 +54,14 @@ TEST(Evaluation, CostAtErrorInterpolatesTheParetoFrontInLogLog) {
   EXPECT_LT(costAtError(points, 0.0001), 0);                   // below the sweep
 }
 
+TEST(Evaluation, CostBoundAtErrorIsTheCheapestSettingAlreadyThatAccurate) {
+  // Every setting below 1%: reaching 1% costs at most the cheapest of them.
+  const std::vector<ErrorCostPoint> accurate{{0.008, 420}, {0.006, 760}, {0.009, 500}};
+  EXPECT_LT(costAtError(accurate, 0.01), 0);
+  EXPECT_EQ(costBoundAtError(accurate, 0.01), 420);
+  EXPECT_EQ(costBoundAtError(accurate, 0.007), 760);  // only one setting that accurate
+  EXPECT_LT(costBoundAtError(accurate, 0.005), 0);    // none
+}
+
 }  // namespace
 }  // namespace acpca
