@@ -211,13 +211,16 @@ PrecomputeStats runBands(const BandRenderer& renderer, int firstBand, int lastBa
   return runBands(renderer, bands, threads, sink, [](int) {});
 }
 
-/// Bands per tile, the unit an MPI job deals to its ranks (tile t goes to rank
-/// t mod K): a few dozen tiles per image keep the ranks evenly loaded.
+/// Bands per tile, the unit an MPI job's log names (16 image rows).
 constexpr int kTileBands = 16 / kBandRows;
 
 /// Writes every band of the image in order, the bands of an MPI job's other
-/// ranks received from them (rank 0), or renders this rank's tiles and sends
+/// ranks received from them (rank 0), or renders this rank's bands and sends
 /// them to rank 0 (the others). A single process renders and writes them all.
+/// Bands are dealt round robin (band b to rank b mod K): rank 0 writes in band
+/// order and a sender waits until its band's turn, so every rank can run
+/// ahead of the writer by its pipeline's few bands only, and round robin keeps
+/// them all inside that window (whole tiles per rank ran one rank at a time).
 /// The rows of a band never depend on who renders it, so the file does not
 /// depend on the rank count. Returns this rank's counts.
 PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int threads,
@@ -225,7 +228,7 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
                                const PrecomputeOptions& options) {
   const int bandCount = (height + kBandRows - 1) / kBandRows;
   const int rank = ranks::rank(), count = ranks::count();
-  const auto owner = [&](int band) { return band / kTileBands % count; };
+  const auto owner = [&](int band) { return band % count; };
   std::vector<int> mine;
   for (int band = 0; band < bandCount; ++band)
     if (owner(band) == rank) mine.push_back(band);
@@ -233,7 +236,9 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
   const char* fault = std::getenv("ACPCA_FAULT_BAND");
   const int faultBand = fault ? std::atoi(fault) : -1;
   const auto onStart = [&](int band) {
-    if (count > 1 && band % kTileBands == 0 && options.log)
+    // Each rank logs the first of its bands in every tile: the last line of a
+    // rank that dies names where it was.
+    if (count > 1 && band % kTileBands < count && options.log)
       options.log(concat(ranks::prefix(), "starts tile ", band / kTileBands, " (image rows ",
                          band * kBandRows, "-",
                          std::min(height, (band + kTileBands) * kBandRows) - 1, ")"));
