@@ -107,17 +107,6 @@ long long sum(long long value) {
   return value;
 }
 
-int max(int value) {
-#ifdef ACPCA_WITH_MPI
-  if (rankCount > 1) {
-    int largest = 0;
-    MPI_Allreduce(&value, &largest, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return largest;
-  }
-#endif
-  return value;
-}
-
 int abortAll(int code) {
 #ifdef ACPCA_WITH_MPI
   if (rankCount > 1) MPI_Abort(MPI_COMM_WORLD, code);

@@ -34,8 +34,6 @@ std::vector<float> receive(int from, int tag);
 
 /// The sum over every rank (integers: exact, whatever the order).
 long long sum(long long value);
-/// The largest value over every rank.
-int max(int value);
 
 /// Ends every rank of the job with this exit code (a rank that failed while
 /// others wait on it must not wait in MPI_Finalize); returns the code as is
