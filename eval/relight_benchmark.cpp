@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <optional>
 
 #include "cluster/model.h"
 #include "cluster/model_file.h"
@@ -46,9 +47,6 @@ struct Measured {
   double gbPerSecond() const { return times.median > 0 ? bytes / (times.median * 1e6) : 0; }
 };
 
-/// Times the first lighting; relights the others once, for the errors. With
-/// everyLevel, also times the first lighting with each other kernel level the
-/// CPU runs (rows named for their level, no error).
 /// Models and transports are compared pixel by pixel: they must cover the
 /// same pixels of the same image (a transport made again by another build
 /// may cover a few more or fewer).
@@ -59,10 +57,12 @@ void requireSameImage(const std::string& path, const std::vector<std::int32_t>& 
                            " of ", reference, ": not made from the same transport"));
 }
 
-std::vector<Measured> measureModel(const std::string& path,
+/// Times the first lighting; relights the others once, for the errors. With
+/// everyLevel, also times the first lighting with each other kernel level the
+/// CPU runs (rows named for their level, no error).
+std::vector<Measured> measureModel(const Model& model, const std::string& path,
                                    const std::vector<LatticeLighting>& lightings, int frames,
                                    bool everyLevel = false) {
-  const Model model = readModel(path);
   ModelRelighter relighter(model);
   Measured m;
   const kernels::Level active = kernels::activeLevel();
@@ -111,29 +111,33 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
   std::vector<Measured> models;
   Measured main;
   {
-    const Model header = readModel(a.model);
-    // Every file is checked before any is timed.
+    const Model mainModel = readModel(a.model);
+    const std::vector<std::int32_t>& pixels = mainModel.geometry.pixels;
+    // Every file is read and checked once, before any is timed.
+    std::vector<Model> baselines;
     for (const auto& path : a.baselines) {
       if (!isModelFile(path)) throw UserError(concat(path, ": not an adaptive-cpca model file"));
-      requireSameImage(path, readModel(path).geometry.pixels, a.model, header.geometry.pixels);
+      baselines.push_back(readModel(path));
+      requireSameImage(path, baselines.back().geometry.pixels, a.model, pixels);
     }
-    if (!a.transport.empty())
-      requireSameImage(a.transport, TransportReader(a.transport).header().pixels, a.model,
-                       header.geometry.pixels);
-    const CubeLattice lattice(header.geometry.cubemapResolution);
+    std::optional<TransportReader> reader;
+    if (!a.transport.empty()) {
+      reader.emplace(a.transport);
+      requireSameImage(a.transport, reader->header().pixels, a.model, pixels);
+    }
+    const CubeLattice lattice(mainModel.geometry.cubemapResolution);
     std::vector<LatticeLighting> lightings;
     for (const auto& e : envs)
       lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
-    std::vector<Measured> levels = measureModel(a.model, lightings, a.frames, true);
+    std::vector<Measured> levels = measureModel(mainModel, a.model, lightings, a.frames, true);
     main = levels[0];
-    for (const auto& path : a.baselines)
-      models.push_back(measureModel(path, lightings, a.frames)[0]);
+    for (size_t i = 0; i < baselines.size(); ++i)
+      models.push_back(measureModel(baselines[i], a.baselines[i], lightings, a.frames)[0]);
     models.insert(models.begin(), levels.begin(), levels.end());
 
-    if (!a.transport.empty()) {
-      const TransportReader reader(a.transport);
+    if (reader) {
       const Stopwatch load;
-      SparseTransport sparse(reader);
+      SparseTransport sparse(*reader);
       const double loadSeconds = load.seconds();
       Measured dense;
       dense.name = "dense (f16, zero segments skipped)";
@@ -143,7 +147,7 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
       dense.times =
           timeFrames(a.denseFrames, [&] { sparse.relight(lightings[0], dense.images[0].data()); });
       dense.bytes = double(sparse.bytesPerFrame());
-      dense.costPerPixel = sparse.keptFraction() * reader.latticeSize();  // in RGB triples
+      dense.costPerPixel = sparse.keptFraction() * reader->latticeSize();  // in RGB triples
       out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n",
                        loadSeconds, 100 * sparse.keptFraction());
       // Image error over the lightings as the evaluation defines it (design.md 7).
