@@ -22,7 +22,7 @@ int blockSideFor(const CompressOptions& o) {
   return o.method == Method::AdaptiveQuad ? 64 : 8;
 }
 
-Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
+void validateCompressOptions(const CompressOptions& o) {
   if (!(o.tolerance > 0 && o.tolerance <= 1))
     throw ParameterError("tolerance", o.tolerance, "is outside (0, 1]");
   if (!(o.globalEnergy > 0 && o.globalEnergy <= 1))
@@ -30,8 +30,13 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   if (o.clusters < 1) throw ParameterError("clusters", o.clusters, "must be >= 1");
   if (o.clusteringDims < 0)
     throw ParameterError("clustering dimensions", o.clusteringDims, "must be >= 0 (0: all)");
+  if (blockSideFor(o) < 1) throw ParameterError("block side", blockSideFor(o), "must be >= 1");
+  if (o.sampleRows < 1) throw ParameterError("sample rows", o.sampleRows, "must be >= 1");
+}
+
+Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
+  validateCompressOptions(o);
   const int block = blockSideFor(o);
-  if (block < 1) throw ParameterError("block side", block, "must be >= 1");
   const Stopwatch watch;
   const auto log = [&](const std::string& s) {
     if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));

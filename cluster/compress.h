@@ -39,6 +39,9 @@ struct CompressOptions {
 /// The block side `options` means for its method (resolving block = 0).
 int blockSideFor(const CompressOptions& options);
 
+/// Throws ParameterError on a bad value.
+void validateCompressOptions(const CompressOptions& options);
+
 /// Throws UserError on bad options (before any work) or a bad file.
 Model compressTransport(const TransportReader& transport, const CompressOptions& options);
 

@@ -49,21 +49,63 @@ Eigen::MatrixXd gramMatrix(const Eigen::MatrixXd& rows) {
 
 }  // namespace
 
+BasisSample chooseBasisSample(long long total, const GlobalBasisOptions& options) {
+  if (options.sampleRows < 1) throw UserError("the global-basis sample needs at least one row");
+  std::mt19937_64 rng(options.seed);
+  BasisSample s;
+  s.rows = sampleRows(total, options.sampleRows, rng);
+  s.heldOut = sampleRows(total, std::min<long long>(4096, total), rng);
+  return s;
+}
+
+GlobalBasis basisFromSample(const Eigen::MatrixXd& sample, const Eigen::MatrixXd& heldOut,
+                            const GlobalBasisOptions& options) {
+  if (!(options.energy > 0 && options.energy <= 1))
+    throw ParameterError("global energy", options.energy, "is outside (0, 1]");
+  const Eigen::Index l = sample.cols();
+  GlobalBasis result;
+  result.basis = Eigen::MatrixXf::Zero(l, 0);
+  result.sampledRows = static_cast<int>(sample.rows());
+  // The basis lives on the directions the sample sees: a direction no sampled
+  // row sees adds a zero row and column to the Gram matrix, nothing else.
+  for (Eigen::Index j = 0; j < l; ++j)
+    if ((sample.col(j).array() != 0).any()) result.active.push_back(static_cast<int>(j));
+  const std::vector<int>& active = result.active;
+  result.activeDirections = static_cast<int>(active.size());
+  if (active.empty()) return result;
+  Eigen::MatrixXd compact(sample.rows(), active.size());
+  for (size_t k = 0; k < active.size(); ++k) compact.col(k) = sample.col(active[k]);
+
+  const Eigen::MatrixXd gram = gramMatrix(compact);
+  const double energy = compact.squaredNorm();
+  const SymmetricEigen eig = symmetricEigen(gram, true);
+  const int n = rankForEnergy(eig.values, energy, options.energy);
+  result.basis = Eigen::MatrixXf::Zero(l, n);
+  for (size_t k = 0; k < active.size(); ++k)
+    result.basis.row(active[k]) = eig.vectors.row(k).head(n).cast<float>();
+  result.sampleEnergyKept = energy > 0 ? eig.values.head(n).sum() / energy : 1.0;
+  const Eigen::MatrixXd projected = heldOut * result.basis.cast<double>();
+  const double heldEnergy = heldOut.squaredNorm();
+  result.heldOutEnergyKept = heldEnergy > 0 ? projected.squaredNorm() / heldEnergy : 1.0;
+  return result;
+}
+
 GlobalBasis computeGlobalBasis(const TransportReader& transport,
                                const GlobalBasisOptions& options) {
   if (!(options.energy > 0 && options.energy <= 1))
     throw ParameterError("global energy", options.energy, "is outside (0, 1]");
-  if (options.sampleRows < 1) throw UserError("the global-basis sample needs at least one row");
   const int l = transport.rowLength();
   const long long total = transport.rows();
-  GlobalBasis result;
-  result.basis = Eigen::MatrixXf::Zero(l, 0);
-  if (total == 0) return result;
+  if (total == 0) {
+    GlobalBasis empty;
+    empty.basis = Eigen::MatrixXf::Zero(l, 0);
+    return empty;
+  }
 
   // Two independent samples: one to build the basis, one to check it.
-  std::mt19937_64 rng(options.seed);
-  const std::vector<long long> sample = sampleRows(total, options.sampleRows, rng);
-  std::vector<long long> heldOut = sampleRows(total, std::min<long long>(4096, total), rng);
+  const BasisSample chosen = chooseBasisSample(total, options);
+  const std::vector<long long>& sample = chosen.rows;
+  const std::vector<long long>& heldOut = chosen.heldOut;
   std::vector<int> slotOf(static_cast<size_t>(total), -1),
       heldSlotOf(static_cast<size_t>(total), -1);
   for (size_t i = 0; i < sample.size(); ++i) slotOf[sample[i]] = static_cast<int>(i);
@@ -86,41 +128,17 @@ GlobalBasis computeGlobalBasis(const TransportReader& transport,
                     std::lock_guard lock(mutex);  // an OR: the order of merging does not matter
                     for (int j = 0; j < l; ++j) seen[j] |= localSeen[j];
                   });
-
-  // Directions no pixel sees drop out: the basis lives on the seen ones only.
-  std::vector<int> active;
-  for (int j = 0; j < l; ++j)
-    if (seen[j]) active.push_back(j);
-  result.activeDirections = static_cast<int>(active.size());
-  result.active = active;
-  result.sampledRows = static_cast<int>(sample.size());
-  if (active.empty()) return result;
-  Eigen::MatrixXd compact(rows.rows(), active.size());
-  for (size_t k = 0; k < active.size(); ++k) compact.col(k) = rows.col(active[k]);
-  rows.resize(0, 0);
-
-  const Eigen::MatrixXd gram = gramMatrix(compact);
-  const double energy = compact.squaredNorm();
-  const SymmetricEigen eig = symmetricEigen(gram, true);
-  const int n = rankForEnergy(eig.values, energy, options.energy);
-  result.basis = Eigen::MatrixXf::Zero(l, n);
-  for (size_t k = 0; k < active.size(); ++k)
-    result.basis.row(active[k]) = eig.vectors.row(k).head(n).cast<float>();
-  result.sampleEnergyKept = energy > 0 ? eig.values.head(n).sum() / energy : 1.0;
-  const Eigen::MatrixXd projected = held * result.basis.cast<double>();
-  const double heldEnergy = held.squaredNorm();
-  result.heldOutEnergyKept = heldEnergy > 0 ? projected.squaredNorm() / heldEnergy : 1.0;
+  GlobalBasis result = basisFromSample(rows, held, options);
+  result.activeDirections = static_cast<int>(std::count(seen.begin(), seen.end(), 1));
   return result;
 }
-
-namespace {
 
 /// Rows are zero below their own horizon, and the lattice orders a face by
 /// rows of texels, so about half of a floor pixel's row is zero in whole runs
 /// (the down face, the lower halves of the side faces). The product skips runs
 /// that are zero in every row of a group: rows with the same zero runs are
 /// grouped, and each group meets only the basis rows of its non-zero runs.
-class ZeroRunProduct {
+class BasisProjector::ZeroRunProduct {
  public:
   /// Runs are half faces of the lattice: a side face's lower half is below
   /// an upward normal's horizon (12 runs per channel, at most 64 in a row).
@@ -188,52 +206,72 @@ class ZeroRunProduct {
   RowMatrixF basis_;        ///< active directions x N
 };
 
-}  // namespace
+BasisProjector::BasisProjector(const GlobalBasis& basis, int latticeSize, int rowLength)
+    : product_(std::make_unique<ZeroRunProduct>(basis, latticeSize, rowLength)),
+      active_(basis.active),
+      rowLength_(rowLength),
+      // What the basis misses, per row, is |t|^2 - |g|^2 in double. The float
+      // product g = t V_g is good to about 1e-5 of |t|^2 per row, with signs
+      // that average out over rows, so the difference is exact enough while
+      // the basis drops much more than that. Near a complete basis the
+      // difference would be rounding noise, so there the residual
+      // t - V_g V_g^T t is formed itself (a second product as large as the
+      // first). Per row the difference may carry rounding noise of either
+      // sign; only sums are used.
+      formResidual_(1 - basis.heldOutEnergyKept < 1e-4) {
+  ACPCA_CHECK(basis.basis.rows() == rowLength, "basis has ", basis.basis.rows(), " rows for ",
+              rowLength, " directions");
+}
+
+BasisProjector::~BasisProjector() = default;
+
+void BasisProjector::project(const float* block, long long count, GlobalProjection& g,
+                             long long first) const {
+  const int l = rowLength_, a = static_cast<int>(active_.size());
+  const RowMatrixF& basis = product_->basis();
+  RowMatrixF t(count, a);  // the rows on the basis's directions
+  for (long long r = 0; r < count; ++r)
+    for (int k = 0; k < a; ++k) t(r, k) = block[r * l + active_[k]];
+  auto coefficients = g.coefficients.middleRows(first, count);
+  product_->multiply(t, coefficients);
+  RowMatrixF residual;
+  if (formResidual_) {
+    residual = t;
+    residual.noalias() -= coefficients * basis.transpose();
+  }
+  for (long long r = 0; r < count; ++r) {
+    // Over the whole row: directions the sample never saw may still carry energy.
+    const double energy =
+        Eigen::Map<const Eigen::VectorXf>(block + r * l, l).cast<double>().squaredNorm();
+    g.rowEnergy[first + r] = energy;
+    g.residualEnergy[first + r] =
+        formResidual_ ? energy - t.row(r).cast<double>().squaredNorm() +
+                            residual.row(r).cast<double>().squaredNorm()
+                      : std::max(0.0, energy - coefficients.row(r).cast<double>().squaredNorm());
+  }
+}
+
+GlobalProjection BasisProjector::project(const float* rows, long long count) const {
+  GlobalProjection g;
+  g.coefficients.resize(count, product_->basis().cols());
+  g.rowEnergy.resize(count);
+  g.residualEnergy.resize(count);
+  project(rows, count, g, 0);
+  return g;
+}
 
 GlobalProjection projectOntoBasis(const TransportReader& transport,
                                   const GlobalBasis& globalBasis) {
-  const int l = transport.rowLength();
-  ACPCA_CHECK(globalBasis.basis.rows() == l, "basis has ", globalBasis.basis.rows(), " rows for ",
-              l, " directions");
-  const std::vector<int>& active = globalBasis.active;
-  const int a = static_cast<int>(active.size());
-  const ZeroRunProduct product(globalBasis, transport.latticeSize(), l);
-  const RowMatrixF& basis = product.basis();
+  const BasisProjector projector(globalBasis, transport.latticeSize(), transport.rowLength());
   const long long total = transport.rows();
   GlobalProjection g;
-  g.coefficients.resize(total, basis.cols());
+  g.coefficients.resize(total, globalBasis.globalBases());
   g.rowEnergy.resize(total);
   g.residualEnergy.resize(total);
-  // What the basis misses, per row, is |t|^2 - |g|^2 in double. The float
-  // product g = t V_g is good to about 1e-5 of |t|^2 per row, with signs that
-  // average out over rows, so the difference is exact enough while the basis
-  // drops much more than that. Near a complete basis the difference would be
-  // rounding noise, so there the residual t - V_g V_g^T t is formed itself
-  // (a second product as large as the first). Per row the difference may
-  // carry rounding noise of either sign; only sums are used.
-  const bool formResidual = 1 - globalBasis.heldOutEnergyKept < 1e-4;
   // Blocks of a few thousand rows, so that rows sharing zero runs form groups.
   streamRowBlocks(transport, rowsPerBlock(transport, 48ll << 20),
                   [&](long long first, long long count, const float* block) {
-                    RowMatrixF t(count, a);  // the seen directions of the block's rows
-                    for (long long r = 0; r < count; ++r)
-                      for (int k = 0; k < a; ++k) t(r, k) = block[r * l + active[k]];
-                    auto coefficients = g.coefficients.middleRows(first, count);
-                    product.multiply(t, coefficients);
-                    RowMatrixF residual;
-                    if (formResidual) {
-                      residual = t;
-                      residual.noalias() -= coefficients * basis.transpose();
-                    }
-                    for (long long r = 0; r < count; ++r) {
-                      const double energy = t.row(r).cast<double>().squaredNorm();
-                      g.rowEnergy[first + r] = energy;
-                      g.residualEnergy[first + r] =
-                          formResidual
-                              ? residual.row(r).cast<double>().squaredNorm()
-                              : std::max(0.0,
-                                         energy - coefficients.row(r).cast<double>().squaredNorm());
-                    }
+                    projector.project(block, count, g, first);
                   });
   return g;
 }

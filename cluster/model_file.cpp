@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cluster/cost_model.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/half.h"
@@ -58,66 +59,184 @@ double relitBoundPerUnitLight(const Model& m) {
   return albedo * worstRow * projection;
 }
 
+/// The cluster arrays of a model file (rows of its clusters in all, n global
+/// bases): offsets checked against the ranks and sizes before the large
+/// arrays are read.
+void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long clusters,
+                       const std::string& ctx) {
+  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
+  m.rowOffsets =
+      readVector<std::int64_t>(f, "cluster_row_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  m.ranks = readVector<std::int32_t>(f, "cluster_rank", H5T_NATIVE_INT32, clusters, ctx);
+  m.basisOffsets =
+      readVector<std::int64_t>(f, "cluster_basis_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  m.coefficientOffsets =
+      readVector<std::int64_t>(f, "coefficient_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
+  if (m.rowOffsets[0] != 0 || m.basisOffsets[0] != 0 || m.coefficientOffsets[0] != 0)
+    throw UserError(concat(ctx, ": cluster offsets do not start at 0"));
+  for (long long c = 0; c < clusters; ++c) {
+    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
+    if (p < 0 || p > rows || m.ranks[c] < 0 || m.ranks[c] > n ||
+        m.basisOffsets[c + 1] - m.basisOffsets[c] != n * m.ranks[c] ||
+        m.coefficientOffsets[c + 1] - m.coefficientOffsets[c] != p * m.ranks[c])
+      throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
+  }
+  if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
+  // HDF5 converts half datasets to float on read.
+  m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
+  m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
+  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT,
+                                   n > 0 ? m.basisOffsets.back() / n : 0, ctx);
+  const long long coefficients = m.coefficientOffsets.back();
+  if (m.precision == CoeffPrecision::F32)
+    m.coeffF32 = readVector<float>(f, "coefficients", H5T_NATIVE_FLOAT, coefficients, ctx);
+  if (m.precision == CoeffPrecision::F16) {
+    const h5::Handle half = h5::halfType();
+    m.coeffF16 = readVector<std::uint16_t>(f, "coefficients", half.get(), coefficients, ctx);
+  }
+  if (m.precision == CoeffPrecision::I8)
+    m.coeffI8 = readVector<std::int8_t>(f, "coefficients", H5T_NATIVE_INT8, coefficients, ctx);
+}
+
 }  // namespace
 
-void writeModel(const Model& m, const std::string& path) {
-  AtomicOutput output(path);
-  {
-    h5::Handle file = h5::createFile(output.tempPath());
-    const hid_t f = file.get();
-    const auto& g = m.geometry;
-    const std::string& ctx = path;
-    h5::writeAttribute(f, "format", std::string(kModelFormat), ctx);
-    h5::writeAttribute(f, "version", static_cast<long long>(kModelVersion), ctx);
-    h5::writeAttribute(f, "method", m.method, ctx);
-    h5::writeAttribute(f, "settings", m.settings, ctx);
-    writeImageHeader(f, g, false, ctx);
-    h5::writeAttribute(f, "global_bases", static_cast<long long>(m.globalBases()), ctx);
-    h5::writeAttribute(f, "clusters", static_cast<long long>(m.clusters()), ctx);
-    h5::writeAttribute(f, "has_mean", static_cast<long long>(m.hasMean), ctx);
-    h5::writeAttribute(f, "coeffs", std::string(coeffPrecisionName(m.precision)), ctx);
-    h5::writeAttribute(f, "bases", std::string(coeffPrecisionName(m.basisPrecision)), ctx);
-    h5::writeAttribute(f, "total_cost", m.totalCost(), ctx);
-    h5::writeAttribute(f, "cost_per_pixel", m.costPerPixel(), ctx);
-    h5::writeAttribute(f, "transport_error", m.transportError, ctx);
-    h5::writeAttribute(f, "global_energy_kept", m.globalEnergyKept, ctx);
-    h5::writeAttribute(f, "compress_seconds", m.compressSeconds, ctx);
-    h5::writeAttribute(f, "peak_memory_bytes", m.peakMemoryBytes, ctx);
+inline constexpr const char* kClustersFormat = "adaptive-cpca model clusters";
+
+struct ModelFileWriter::Datasets {
+  explicit Datasets(const std::string& path) : output(path) {}
+  AtomicOutput output;
+  h5::Handle file, half;
+  h5::GrowingDataset rows, rowOffsets, ranks, basisOffsets, bases, means, coefficientOffsets, scale,
+      coefficients;
+};
+
+ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head, ModelFileKind kind)
+    : path_(path),
+      kind_(kind),
+      globalBases_(head.globalBases()),
+      hasMean_(head.hasMean),
+      precision_(head.precision),
+      basisPrecision_(head.basisPrecision),
+      data_(std::make_unique<Datasets>(path)) {
+  Datasets& d = *data_;
+  d.file = h5::createFile(d.output.tempPath());
+  d.half = h5::halfType();
+  const hid_t f = d.file.get();
+  const std::string& ctx = path;
+  const bool whole = kind == ModelFileKind::Whole;
+  h5::writeAttribute(f, "format", std::string(whole ? kModelFormat : kClustersFormat), ctx);
+  h5::writeAttribute(f, "version", static_cast<long long>(kModelVersion), ctx);
+  h5::writeAttribute(f, "method", head.method, ctx);
+  h5::writeAttribute(f, "settings", head.settings, ctx);
+  if (whole) writeImageHeader(f, head.geometry, false, ctx);
+  h5::writeAttribute(f, "global_bases", static_cast<long long>(globalBases_), ctx);
+  h5::writeAttribute(f, "has_mean", static_cast<long long>(hasMean_), ctx);
+  h5::writeAttribute(f, "coeffs", std::string(coeffPrecisionName(precision_)), ctx);
+  h5::writeAttribute(f, "bases", std::string(coeffPrecisionName(basisPrecision_)), ctx);
+  if (whole) {
     // global_basis as [l, N] row-major, as numpy reads it.
-    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg = m.globalBasis;
+    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg =
+        head.globalBasis;
     h5::writeDataset(f, "global_basis",
                      {static_cast<hsize_t>(vg.rows()), static_cast<hsize_t>(vg.cols())}, vg.data(),
                      ctx);
-    writeVector(f, "cluster_rows", m.clusterRows, H5T_NATIVE_INT32, ctx);
-    writeVector(f, "cluster_row_offsets", m.rowOffsets, H5T_NATIVE_INT64, ctx);
-    writeVector(f, "cluster_rank", m.ranks, H5T_NATIVE_INT32, ctx);
-    writeVector(f, "cluster_basis_offsets", m.basisOffsets, H5T_NATIVE_INT64, ctx);
-    if (m.basisPrecision == CoeffPrecision::F16) {
-      // The values are half-representable: the conversion is exact.
-      const h5::Handle half = h5::halfType();
-      for (const auto* values : {&m.bases, &m.means}) {
-        std::vector<std::uint16_t> h(values->size());
-        floatToHalf(values->data(), h.data(), h.size());
-        writeVector(f, values == &m.bases ? "bases" : "means", h, half.get(), ctx);
-      }
-    } else {
-      writeVector(f, "bases", m.bases, H5T_NATIVE_FLOAT, ctx);
-      writeVector(f, "means", m.means, H5T_NATIVE_FLOAT, ctx);
-    }
-    writeVector(f, "coefficient_offsets", m.coefficientOffsets, H5T_NATIVE_INT64, ctx);
-    writeVector(f, "coefficient_scale", m.coeffScale, H5T_NATIVE_FLOAT, ctx);
-    if (m.precision == CoeffPrecision::F32)
-      writeVector(f, "coefficients", m.coeffF32, H5T_NATIVE_FLOAT, ctx);
-    if (m.precision == CoeffPrecision::F16) {
-      const h5::Handle half = h5::halfType();
-      writeVector(f, "coefficients", m.coeffF16, half.get(), ctx);
-    }
-    if (m.precision == CoeffPrecision::I8)
-      writeVector(f, "coefficients", m.coeffI8, H5T_NATIVE_INT8, ctx);
-    h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
-    h5::closeWrittenFile(file, path);
   }
-  output.commit();
+  // Chunks: small for the per-cluster arrays, about 4 MB for the values.
+  constexpr hsize_t kSmall = 4096, kLarge = 1 << 20;
+  const hid_t basisType = basisPrecision_ == CoeffPrecision::F16 ? d.half.get() : H5T_NATIVE_FLOAT;
+  const hid_t coefficientType = precision_ == CoeffPrecision::F16  ? d.half.get()
+                                : precision_ == CoeffPrecision::I8 ? H5T_NATIVE_INT8
+                                                                   : H5T_NATIVE_FLOAT;
+  d.rows = h5::GrowingDataset(f, "cluster_rows", H5T_NATIVE_INT32, kLarge / 4, ctx);
+  d.rowOffsets = h5::GrowingDataset(f, "cluster_row_offsets", H5T_NATIVE_INT64, kSmall, ctx);
+  d.ranks = h5::GrowingDataset(f, "cluster_rank", H5T_NATIVE_INT32, kSmall, ctx);
+  d.basisOffsets = h5::GrowingDataset(f, "cluster_basis_offsets", H5T_NATIVE_INT64, kSmall, ctx);
+  d.bases = h5::GrowingDataset(f, "bases", basisType, kLarge, ctx);
+  d.means = h5::GrowingDataset(f, "means", basisType, kLarge / 4, ctx);
+  d.coefficientOffsets =
+      h5::GrowingDataset(f, "coefficient_offsets", H5T_NATIVE_INT64, kSmall, ctx);
+  d.scale = h5::GrowingDataset(f, "coefficient_scale", H5T_NATIVE_FLOAT, kSmall, ctx);
+  d.coefficients = h5::GrowingDataset(f, "coefficients", coefficientType, kLarge, ctx);
+  const std::int64_t zero = 0;
+  for (auto* offsets : {&d.rowOffsets, &d.basisOffsets, &d.coefficientOffsets})
+    offsets->append(H5T_NATIVE_INT64, &zero, 1);
+}
+
+ModelFileWriter::~ModelFileWriter() = default;
+
+void ModelFileWriter::append(const Model& m) {
+  Datasets& d = *data_;
+  const long long clusters = m.clusters(), n = globalBases_;
+  ACPCA_CHECK(
+      m.precision == precision_ && m.basisPrecision == basisPrecision_ && m.hasMean == hasMean_,
+      "clusters appended in another precision");
+  ACPCA_CHECK(m.means.size() == static_cast<size_t>(clusters * n), "means of ", clusters,
+              " clusters of ", n, " global bases");
+  const auto shifted = [](const std::vector<std::int64_t>& offsets, std::int64_t by) {
+    std::vector<std::int64_t> out(offsets.begin() + 1, offsets.end());
+    for (auto& o : out) o += by;
+    return out;
+  };
+  const std::vector<std::int64_t> rowOffsets = shifted(m.rowOffsets, rows_),
+                                  basisOffsets = shifted(m.basisOffsets, d.bases.size()),
+                                  coefficientOffsets =
+                                      shifted(m.coefficientOffsets, d.coefficients.size());
+  d.rows.append(H5T_NATIVE_INT32, m.clusterRows.data(), m.clusterRows.size());
+  d.rowOffsets.append(H5T_NATIVE_INT64, rowOffsets.data(), rowOffsets.size());
+  d.ranks.append(H5T_NATIVE_INT32, m.ranks.data(), m.ranks.size());
+  d.basisOffsets.append(H5T_NATIVE_INT64, basisOffsets.data(), basisOffsets.size());
+  if (basisPrecision_ == CoeffPrecision::F16) {
+    // The values are half-representable: the conversion is exact.
+    for (const auto* values : {&m.bases, &m.means}) {
+      std::vector<std::uint16_t> h(values->size());
+      floatToHalf(values->data(), h.data(), h.size());
+      (values == &m.bases ? d.bases : d.means).append(d.half.get(), h.data(), h.size());
+    }
+  } else {
+    d.bases.append(H5T_NATIVE_FLOAT, m.bases.data(), m.bases.size());
+    d.means.append(H5T_NATIVE_FLOAT, m.means.data(), m.means.size());
+  }
+  d.coefficientOffsets.append(H5T_NATIVE_INT64, coefficientOffsets.data(),
+                              coefficientOffsets.size());
+  d.scale.append(H5T_NATIVE_FLOAT, m.coeffScale.data(), m.coeffScale.size());
+  if (precision_ == CoeffPrecision::F32)
+    d.coefficients.append(H5T_NATIVE_FLOAT, m.coeffF32.data(), m.coeffF32.size());
+  if (precision_ == CoeffPrecision::F16)
+    d.coefficients.append(d.half.get(), m.coeffF16.data(), m.coeffF16.size());
+  if (precision_ == CoeffPrecision::I8)
+    d.coefficients.append(H5T_NATIVE_INT8, m.coeffI8.data(), m.coeffI8.size());
+  for (long long c = 0; c < clusters; ++c)  // as Model::totalCost sums it
+    totalCost_ += clusterCost(m.ranks[c] + (hasMean_ ? 1 : 0),
+                              m.rowOffsets[c + 1] - m.rowOffsets[c], globalBases_);
+  clusters_ += clusters;
+  rows_ += m.rowOffsets.empty() ? 0 : m.rowOffsets.back();
+}
+
+void ModelFileWriter::finish(const Model& summary, const std::map<std::string, double>& extra) {
+  Datasets& d = *data_;
+  const hid_t f = d.file.get();
+  const std::string& ctx = path_;
+  h5::writeAttribute(f, "clusters", clusters_, ctx);
+  h5::writeAttribute(f, "total_cost", totalCost_, ctx);
+  h5::writeAttribute(f, "cost_per_pixel", rows_ ? totalCost_ / rows_ : 0.0, ctx);
+  h5::writeAttribute(f, "transport_error", summary.transportError, ctx);
+  h5::writeAttribute(f, "global_energy_kept", summary.globalEnergyKept, ctx);
+  h5::writeAttribute(f, "compress_seconds", summary.compressSeconds, ctx);
+  h5::writeAttribute(f, "peak_memory_bytes", summary.peakMemoryBytes, ctx);
+  for (const auto& [name, value] : extra) h5::writeAttribute(f, name, value, ctx);
+  h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
+  for (auto* set : {&d.rows, &d.rowOffsets, &d.ranks, &d.basisOffsets, &d.bases, &d.means,
+                    &d.coefficientOffsets, &d.scale, &d.coefficients})
+    *set = h5::GrowingDataset();
+  d.half.reset();
+  h5::closeWrittenFile(d.file, path_);
+  d.output.commit();
+}
+
+void writeModel(const Model& m, const std::string& path) {
+  ModelFileWriter writer(path, m);
+  writer.append(m);
+  writer.finish(m);
 }
 
 bool isModelFile(const std::string& path) {
@@ -174,24 +293,7 @@ Model readModel(const std::string& path) {
   Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg(l, n);
   h5::readDataset(f, "global_basis", vg.data(), ctx);
   m.globalBasis = vg;
-  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
-  m.rowOffsets =
-      readVector<std::int64_t>(f, "cluster_row_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  m.ranks = readVector<std::int32_t>(f, "cluster_rank", H5T_NATIVE_INT32, clusters, ctx);
-  m.basisOffsets =
-      readVector<std::int64_t>(f, "cluster_basis_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  m.coefficientOffsets =
-      readVector<std::int64_t>(f, "coefficient_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  // Every offset must agree with the ranks and sizes before the big arrays are read.
-  if (m.rowOffsets[0] != 0 || m.basisOffsets[0] != 0 || m.coefficientOffsets[0] != 0)
-    throw UserError(concat(ctx, ": cluster offsets do not start at 0"));
-  for (long long c = 0; c < clusters; ++c) {
-    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
-    if (p < 0 || p > rows || m.ranks[c] < 0 || m.ranks[c] > n ||
-        m.basisOffsets[c + 1] - m.basisOffsets[c] != n * m.ranks[c] ||
-        m.coefficientOffsets[c + 1] - m.coefficientOffsets[c] != p * m.ranks[c])
-      throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
-  }
+  readClusterArrays(f, m, rows, n, clusters, ctx);
   if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
   g.validate(ctx);  // pixel indices in range and increasing, albedo and coverage sane
   std::vector<char> seen(rows, 0);
@@ -200,20 +302,6 @@ Model readModel(const std::string& path) {
       throw UserError(concat(ctx, ": cluster rows are not a partition"));
     seen[r] = 1;
   }
-  // HDF5 converts half datasets to float on read.
-  m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
-  m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
-  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT,
-                                   n > 0 ? m.basisOffsets.back() / n : 0, ctx);
-  const long long coefficients = m.coefficientOffsets.back();
-  if (m.precision == CoeffPrecision::F32)
-    m.coeffF32 = readVector<float>(f, "coefficients", H5T_NATIVE_FLOAT, coefficients, ctx);
-  if (m.precision == CoeffPrecision::F16) {
-    const h5::Handle half = h5::halfType();
-    m.coeffF16 = readVector<std::uint16_t>(f, "coefficients", half.get(), coefficients, ctx);
-  }
-  if (m.precision == CoeffPrecision::I8)
-    m.coeffI8 = readVector<std::int8_t>(f, "coefficients", H5T_NATIVE_INT8, coefficients, ctx);
   const auto finite = [&](const auto& values, const char* what) {
     for (float v : values)
       if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite ", what));
@@ -234,6 +322,42 @@ Model readModel(const std::string& path) {
   // lattice direction before a relit value could overflow a float.
   if (!(relitBoundPerUnitLight(m) <= 1e20))
     throw UserError(concat(ctx, ": values out of range (relit values could overflow)"));
+  return m;
+}
+
+}  // namespace acpca
+
+namespace acpca {
+
+Model readModelClusters(const std::string& path, const Model& head,
+                        std::map<std::string, double>* extra) {
+  const std::string& ctx = path;
+  const h5::Handle file = h5::openFileReadOnly(path);
+  const hid_t f = file.get();
+  if (!h5::hasAttribute(f, "format") ||
+      h5::readStringAttribute(f, "format", ctx) != kClustersFormat)
+    throw UserError(concat(ctx, ": not a file of model clusters"));
+  if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
+    throw UserError(concat(ctx, ": the file is incomplete"));
+  const long long n = h5::readIntAttribute(f, "global_bases", ctx);
+  const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
+  if (n != head.globalBases() ||
+      h5::readStringAttribute(f, "coeffs", ctx) != coeffPrecisionName(head.precision) ||
+      h5::readStringAttribute(f, "bases", ctx) != coeffPrecisionName(head.basisPrecision) ||
+      (h5::readIntAttribute(f, "has_mean", ctx) != 0) != head.hasMean)
+    throw UserError(concat(ctx, ": clusters of another model (global bases or precisions differ)"));
+  const auto shape = h5::datasetShape(f, "cluster_rows", ctx);
+  if (clusters < 0 || shape.size() != 1 || clusters > static_cast<long long>(shape[0]) + 1)
+    throw UserError(concat(ctx, ": sizes do not add up"));
+  Model m;
+  m.hasMean = head.hasMean;
+  m.precision = head.precision;
+  m.basisPrecision = head.basisPrecision;
+  readClusterArrays(f, m, static_cast<long long>(shape[0]), n, clusters, ctx);
+  m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
+  m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
+  if (extra)
+    for (auto& [name, value] : *extra) value = h5::readDoubleAttribute(f, name, ctx);
   return m;
 }
 

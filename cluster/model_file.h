@@ -2,6 +2,8 @@
 // The model file (HDF5, docs/formats.md): the image header shared with
 // transport files, then the global basis, clusters, bases, means and
 // coefficients in their stored precision.
+#include <map>
+#include <memory>
 #include <string>
 
 #include "cluster/model.h"
@@ -11,8 +13,50 @@ namespace acpca {
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
 inline constexpr int kModelVersion = 2;  // 2: one i8 scale per cluster basis
 
+/// What a file written by ModelFileWriter holds: a whole model, or only
+/// clusters (a streamed build keeps each finished tile so until it assembles
+/// the model: no image header, no global basis).
+enum class ModelFileKind { Whole, Clusters };
+
+/// Writes a model file cluster by cluster: the image header and the global
+/// basis first, then clusters appended in order, then the figures and the
+/// `complete` mark; atomically (temporary name, renamed by finish()). Memory
+/// holds one append, so a streamed build never holds the whole model.
+class ModelFileWriter {
+ public:
+  /// From `head`: geometry, method, settings, global basis, mean and
+  /// precisions (its clusters are not written).
+  ModelFileWriter(const std::string& path, const Model& head,
+                  ModelFileKind kind = ModelFileKind::Whole);
+  ~ModelFileWriter();
+  /// Appends the clusters of `clusters` (rows indexed in the whole image,
+  /// offsets from 0, its precisions those of the head).
+  void append(const Model& clusters);
+  long long clustersWritten() const { return clusters_; }
+  /// sum over the clusters written of n_c (p_c + N), as Model::totalCost.
+  double totalCost() const { return totalCost_; }
+  /// Writes the figures of `summary` and `extra` attributes, marks the file
+  /// complete and renames it into place.
+  void finish(const Model& summary, const std::map<std::string, double>& extra = {});
+
+ private:
+  struct Datasets;
+  std::string path_;
+  ModelFileKind kind_;
+  int globalBases_ = 0;
+  bool hasMean_ = false;
+  CoeffPrecision precision_, basisPrecision_;
+  long long clusters_ = 0, rows_ = 0;
+  double totalCost_ = 0;
+  std::unique_ptr<Datasets> data_;
+};
+
 /// Writes atomically (temporary name, renamed when complete).
 void writeModel(const Model& model, const std::string& path);
+/// Reads a clusters-only file (ModelFileKind::Clusters) of a model with this
+/// many global bases and these precisions; its `extra` attributes into extra.
+Model readModelClusters(const std::string& path, const Model& head,
+                        std::map<std::string, double>* extra);
 /// Reads and validates a model file; throws UserError naming the file.
 Model readModel(const std::string& path);
 /// True if the file is an HDF5 file whose format attribute says model.

@@ -67,13 +67,36 @@ bool built() {
 #endif
 }
 
-void send(int to, int tag, const std::vector<float>& values) {
 #ifdef ACPCA_WITH_MPI
+namespace {
+
+/// A length, then the values in chunks MPI's int counts can hold.
+template <typename T>
+void sendValues(int to, int tag, const std::vector<T>& values, MPI_Datatype type) {
   long long size = static_cast<long long>(values.size());
   MPI_Send(&size, 1, MPI_LONG_LONG, to, tag, MPI_COMM_WORLD);
   for (long long first = 0; first < size; first += kChunk)
-    MPI_Send(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), MPI_FLOAT, to,
-             tag, MPI_COMM_WORLD);
+    MPI_Send(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), type, to, tag,
+             MPI_COMM_WORLD);
+}
+
+template <typename T>
+std::vector<T> receiveValues(int from, int tag, MPI_Datatype type) {
+  long long size = 0;
+  MPI_Recv(&size, 1, MPI_LONG_LONG, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<T> values(static_cast<size_t>(size));
+  for (long long first = 0; first < size; first += kChunk)
+    MPI_Recv(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), type, from,
+             tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return values;
+}
+
+}  // namespace
+#endif
+
+void send(int to, int tag, const std::vector<float>& values) {
+#ifdef ACPCA_WITH_MPI
+  sendValues(to, tag, values, MPI_FLOAT);
 #else
   (void)to, (void)tag, (void)values;
   ACPCA_CHECK(false, "send without MPI");
@@ -82,17 +105,44 @@ void send(int to, int tag, const std::vector<float>& values) {
 
 std::vector<float> receive(int from, int tag) {
 #ifdef ACPCA_WITH_MPI
-  long long size = 0;
-  MPI_Recv(&size, 1, MPI_LONG_LONG, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  std::vector<float> values(static_cast<size_t>(size));
-  for (long long first = 0; first < size; first += kChunk)
-    MPI_Recv(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), MPI_FLOAT,
-             from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  return values;
+  return receiveValues<float>(from, tag, MPI_FLOAT);
 #else
   (void)from, (void)tag;
   ACPCA_CHECK(false, "receive without MPI");
   return {};
+#endif
+}
+
+void sendBytes(int to, int tag, const std::vector<char>& bytes) {
+#ifdef ACPCA_WITH_MPI
+  sendValues(to, tag, bytes, MPI_BYTE);
+#else
+  (void)to, (void)tag, (void)bytes;
+  ACPCA_CHECK(false, "send without MPI");
+#endif
+}
+
+std::vector<char> receiveBytes(int from, int tag) {
+#ifdef ACPCA_WITH_MPI
+  return receiveValues<char>(from, tag, MPI_BYTE);
+#else
+  (void)from, (void)tag;
+  ACPCA_CHECK(false, "receive without MPI");
+  return {};
+#endif
+}
+
+void broadcast(std::vector<char>& bytes) {
+#ifdef ACPCA_WITH_MPI
+  if (rankCount <= 1) return;
+  long long size = static_cast<long long>(bytes.size());
+  MPI_Bcast(&size, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  bytes.resize(static_cast<size_t>(size));
+  for (long long first = 0; first < size; first += kChunk)
+    MPI_Bcast(bytes.data() + first, static_cast<int>(std::min(kChunk, size - first)), MPI_BYTE, 0,
+              MPI_COMM_WORLD);
+#else
+  (void)bytes;
 #endif
 }
 

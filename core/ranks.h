@@ -32,6 +32,12 @@ void send(int to, int tag, const std::vector<float>& values);
 /// Receives what `send` sent from rank `from` under `tag`, whatever its length.
 std::vector<float> receive(int from, int tag);
 
+/// The same for bytes (a serialized message, a file's contents).
+void sendBytes(int to, int tag, const std::vector<char>& bytes);
+std::vector<char> receiveBytes(int from, int tag);
+/// Rank 0's bytes, on every rank (a no-op when not distributed).
+void broadcast(std::vector<char>& bytes);
+
 /// The sum over every rank (integers: exact, whatever the order).
 long long sum(long long value);
 

@@ -7,6 +7,8 @@
 
 #include <atomic>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,12 @@ class SmallPlantSuite : public ::testing::Test {
  protected:
   static std::string path() { return fixture("small-plant"); }
 };
+
+/// A whole file's bytes (empty when it cannot be read).
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 /// Index of the row of pixel (x, y), or -1 for background.
 inline long long rowOfPixel(const TransportHeader& h, int x, int y) {

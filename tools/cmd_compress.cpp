@@ -7,6 +7,7 @@
 #include "relight/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
+#include "tools/render_flags.h"
 
 namespace acpca::cli {
 
@@ -14,27 +15,12 @@ namespace {
 
 struct CompressArgs {
   CommonOptions common;
-  std::string input, out, method, coeffs = "f32", bases = "f32";
-  double tolerance = 0.999, globalEnergy = 0.999;
-  int clusters = 10, block = 0, sampleRows = 16384, clusteringDims = kDefaultClusteringDims;
-  unsigned long long seed = 1;
-  bool exactQuadTree = false, allocateRanks = false;
+  CompressFlags compress;
+  std::string input, out;
 };
 
 void run(const CompressArgs& a) {
-  CompressOptions o;
-  o.method = parseMethod(a.method);
-  o.tolerance = a.tolerance;
-  o.globalEnergy = a.globalEnergy;
-  o.clusters = a.clusters;
-  o.block = a.block;
-  o.exactQuadTree = a.exactQuadTree;
-  o.allocateRanks = a.allocateRanks;
-  o.coeffs = parseCoeffPrecision(a.coeffs);
-  o.bases = parseBasisPrecision(a.bases);
-  o.sampleRows = a.sampleRows;
-  o.clusteringDims = a.clusteringDims;
-  o.seed = a.seed;
+  CompressOptions o = a.compress.options();
   if (!a.common.quiet) o.log = [](const std::string& s) { std::cerr << "compress: " << s << "\n"; };
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
@@ -70,25 +56,7 @@ void registerCompress(CLI::App& app) {
       app.add_subcommand("compress", "Compress a transport file into a clustered PCA model");
   sub->add_option("input", args->input, "Transport file (T_FILE)")->required();
   sub->add_option("--out", args->out, "Model file to write (HDF5)")->required();
-  sub->add_option("--method", args->method, "global, block, cpca, adaptive-quad or adaptive-binary")
-      ->required();
-  sub->add_option("--tolerance", args->tolerance, "Fraction of each cluster's energy kept");
-  sub->add_option("--global-energy", args->globalEnergy,
-                  "Fraction of energy the global basis keeps (1: every direction)");
-  sub->add_option("--clusters", args->clusters, "cpca: K; adaptive-binary: initial clusters");
-  sub->add_option("--block", args->block, "block: side (default 8); adaptive-quad: root side (64)");
-  sub->add_flag("--exact-tree", args->exactQuadTree,
-                "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
-  sub->add_flag("--allocate-ranks", args->allocateRanks,
-                "Spend one error budget, (1 - tolerance) of all energy, where it buys the most");
-  sub->add_option("--coeffs", args->coeffs, "Coefficient storage: f32, f16 or i8");
-  sub->add_option("--bases", args->bases,
-                  "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
-  sub->add_option("--sample-rows", args->sampleRows, "Rows sampled for the global basis");
-  sub->add_option("--clustering-dims", args->clusteringDims,
-                  "cpca, adaptive-binary: leading global coefficients rows are clustered on "
-                  "(0: all)");
-  sub->add_option("--seed", args->seed, "Random seed (sampling, CPCA seeding)");
+  args->compress.add(*sub, false);
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
 }

@@ -6,6 +6,7 @@ namespace acpca::cli {
 
 void registerPrecompute(CLI::App& app);
 void registerCompress(CLI::App& app);
+void registerBuild(CLI::App& app);
 void registerRelight(CLI::App& app);
 void registerEnvmap(CLI::App& app);
 void registerInfo(CLI::App& app);

@@ -60,9 +60,11 @@ void refuseUnknownSubcommand(const CLI::App& app, int argc, char** argv) {
 void refuseUndistributedCommand(int argc, char** argv) {
   if (!ranks::distributed() || argc < 2) return;
   const std::string word = argv[1];
-  if (word == "precompute" || word == "--help" || word == "-h" || word == "--version") return;
+  if (word == "precompute" || word == "build" || word == "--help" || word == "-h" ||
+      word == "--version")
+    return;
   throw UserError(concat("'", word, "' does not run over MPI ranks (this job has ", ranks::count(),
-                         "); only precompute does: run ", word, " as one process"));
+                         "); only precompute and build do: run ", word, " as one process"));
 }
 
 }  // namespace
@@ -79,6 +81,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "adaptive-cpca 0.1.0");
   acpca::cli::registerPrecompute(app);
   acpca::cli::registerCompress(app);
+  acpca::cli::registerBuild(app);
   acpca::cli::registerRelight(app);
   acpca::cli::registerEnvmap(app);
   acpca::cli::registerInfo(app);

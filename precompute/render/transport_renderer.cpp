@@ -1,6 +1,7 @@
 #include "precompute/render/transport_renderer.h"
 
 #include <tbb/info.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/half.h"
 #include "core/ordered_pipeline.h"
 #include "core/ranks.h"
 #include "core/stopwatch.h"
@@ -65,31 +67,33 @@ class BandRenderer {
     out.assign(static_cast<size_t>(rows) * length, 0.0f);
     Counts counts;
     int row = 0;
-    std::vector<float> weights;
     for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < width; ++x) {
-        if (hits(x, y) == 0) continue;
-        sampleWeights(gbuffer_, x, y, mode_, weights);
-        counts.supersampled +=
-            std::count_if(weights.begin() + 1, weights.end(), [](float w) { return w > 0; }) > 0;
-        float* target = out.data() + row * length;
-        for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
-          const PixelSample& ps = gbuffer_.at(x, y, s);
-          if (weights[s] > 0) counts.shadowRays += traceDirect(ps, weights[s], target);
-        }
-        // Light arriving straight from the lattice has its colour in every channel.
-        for (int c = 1; c < channels_; ++c) std::copy_n(target, l_, target + c * l_);
-        if (indirect_)
-          for (int s = 0; s < gbuffer_.samplesPerPixel; ++s)
-            if (weights[s] > 0) {
-              const auto rays =
-                  indirect_->add(gbuffer_.at(x, y, s), sampleSeed(x, y, s), weights[s], target);
-              counts.pathRays += rays.paths;
-              counts.shadowRays += rays.shadow;
-            }
-        ++row;
-      }
+      for (int x = 0; x < width; ++x)
+        if (hits(x, y) > 0) renderPixel(x, y, out.data() + row++ * length, counts);
     return counts;
+  }
+
+  /// Adds pixel (x, y)'s row to target (zeroed, rowLength values) and counts
+  /// its rays.
+  void renderPixel(int x, int y, float* target, Counts& counts) const {
+    thread_local std::vector<float> weights;
+    sampleWeights(gbuffer_, x, y, mode_, weights);
+    counts.supersampled +=
+        std::count_if(weights.begin() + 1, weights.end(), [](float w) { return w > 0; }) > 0;
+    for (int s = 0; s < gbuffer_.samplesPerPixel; ++s) {
+      const PixelSample& ps = gbuffer_.at(x, y, s);
+      if (weights[s] > 0) counts.shadowRays += traceDirect(ps, weights[s], target);
+    }
+    // Light arriving straight from the lattice has its colour in every channel.
+    for (int c = 1; c < channels_; ++c) std::copy_n(target, l_, target + c * l_);
+    if (indirect_)
+      for (int s = 0; s < gbuffer_.samplesPerPixel; ++s)
+        if (weights[s] > 0) {
+          const auto rays =
+              indirect_->add(gbuffer_.at(x, y, s), sampleSeed(x, y, s), weights[s], target);
+          counts.pathRays += rays.paths;
+          counts.shadowRays += rays.shadow;
+        }
   }
 
   /// The cache pre-pass over one band: the cells its paths reach, in order.
@@ -336,6 +340,46 @@ struct TransportPass {
   const BandRenderer renderer;
 };
 
+/// The header of the scene's transport: the image geometry, and per occupied
+/// pixel (row-major order) its albedo (mean over hit samples), coverage and
+/// normal.
+TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& options,
+                                const GBuffer& gbuffer, int channels) {
+  TransportHeader header;
+  header.camera = scene.camera;
+  header.cubemapResolution = options.cubemapResolution;
+  header.samplesPerPixel = options.samplesPerPixel;
+  header.texelRays = options.texelRays;
+  header.precision = options.precision;
+  header.scene = scene.name;
+  header.channels = channels;
+  if (options.bounces > 0) {
+    header.bounces = options.bounces;
+    header.indirectSamples = options.indirectSamples;
+    header.indirectCacheCell = options.indirectCacheCell;
+  }
+  const ImageSize size = scene.camera.size;
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
+      int hits = 0, first = -1;
+      for (int s = 0; s < options.samplesPerPixel; ++s) {
+        const PixelSample& ps = gbuffer.at(x, y, s);
+        if (ps.material < 0) continue;
+        albedo += ps.albedo;
+        if (hits++ == 0) first = s;
+      }
+      if (hits == 0) continue;
+      header.pixels.push_back(y * size.width + x);
+      albedo /= float(hits);
+      header.albedo.insert(header.albedo.end(), albedo.data(), albedo.data() + 3);
+      header.coverage.push_back(float(hits) / options.samplesPerPixel);
+      const auto& n = gbuffer.at(x, y, first).normal;
+      header.normals.insert(header.normals.end(), n.data(), n.data() + 3);
+    }
+  return header;
+}
+
 }  // namespace
 
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
@@ -349,39 +393,8 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     const EmbreeScene& embree = pass.embree;
     const GBuffer& gbuffer = pass.gbuffer;
 
-    // Per-pixel data of the occupied pixels, in row-major order.
-    TransportHeader header;
-    header.camera = scene.camera;
-    header.cubemapResolution = options.cubemapResolution;
-    header.samplesPerPixel = options.samplesPerPixel;
-    header.texelRays = options.texelRays;
-    header.precision = options.precision;
-    header.scene = scene.name;
-    header.channels = pass.channels();
-    if (options.bounces > 0) {
-      header.bounces = options.bounces;
-      header.indirectSamples = options.indirectSamples;
-      header.indirectCacheCell = options.indirectCacheCell;
-    }
+    const TransportHeader header = transportHeader(scene, options, gbuffer, pass.channels());
     const ImageSize size = scene.camera.size;
-    for (int y = 0; y < size.height; ++y)
-      for (int x = 0; x < size.width; ++x) {
-        Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
-        int hits = 0, first = -1;
-        for (int s = 0; s < options.samplesPerPixel; ++s) {
-          const PixelSample& ps = gbuffer.at(x, y, s);
-          if (ps.material < 0) continue;
-          albedo += ps.albedo;
-          if (hits++ == 0) first = s;
-        }
-        if (hits == 0) continue;
-        header.pixels.push_back(y * size.width + x);
-        albedo /= float(hits);
-        header.albedo.insert(header.albedo.end(), albedo.data(), albedo.data() + 3);
-        header.coverage.push_back(float(hits) / options.samplesPerPixel);
-        const auto& n = gbuffer.at(x, y, first).normal;
-        header.normals.insert(header.normals.end(), n.data(), n.data() + 3);
-      }
 
     // Only rank 0 of an MPI job writes; every rank builds the same header.
     std::optional<TransportWriter> writer;
@@ -418,6 +431,63 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
     stats.seconds = watch.seconds();
     return stats;
   });
+}
+
+struct RowSource::Impl {
+  Impl(const Scene& scene, const PrecomputeOptions& options)
+      : pass(scene, options),
+        header(transportHeader(scene, options, pass.gbuffer, pass.channels())) {
+    if (pass.indirect && options.indirectCacheCell > 0)
+      buildIndirectCache(pass.renderer, *pass.indirect, scene.camera.size.height,
+                         tbb::this_task_arena::max_concurrency(), stats, options);
+    stats.triangles = scene.triangleCount();
+    stats.degenerateTriangles = pass.embree.degenerateTriangles();
+    stats.occupiedPixels = header.rows();
+    stats.channels = header.channels;
+  }
+  TransportPass pass;
+  const TransportHeader header;
+  PrecomputeStats stats;
+};
+
+RowSource::RowSource(const Scene& scene, const PrecomputeOptions& options) {
+  validateOptions(options);
+  impl_ = std::make_unique<Impl>(scene, options);
+}
+
+RowSource::~RowSource() = default;
+
+const TransportHeader& RowSource::header() const {
+  return impl_->header;
+}
+
+const PrecomputeStats& RowSource::setupStats() const {
+  return impl_->stats;
+}
+
+std::pair<long long, long long> RowSource::render(const std::vector<long long>& rows,
+                                                  float* out) const {
+  const TransportHeader& h = impl_->header;
+  const size_t length = h.rowLength();
+  const int width = h.camera.size.width;
+  std::atomic<long long> shadowRays{0}, pathRays{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rows.size(), 4), [&](const auto& range) {
+    BandRenderer::Counts counts;
+    std::vector<std::uint16_t> half(length);
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const std::int32_t pixel = h.pixels.at(static_cast<size_t>(rows[i]));
+      float* row = out + i * length;
+      std::fill_n(row, length, 0.0f);
+      impl_->pass.renderer.renderPixel(pixel % width, pixel / width, row, counts);
+      if (h.precision == Precision::F16) {  // as the transport file stores it
+        floatToHalf(row, half.data(), length);
+        halfToFloat(half.data(), row, length);
+      }
+    }
+    shadowRays += counts.shadowRays;
+    pathRays += counts.pathRays;
+  });
+  return {shadowRays.load(), pathRays.load()};
 }
 
 double phongHalfWidth(double exponent) {

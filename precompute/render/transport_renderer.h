@@ -2,6 +2,7 @@
 // The precompute: fills the transport row of every occupied pixel with Embree
 // and streams it to a transport file (design.md section 4).
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,31 @@ struct PrecomputeStats {
 /// atomically: on any failure no file appears at outPath.
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
                                     const PrecomputeOptions& options);
+
+/// The rows of chosen pixels on demand, for a build that never writes the
+/// whole transport: the G-buffer, lattice, shadow rays and (with bounces) the
+/// indirect cache are built once, in the caller's TBB arena; each call renders
+/// only the rows asked for, each exactly as precomputeTransport renders it.
+class RowSource {
+ public:
+  /// Validates the options (UserError on bad values); options.threads is not
+  /// used (the caller's arena is).
+  RowSource(const Scene& scene, const PrecomputeOptions& options);
+  ~RowSource();
+  /// The header a transport file of the scene would carry: every occupied pixel.
+  const TransportHeader& header() const;
+  int rowLength() const { return header().rowLength(); }
+  /// Fills out (rows.size() x rowLength floats) with the rows of these row
+  /// indices, rounded through half when the header's precision is f16 (as the
+  /// file stores them), in parallel. Returns the occlusion and path rays traced.
+  std::pair<long long, long long> render(const std::vector<long long>& rows, float* out) const;
+  /// Triangles, degenerate triangles, the indirect cache's figures.
+  const PrecomputeStats& setupStats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Computes the rows of image rows [0, rows) without writing a file (for the
 /// ray benchmark): returns the occlusion rays traced and the seconds spent.

@@ -182,6 +182,35 @@ void readWhole(hid_t file, const std::string& name, hid_t type, void* data,
 
 }  // namespace
 
+GrowingDataset::GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t chunk,
+                               const std::string& ctx)
+    : name_(name), ctx_(ctx) {
+  const hsize_t empty = 0, unlimited = H5S_UNLIMITED;
+  Handle space(H5Screate_simple(1, &empty, &unlimited), H5Sclose);
+  const Handle create = datasetCreation();
+  check(H5Pset_chunk(create.get(), 1, &chunk), ctx, "chunks of " + name);
+  set_ = Handle(checkId(H5Dcreate2(file, name.c_str(), fileType, space.get(), H5P_DEFAULT,
+                                   create.get(), H5P_DEFAULT),
+                        ctx, "cannot create dataset " + name),
+                H5Dclose);
+}
+
+void GrowingDataset::append(hid_t memType, const void* data, hsize_t count) {
+  if (count == 0) return;
+  const hsize_t grown = size_ + count;
+  const auto fail = [&] {
+    throw WriteError(
+        concat(ctx_, ": cannot write dataset ", name_, " (disk full, or its directory removed?)"));
+  };
+  if (H5Dset_extent(set_.get(), &grown) < 0) fail();
+  Handle fileSpace(H5Dget_space(set_.get()), H5Sclose);
+  check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &size_, nullptr, &count, nullptr),
+        ctx_, "selection in " + name_);
+  Handle memSpace(H5Screate_simple(1, &count, nullptr), H5Sclose);
+  if (H5Dwrite(set_.get(), memType, memSpace.get(), fileSpace.get(), H5P_DEFAULT, data) < 0) fail();
+  size_ = grown;
+}
+
 void writeAttribute(hid_t object, const std::string& name, long long value,
                     const std::string& ctx) {
   writeScalarAttribute(object, name, H5T_NATIVE_LLONG, &value, ctx);

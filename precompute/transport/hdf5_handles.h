@@ -76,6 +76,24 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
 void writeTyped(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
                 const void* data, const std::string& ctx);
 void readTyped(hid_t file, const std::string& name, hid_t type, void* data, const std::string& ctx);
+/// A one-dimensional dataset that grows as values are appended (chunked, no
+/// timestamps): for files written piece by piece.
+class GrowingDataset {
+ public:
+  GrowingDataset() = default;
+  /// chunk: values per chunk (small for per-cluster arrays, large for values).
+  GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t chunk,
+                 const std::string& ctx);
+  /// Appends count values of memType (converted to the file's type).
+  void append(hid_t memType, const void* data, hsize_t count);
+  hsize_t size() const { return size_; }
+
+ private:
+  Handle set_;
+  std::string name_, ctx_;
+  hsize_t size_ = 0;
+};
+
 /// Reads a whole dataset whose shape the caller has already validated.
 void readDataset(hid_t file, const std::string& name, float* data, const std::string& ctx);
 void readDataset(hid_t file, const std::string& name, std::int32_t* data, const std::string& ctx);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "cluster/model_file.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -30,11 +31,6 @@ std::string mpirun(int ranks, const std::string& environment = "") {
          std::to_string(ranks);
 }
 
-std::string bytesOf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 TEST(Mpi, PrecomputeWritesTheSameBytesForAnyRankCount) {
   TempDir dir;
   // Direct light, and bounced light (R, G and B rows; each rank builds the
@@ -45,14 +41,14 @@ TEST(Mpi, PrecomputeWritesTheSameBytesForAnyRankCount) {
     const std::string alone = dir.file("alone.h5");
     const RunResult r = runCli("precompute " + scene + " --quiet --out " + alone);
     ASSERT_EQ(r.status, 0) << r.output;
-    const std::string expected = bytesOf(alone);
+    const std::string expected = test::readFile(alone);
     ASSERT_GT(expected.size(), 1000u);
     for (int ranks : {1, 2, 3}) {
       const std::string out = dir.file("ranks" + std::to_string(ranks) + ".h5");
       const RunResult m =
           runCli("precompute " + scene + " --quiet --json - --out " + out, mpirun(ranks));
       ASSERT_EQ(m.status, 0) << m.output;
-      EXPECT_TRUE(bytesOf(out) == expected) << scene << ": " << ranks << " ranks";
+      EXPECT_TRUE(test::readFile(out) == expected) << scene << ": " << ranks << " ranks";
       EXPECT_NE(m.output.find("\"ranks\": " + std::to_string(ranks)), std::string::npos)
           << m.output;
     }
@@ -74,6 +70,58 @@ TEST(Mpi, ARankThatDiesIsNamedAndLeavesNoFile) {
   for (const auto& entry : fs::directory_iterator(dir.path()))
     EXPECT_EQ(entry.path().filename().string().rfind(".t.partial-", 0), 0u)
         << "left behind: " << entry.path();
+}
+
+/// Every value a relight or a reader uses (the file's timing and memory
+/// attributes are the run's own).
+void expectSameModel(const Model& a, const Model& b, const std::string& what) {
+  EXPECT_EQ(a.geometry.pixels, b.geometry.pixels) << what;
+  EXPECT_EQ(a.geometry.albedo, b.geometry.albedo) << what;
+  EXPECT_EQ(a.geometry.coverage, b.geometry.coverage) << what;
+  EXPECT_TRUE(a.globalBasis == b.globalBasis) << what;
+  EXPECT_EQ(a.settings, b.settings) << what;
+  EXPECT_EQ(a.clusterRows, b.clusterRows) << what;
+  EXPECT_EQ(a.rowOffsets, b.rowOffsets) << what;
+  EXPECT_EQ(a.ranks, b.ranks) << what;
+  EXPECT_EQ(a.bases, b.bases) << what;
+  EXPECT_EQ(a.means, b.means) << what;
+  EXPECT_EQ(a.coeffI8, b.coeffI8) << what;
+  EXPECT_EQ(a.coeffScale, b.coeffScale) << what;
+  EXPECT_EQ(a.transportError, b.transportError) << what;
+}
+
+TEST(Mpi, BuildMakesTheSameModelForAnyRankCount) {
+  TempDir dir;
+  const std::string build =
+      "build --scene plant --size 80x72 --spp 1 --cubemap 8 --block 16 --sample-rows 1500 "
+      "--coeffs i8 --quiet ";
+  const RunResult r = runCli(build + "--out " + dir.file("alone.h5"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Model alone = readModel(dir.file("alone.h5"));
+  ASSERT_GT(alone.clusters(), 20);
+  for (int ranks : {1, 2, 3}) {
+    const std::string out = dir.file("ranks" + std::to_string(ranks) + ".h5");
+    const RunResult m = runCli(build + "--json - --out " + out, mpirun(ranks));
+    ASSERT_EQ(m.status, 0) << m.output;
+    expectSameModel(readModel(out), alone, std::to_string(ranks) + " ranks");
+    EXPECT_NE(m.output.find("\"ranks\": " + std::to_string(ranks)), std::string::npos) << m.output;
+  }
+
+  // A rank that dies is named, no model appears, and the tiles finished
+  // before it resume in one process to the same model.
+  const std::string out = dir.file("killed.h5");
+  const RunResult killed = runCli(
+      "build --scene plant --size 80x72 --spp 1 --cubemap 8 --block 16 "
+      "--sample-rows 1500 --coeffs i8 --tiles-in-flight 1 --out " +
+          out,
+      mpirun(2, "ACPCA_FAULT_TILE=13"));
+  EXPECT_NE(killed.status, 0) << killed.output;
+  EXPECT_NE(killed.output.find("rank 1 of 2: starts tile 13"), std::string::npos) << killed.output;
+  EXPECT_FALSE(fs::exists(out));
+  const RunResult resumed = runCli(build + "--resume --json - --out " + out);
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(resumed.output.find("\"tiles_resumed\": 0,"), std::string::npos) << resumed.output;
+  expectSameModel(readModel(out), alone, "resumed after a killed rank");
 }
 
 TEST(Mpi, CommandsThatDoNotDealTheirWorkRefuseToRunOnSeveralRanks) {

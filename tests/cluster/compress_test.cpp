@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <filesystem>
 #include <random>
 
 #include "cluster/compress.h"
@@ -291,6 +292,90 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
     ADD_FAILURE() << "a model whose products overflow was accepted";
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(CompressPlant, AModelWrittenInPiecesReadsAsTheWholeOne) {
+  // The streamed build appends each tile's clusters as it finishes them: the
+  // file must read back as the same model as one written at once.
+  test::TempDir dir;
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveQuad;
+  o.block = 16;
+  o.coeffs = CoeffPrecision::I8;
+  o.bases = CoeffPrecision::F16;
+  Model whole = compressTransport(t, o);
+  whole.method = "adaptive-quad";
+  ASSERT_GT(whole.clusters(), 3);
+  // The clusters cut in three pieces, each with offsets from 0.
+  const auto piece = [&](int first, int last) {
+    Model m;
+    m.hasMean = whole.hasMean;
+    m.precision = whole.precision;
+    m.basisPrecision = whole.basisPrecision;
+    const int n = whole.globalBases();
+    m.rowOffsets = {0}, m.basisOffsets = {0}, m.coefficientOffsets = {0};
+    for (int c = first; c < last; ++c) {
+      const long long r0 = whole.rowOffsets[c], r1 = whole.rowOffsets[c + 1];
+      m.clusterRows.insert(m.clusterRows.end(), whole.clusterRows.begin() + r0,
+                           whole.clusterRows.begin() + r1);
+      m.rowOffsets.push_back(m.clusterRows.size());
+      m.ranks.push_back(whole.ranks[c]);
+      m.bases.insert(m.bases.end(), whole.bases.begin() + whole.basisOffsets[c],
+                     whole.bases.begin() + whole.basisOffsets[c + 1]);
+      m.basisOffsets.push_back(m.bases.size());
+      m.means.insert(m.means.end(), whole.means.begin() + c * n, whole.means.begin() + (c + 1) * n);
+      m.coeffI8.insert(m.coeffI8.end(), whole.coeffI8.begin() + whole.coefficientOffsets[c],
+                       whole.coeffI8.begin() + whole.coefficientOffsets[c + 1]);
+      m.coefficientOffsets.push_back(m.coeffI8.size());
+      m.coeffScale.insert(m.coeffScale.end(), whole.coeffScale.begin() + whole.firstBasisIndex(c),
+                          whole.coeffScale.begin() + whole.firstBasisIndex(c) + whole.ranks[c]);
+    }
+    return m;
+  };
+  const int c = whole.clusters();
+  {
+    ModelFileWriter writer(dir.file("pieces.h5"), whole);
+    for (const auto& [first, last] : {std::pair{0, 1}, std::pair{1, c / 2}, std::pair{c / 2, c}})
+      writer.append(piece(first, last));
+    EXPECT_EQ(writer.clustersWritten(), c);
+    EXPECT_DOUBLE_EQ(writer.totalCost(), whole.totalCost());
+    writer.finish(whole);
+  }
+  const Model back = readModel(dir.file("pieces.h5"));
+  EXPECT_EQ(back.clusterRows, whole.clusterRows);
+  EXPECT_EQ(back.rowOffsets, whole.rowOffsets);
+  EXPECT_EQ(back.basisOffsets, whole.basisOffsets);
+  EXPECT_EQ(back.coefficientOffsets, whole.coefficientOffsets);
+  EXPECT_EQ(back.bases, whole.bases);
+  EXPECT_EQ(back.means, whole.means);
+  EXPECT_EQ(back.coeffI8, whole.coeffI8);
+  EXPECT_EQ(back.coeffScale, whole.coeffScale);
+  EXPECT_DOUBLE_EQ(back.transportError, whole.transportError);
+  // A writer that never finishes leaves nothing behind.
+  { ModelFileWriter unfinished(dir.file("never.h5"), whole); }
+  EXPECT_FALSE(std::filesystem::exists(dir.file("never.h5")));
+}
+
+TEST(GlobalBasis, RowsTheSampleNeverSeesStillCountAsMissedEnergy) {
+  // The basis lives on the directions its sample sees; a row with energy on
+  // others (seen by rows outside the sample) must report that energy as
+  // missed, or the transport error would be too small.
+  const int l = 6;
+  Eigen::MatrixXd sample = Eigen::MatrixXd::Zero(40, l);
+  for (int r = 0; r < 40; ++r) sample(r, 0) = 1 + r, sample(r, 1) = 0.5 * r;
+  const GlobalBasis basis = basisFromSample(sample, sample, {1.0, 40, 1});
+  EXPECT_EQ(basis.active, (std::vector<int>{0, 1}));
+  const float row[l] = {3, 1, 0, 2, 0, 0};  // direction 3: unseen by the sample
+  for (double keep : {1.0, 0.5}) {          // the residual formed, or |t|^2 - |g|^2
+    GlobalBasis b = basis;
+    b.heldOutEnergyKept = keep;
+    const GlobalProjection g = BasisProjector(b, l, l).project(row, 1);
+    EXPECT_NEAR(g.rowEnergy[0], 14, 1e-9);
+    const double inBasis = g.coefficients.row(0).cast<double>().squaredNorm();
+    EXPECT_NEAR(g.residualEnergy[0], 14 - inBasis, 1e-5) << keep;
+    EXPECT_GE(g.residualEnergy[0], 4 - 1e-5) << "direction 3's energy is missed";
   }
 }
 

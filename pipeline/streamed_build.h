@@ -1,0 +1,61 @@
+#pragma once
+// The streamed build (docs/architecture.md, "The streamed build"): scene ->
+// model without the dense transport. A seeded sample of rows is rendered first
+// and the global basis fitted to it; then the image is rendered tile by tile,
+// each tile projected onto the basis and compressed with the tile as its root
+// block, and kept as a file of clusters; the model is assembled from them in
+// tile order. Memory holds a few tiles whatever the image size.
+#include <functional>
+#include <string>
+
+#include "cluster/compress.h"
+#include "precompute/render/scene.h"
+#include "precompute/render/transport_renderer.h"
+
+namespace acpca {
+
+struct BuildOptions {
+  PrecomputeOptions render;  ///< how rows are rendered, as precompute renders them
+  /// method adaptive-quad or block: the tiles are their root blocks (block
+  /// side, 64 by default); global energy, sample rows, seed, tolerance and
+  /// storage as compress takes them.
+  CompressOptions compress;
+  /// Continue an interrupted build from its finished tiles (same scene and
+  /// settings); without it, what an earlier build left is started over.
+  bool resume = false;
+  /// Tiles in flight at once (each holds its rows in float).
+  int tilesInFlight = 3;
+  /// Called in order as tiles finish: (rows done, rows in total).
+  std::function<void(long long, long long)> progress;
+  /// Stage messages.
+  std::function<void(const std::string&)> log;
+  /// The process's peak memory so far, recorded in the model (none: 0).
+  std::function<long long()> peakMemory;
+};
+
+struct BuildStats {
+  long long rows = 0, tiles = 0, tilesResumed = 0;
+  long long occlusionRays = 0, pathRays = 0;
+  int globalBases = 0;
+  double sampleEnergyKept = 0, heldOutEnergyKept = 0;
+  double basisSeconds = 0;  ///< rendering the sample and fitting the basis
+  double tileSeconds = 0;   ///< rendering, projecting and compressing the tiles
+  double assembleSeconds = 0;
+  double seconds = 0;
+  long long clusters = 0;
+  double costPerPixel = 0, transportError = 0, globalEnergyKept = 0;
+  long long frameBytes = 0;
+  long long peakWorkBytes = 0;  ///< largest size of the tile files on disk
+};
+
+/// Validates the options (UserError / ParameterError before any work), builds
+/// and writes the model atomically: no file at outPath unless complete. The
+/// finished tiles wait in `<outPath>.tiles/` (removed once the model is in
+/// place), which `resume` continues from.
+BuildStats buildStreamed(const Scene& scene, const std::string& outPath,
+                         const BuildOptions& options);
+
+/// Where a build of outPath keeps its finished tiles.
+std::string buildWorkDirectory(const std::string& outPath);
+
+}  // namespace acpca

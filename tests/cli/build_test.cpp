@@ -1,0 +1,123 @@
+// `adaptive-cpca build`: the streamed model equals the two-step precompute +
+// compress model (same global basis, clusters and ranks; coefficients to the
+// fits' rounding), an interrupted build resumes to the same model, and bad
+// requests are refused before any work with nothing written.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <filesystem>
+
+#include "cluster/model_file.h"
+#include "tests/cli/run_cli.h"
+#include "tests/test_support.h"
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+namespace fs = std::filesystem;
+
+/// A 96x96 plant: nine tiles of 32 (edge tiles cut), a basis sample smaller
+/// than the image, so that both pipelines must draw the same rows.
+const std::string kScene = "--scene plant --size 96x96 --spp 1 --cubemap 8";
+const std::string kCompress = "--block 32 --sample-rows 2000 --global-energy 0.999";
+
+/// sum over clusters of |U W^T - U' W'^T|^2 / |U W^T|^2: the reconstructed
+/// global coefficients, whatever signs or rotations the eigensolvers chose.
+double reconstructionDifference(const Model& a, const Model& b) {
+  const int n = a.globalBases();
+  double diff = 0, total = 0;
+  for (int c = 0; c < a.clusters(); ++c) {
+    const long long p = a.rowOffsets[c + 1] - a.rowOffsets[c];
+    const auto reconstruct = [&](const Model& m) {
+      const Eigen::Map<const Eigen::MatrixXf> w(m.bases.data() + m.basisOffsets[c], n, m.ranks[c]);
+      Eigen::MatrixXd u(p, m.ranks[c]);
+      for (long long r = 0; r < p; ++r)
+        for (int k = 0; k < m.ranks[c]; ++k) u(r, k) = m.coefficient(c, r, k);
+      return Eigen::MatrixXd(u * w.cast<double>().transpose());
+    };
+    const Eigen::MatrixXd x = reconstruct(a), y = reconstruct(b);
+    diff += (x - y).squaredNorm(), total += x.squaredNorm();
+  }
+  return std::sqrt(diff / total);
+}
+
+void expectSameClusters(const Model& streamed, const Model& twoStep) {
+  EXPECT_EQ(streamed.geometry.pixels, twoStep.geometry.pixels);
+  EXPECT_EQ(streamed.geometry.albedo, twoStep.geometry.albedo);
+  ASSERT_EQ(streamed.globalBases(), twoStep.globalBases());
+  EXPECT_TRUE(streamed.globalBasis == twoStep.globalBasis) << "the same sampled rows, bit for bit";
+  EXPECT_EQ(streamed.clusterRows, twoStep.clusterRows);
+  EXPECT_EQ(streamed.rowOffsets, twoStep.rowOffsets);
+  EXPECT_EQ(streamed.ranks, twoStep.ranks);
+  EXPECT_DOUBLE_EQ(streamed.totalCost(), twoStep.totalCost());
+  EXPECT_NEAR(streamed.transportError, twoStep.transportError, 1e-4 * twoStep.transportError);
+  EXPECT_NEAR(streamed.globalEnergyKept, twoStep.globalEnergyKept, 1e-6);
+}
+
+TEST(Build, EqualsPrecomputeThenCompress) {
+  TempDir dir;
+  const RunResult pre = runCli("precompute " + kScene + " --quiet --out " + dir.file("t.h5"));
+  ASSERT_EQ(pre.status, 0) << pre.output;
+  // At the default tolerance the clusters are fitted in float, whose
+  // eigensolver turns rounding-level differences of G into small rotations
+  // near each cluster's cut; at 0.99995 the fits are in double.
+  for (const auto& [tolerance, bound] : {std::pair{"0.999", 2e-3}, std::pair{"0.99995", 1e-5}}) {
+    SCOPED_TRACE(tolerance);
+    const std::string settings = kCompress + " --tolerance " + tolerance;
+    const RunResult built = runCli("build " + kScene + " " + settings + " --quiet --json " +
+                                   dir.file("b.json") + " --out " + dir.file("b.h5"));
+    ASSERT_EQ(built.status, 0) << built.output;
+    const RunResult compressed =
+        runCli("compress " + dir.file("t.h5") + " --method adaptive-quad " + settings +
+               " --quiet --out " + dir.file("c.h5"));
+    ASSERT_EQ(compressed.status, 0) << compressed.output;
+    const Model streamed = readModel(dir.file("b.h5")), twoStep = readModel(dir.file("c.h5"));
+    expectSameClusters(streamed, twoStep);
+    EXPECT_GT(streamed.clusters(), 9) << "the tiles split: the test exercises the quad tree";
+    EXPECT_LT(reconstructionDifference(streamed, twoStep), bound);
+    EXPECT_FALSE(fs::exists(dir.file("b.h5.tiles"))) << "the finished tiles are removed";
+  }
+}
+
+TEST(Build, AnInterruptedBuildLeavesNoModelAndResumesToTheSameOne) {
+  TempDir dir;
+  const std::string build = "build " + kScene + " " + kCompress + " --coeffs i8 --quiet ";
+  ASSERT_EQ(runCli(build + "--out " + dir.file("whole.h5")).status, 0);
+  const RunResult killed =
+      runCli(build + "--tiles-in-flight 1 --out " + dir.file("m.h5"), "ACPCA_FAULT_TILE=5");
+  EXPECT_NE(killed.status, 0) << killed.output;
+  EXPECT_FALSE(fs::exists(dir.file("m.h5")));
+  ASSERT_TRUE(fs::exists(dir.file("m.h5.tiles/tile-0000004.h5"))) << "tiles before the kill kept";
+  const RunResult resumed =
+      runCli(build + "--resume --json " + dir.file("r.json") + " --out " + dir.file("m.h5"));
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_NE(test::readFile(dir.file("r.json")).find("\"tiles_resumed\": 5"), std::string::npos)
+      << test::readFile(dir.file("r.json"));
+  const Model whole = readModel(dir.file("whole.h5")), resumedModel = readModel(dir.file("m.h5"));
+  EXPECT_EQ(resumedModel.clusterRows, whole.clusterRows);
+  EXPECT_EQ(resumedModel.ranks, whole.ranks);
+  EXPECT_EQ(resumedModel.bases, whole.bases);
+  EXPECT_EQ(resumedModel.coeffI8, whole.coeffI8);
+  EXPECT_EQ(resumedModel.coeffScale, whole.coeffScale);
+  EXPECT_DOUBLE_EQ(resumedModel.transportError, whole.transportError);
+
+  // Tiles of other settings are not mixed in: --resume refuses them.
+  ASSERT_NE(runCli(build + "--out " + dir.file("n.h5"), "ACPCA_FAULT_TILE=3").status, 0);
+  expectFailure(build + "--tolerance 0.99 --resume --out " + dir.file("n.h5"), "other settings");
+  EXPECT_FALSE(fs::exists(dir.file("n.h5")));
+}
+
+TEST(Build, RefusesWhatItCannotStreamBeforeAnyWork) {
+  TempDir dir;
+  const std::string out = " --out " + dir.file("m.h5");
+  expectFailure("build " + kScene + " --method cpca" + out, "--method");
+  expectFailure("build " + kScene + " --method adaptive-binary" + out, "precompute, then compress");
+  expectFailure("build " + kScene + " --tolerance 2" + out, "--tolerance");
+  expectFailure("build " + kScene + " --sample-rows 0" + out, "--sample-rows");
+  expectFailure("build " + kScene + " --out " + dir.file("missing/m.h5"), "does not exist");
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+}  // namespace
+}  // namespace acpca

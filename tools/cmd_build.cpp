@@ -1,0 +1,103 @@
+// `adaptive-cpca build`: scene -> model, tile by tile, with no transport file.
+#include <iostream>
+
+#include "cluster/compress.h"
+#include "core/ranks.h"
+#include "pipeline/streamed_build.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+#include "tools/render_flags.h"
+
+namespace acpca::cli {
+
+namespace {
+
+struct BuildArgs {
+  CommonOptions common;
+  RenderFlags render;
+  CompressFlags compress;
+  std::string out;
+  bool resume = false;
+  int tilesInFlight = 3;
+};
+
+void run(const BuildArgs& a) {
+  // Reject bad options before any work.
+  BuildOptions o;
+  o.render = a.render.options(a.common.threads);
+  CompressFlags compress = a.compress;
+  if (compress.method.empty()) compress.method = "adaptive-quad";
+  o.compress = compress.options();
+  o.resume = a.resume;
+  o.tilesInFlight = a.tilesInFlight;
+  const Scene scene = a.render.loadScene();
+  if (ranks::rank() == 0)
+    for (const auto& w : samplingWarnings(scene, o.render)) std::cerr << "warning: " << w << "\n";
+
+  ThreadLimit limit(a.common.threads);
+  // Under mpirun every rank renders tiles; rank 0 writes and reports, every
+  // rank logs the tiles it starts.
+  const bool lead = ranks::rank() == 0;
+  Progress progress("build " + scene.name, "rows", a.common.quiet || !lead);
+  o.progress = [&](long long done, long long total) { progress.update(done, total); };
+  if (!a.common.quiet)  // one write per line: the ranks share mpirun's stderr
+    o.log = [](const std::string& s) { std::cerr << ("build: " + s + "\n"); };
+  o.peakMemory = peakMemoryBytes;
+  const BuildStats s = buildStreamed(scene, a.out, o);
+  progress.finish();
+  if (!lead) return;
+  if (!a.common.quiet)
+    std::cerr << "wrote " << a.out << ": " << compress.method << ", " << s.clusters
+              << " clusters over " << s.tiles << " tiles, N = " << s.globalBases << ", "
+              << s.costPerPixel << " per pixel, transport error " << s.transportError << ", "
+              << formatBytes(s.frameBytes) << " read per frame; " << s.seconds << " s (basis "
+              << s.basisSeconds << " s, tiles " << s.tileSeconds << " s, assembly "
+              << s.assembleSeconds << " s), peak memory " << formatBytes(peakMemoryBytes())
+              << ", tiles on disk at most " << formatBytes(s.peakWorkBytes) << "\n";
+  writeJson(a.common.jsonPath, {{"out", a.out},
+                                {"scene", scene.name},
+                                {"width", scene.camera.size.width},
+                                {"height", scene.camera.size.height},
+                                {"method", compress.method},
+                                {"rows", s.rows},
+                                {"tiles", s.tiles},
+                                {"tiles_resumed", s.tilesResumed},
+                                {"ranks", ranks::count()},
+                                {"global_bases", s.globalBases},
+                                {"sample_energy_kept", s.sampleEnergyKept},
+                                {"held_out_energy_kept", s.heldOutEnergyKept},
+                                {"clusters", s.clusters},
+                                {"cost_per_pixel", s.costPerPixel},
+                                {"transport_error", s.transportError},
+                                {"global_energy_kept", s.globalEnergyKept},
+                                {"bytes_per_frame", s.frameBytes},
+                                {"occlusion_rays", s.occlusionRays},
+                                {"path_rays", s.pathRays},
+                                {"basis_seconds", s.basisSeconds},
+                                {"tile_seconds", s.tileSeconds},
+                                {"assemble_seconds", s.assembleSeconds},
+                                {"seconds", s.seconds},
+                                {"work_bytes", s.peakWorkBytes},
+                                {"peak_memory_bytes", peakMemoryBytes()}});
+}
+
+}  // namespace
+
+void registerBuild(CLI::App& app) {
+  auto args = std::make_shared<BuildArgs>();
+  auto* sub = app.add_subcommand(
+      "build",
+      "Render and compress a scene tile by tile into a model, with no transport file on disk");
+  args->render.add(*sub);
+  sub->add_option("--out", args->out, "Model file to write (HDF5)")->required();
+  args->compress.add(*sub, true);
+  sub->add_flag("--resume", args->resume,
+                "Continue an interrupted build of the same scene and settings from its finished "
+                "tiles (kept in OUT.tiles/)");
+  sub->add_option("--tiles-in-flight", args->tilesInFlight,
+                  "Tiles rendered and compressed at once (default 3; each holds its rows)");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli
