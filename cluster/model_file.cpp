@@ -212,6 +212,11 @@ void ModelFileWriter::append(const Model& m) {
   rows_ += m.rowOffsets.empty() ? 0 : m.rowOffsets.back();
 }
 
+void ModelFileWriter::writeArray(const std::string& name, const std::vector<float>& values) {
+  h5::writeDataset(data_->file.get(), name, {static_cast<hsize_t>(values.size())}, values.data(),
+                   path_);
+}
+
 void ModelFileWriter::finish(const Model& summary, const std::map<std::string, double>& extra) {
   Datasets& d = *data_;
   const hid_t f = d.file.get();
@@ -226,8 +231,10 @@ void ModelFileWriter::finish(const Model& summary, const std::map<std::string, d
   for (const auto& [name, value] : extra) h5::writeAttribute(f, name, value, ctx);
   h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
   for (auto* set : {&d.rows, &d.rowOffsets, &d.ranks, &d.basisOffsets, &d.bases, &d.means,
-                    &d.coefficientOffsets, &d.scale, &d.coefficients})
+                    &d.coefficientOffsets, &d.scale, &d.coefficients}) {
+    set->create();  // every dataset exists, empty or not
     *set = h5::GrowingDataset();
+  }
   d.half.reset();
   h5::closeWrittenFile(d.file, path_);
   d.output.commit();

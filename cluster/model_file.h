@@ -33,6 +33,8 @@ class ModelFileWriter {
   /// offsets from 0, its precisions those of the head).
   void append(const Model& clusters);
   long long clustersWritten() const { return clusters_; }
+  /// A whole float dataset beside the clusters (a tile's ground truth).
+  void writeArray(const std::string& name, const std::vector<float>& values);
   /// sum over the clusters written of n_c (p_c + N), as Model::totalCost.
   double totalCost() const { return totalCost_; }
   /// Writes the figures of `summary` and `extra` attributes, marks the file

@@ -16,6 +16,7 @@
 #include "cluster/global_basis.h"
 #include "cluster/model_file.h"
 #include "cluster/model_fit.h"
+#include "cluster/model_reference.h"
 #include "cluster/partition.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -23,6 +24,10 @@
 #include "core/ranks.h"
 #include "core/stopwatch.h"
 #include "pipeline/tile_plan.h"
+#include "precompute/transport/hdf5_handles.h"
+#include "precompute/transport/row_layout.h"
+#include "relight/environment.h"
+#include "relight/image_output.h"
 
 namespace acpca {
 
@@ -35,10 +40,44 @@ namespace {
 /// residual, its clusters' residuals and the quantization error).
 struct TileEnergies {
   double energy = 0, globalResidual = 0, errorEnergy = 0;
+  /// Per ground-truth lighting: sum over the tile's rows of |B_model - B|^2 and |B|^2.
+  std::vector<double> truthDiff, truthNorm;
   std::map<std::string, double> attributes() const {
-    return {{"energy", energy}, {"global_residual", globalResidual}, {"error_energy", errorEnergy}};
+    std::map<std::string, double> a{
+        {"energy", energy}, {"global_residual", globalResidual}, {"error_energy", errorEnergy}};
+    for (size_t m = 0; m < truthDiff.size(); ++m)
+      a[concat("truth_diff_", m)] = truthDiff[m], a[concat("truth_norm_", m)] = truthNorm[m];
+    return a;
   }
 };
+
+/// The lightings of the ground truth, integrated onto the lattice once.
+struct GroundTruth {
+  std::vector<std::unique_ptr<Environment>> environments;
+  std::vector<std::vector<double>> lightings;
+  Eigen::MatrixXf onRows;  ///< rowLength x 3M: column 3m + c is map m's channel c on the rows
+  int maps() const { return static_cast<int>(environments.size()); }
+};
+
+/// The environments, before any work (a bad spec is refused first).
+GroundTruth loadGroundTruth(const BuildOptions& o) {
+  GroundTruth g;
+  for (const auto& spec : o.groundTruth) g.environments.push_back(loadEnvironment(spec));
+  return g;
+}
+
+/// Integrated onto the lattice and laid out as the rows meet them.
+void layOutGroundTruth(GroundTruth& g, int cubemapResolution, int channels) {
+  const CubeLattice lattice(cubemapResolution);
+  for (const auto& env : g.environments) {
+    std::vector<double> lighting(3 * static_cast<size_t>(lattice.size()), 0.0);
+    env->integrate(lattice, Eigen::Matrix3d::Identity(), lighting);
+    g.lightings.push_back(std::move(lighting));
+  }
+  g.onRows.resize(static_cast<Eigen::Index>(channels) * lattice.size(), 3 * g.maps());
+  for (int m = 0; m < g.maps(); ++m)
+    g.onRows.middleCols(3 * m, 3) = lightingOnRows<float>(g.lightings[m], lattice.size(), channels);
+}
 
 /// FNV-1a over bytes: a fingerprint of what a resumed build must share with
 /// the build it continues (not a defence against tampering).
@@ -62,6 +101,8 @@ void validate(const BuildOptions& o) {
                          "needs every cluster's spectrum at once, which a streamed build never "
                          "holds; run precompute, then compress");
   if (o.tilesInFlight < 1) throw ParameterError("tiles in flight", o.tilesInFlight, "must be >= 1");
+  if (!o.groundTruthDir.empty() && o.groundTruth.empty())
+    throw ParameterError("ground-truth lightings", "none", "are needed for ground-truth images");
 }
 
 /// Tile side: adaptive-quad's root block; for block, whole blocks of about 64.
@@ -186,21 +227,46 @@ void writeBytes(const std::string& path, const std::vector<char>& bytes) {
 
 /// A tile's clusters: its rows rendered, projected onto the global basis and
 /// compressed with the tile as the root block; rows indexed in the image.
+/// With a ground truth, its values for the tile's rows (map by map, row by
+/// row, RGB) go into `truth`, and the model's error against them into energies.
 Model compressTile(const Tile& tile, const RowSource& source, const BasisProjector& projector,
-                   const GlobalBasis& basis, const BuildOptions& o, int side,
-                   std::vector<float>& rows, TileEnergies& energies,
-                   std::pair<long long, long long>& rays) {
+                   const GlobalBasis& basis, const BuildOptions& o, const GroundTruth& truthSet,
+                   int side, std::vector<float>& rows, std::vector<float>& truth,
+                   TileEnergies& energies, std::pair<long long, long long>& rays) {
   const TransportHeader& header = source.header();
   const long long count = static_cast<long long>(tile.rows.size());
+  const int l = source.rowLength();
   // `rows` is the slot's, reused tile after tile: a fresh 100 MB buffer per
   // tile cost more in page faults than the tile's projection.
-  rows.resize(static_cast<size_t>(count) * source.rowLength());
+  rows.resize(static_cast<size_t>(count) * l);
   rays = source.render(tile.rows, rows.data());
   const GlobalProjection projection = projector.project(rows.data(), count);
-  const std::vector<std::int32_t> local = tilePixels(tile, header.camera.size, header.pixels);
+
+  // The tile's own geometry: its rows' albedo, numbered from 0.
+  TransportHeader local;
+  local.cubemapResolution = header.cubemapResolution;
+  local.channels = header.channels;
+  local.pixels.resize(static_cast<size_t>(count));
+  for (long long i = 0; i < count; ++i) {
+    local.pixels[i] = static_cast<std::int32_t>(i);
+    for (int c = 0; c < 3; ++c) local.albedo.push_back(header.albedo[3 * tile.rows[i] + c]);
+  }
+  const int maps = truthSet.maps();
+  truth.assign(static_cast<size_t>(maps) * count * 3, 0.0f);
+  if (maps > 0) {  // B = albedo (T L), as denseRelight computes it from a file
+    const Eigen::MatrixXf product =
+        Eigen::Map<const RowMatrixF>(rows.data(), count, l) * truthSet.onRows;
+    for (int m = 0; m < maps; ++m)
+      for (long long i = 0; i < count; ++i)
+        for (int c = 0; c < 3; ++c)
+          truth[(static_cast<size_t>(m) * count + i) * 3 + c] =
+              local.albedo[3 * i + c] * product(i, 3 * m + c);
+  }
+
+  const std::vector<std::int32_t> pixels = tilePixels(tile, header.camera.size, header.pixels);
   const CompressOptions& c = o.compress;
   const ClusterInput in{
-      &projection.coefficients, &local, {tile.width, tile.height}, c.tolerance, false,
+      &projection.coefficients, &pixels, {tile.width, tile.height}, c.tolerance, false,
       c.clusteringDims};
   Partition partition;
   if (c.method == Method::AdaptiveQuad) {
@@ -215,14 +281,34 @@ Model compressTile(const Tile& tile, const RowSource& source, const BasisProject
   m.tolerance = c.tolerance;
   m.precision = c.coeffs;
   m.basisPrecision = c.bases;
-  static const TransportHeader kNoGeometry;  // the model's geometry is the image's
-  Model part = buildModel(kNoGeometry, basis, projection, partition, m);
-  part.globalBasis.resize(0, 0);
-  for (auto& r : part.clusterRows) r = static_cast<std::int32_t>(tile.rows[r]);
+  Model part = buildModel(local, basis, projection, partition, m);
   energies.energy = projection.transportEnergy();
   energies.globalResidual = projection.residualEnergy.sum();
   energies.errorEnergy = part.transportError * part.transportError * energies.energy;
+  if (maps > 0) {  // the model's image error, as eval measures it (relative L2 over RGB)
+    const auto relit = relightModelReference(part, truthSet.lightings);
+    energies.truthDiff.assign(maps, 0.0), energies.truthNorm.assign(maps, 0.0);
+    for (int map = 0; map < maps; ++map)
+      for (long long k = 0; k < 3 * count; ++k) {
+        const double t = truth[static_cast<size_t>(map) * count * 3 + k];
+        energies.truthDiff[map] += (relit[map][k] - t) * (relit[map][k] - t);
+        energies.truthNorm[map] += t * t;
+      }
+  }
+  part.globalBasis.resize(0, 0);
+  part.geometry = TransportHeader();
+  for (auto& r : part.clusterRows) r = static_cast<std::int32_t>(tile.rows[r]);
   return part;
+}
+
+/// A float dataset of a tile file, of the size expected.
+std::vector<float> readTileArray(const std::string& path, const std::string& name, size_t size) {
+  const h5::Handle file = h5::openFileReadOnly(path);
+  if (h5::datasetShape(file.get(), name, path) != std::vector<hsize_t>{size})
+    throw UserError(concat(path, ": dataset '", name, "' has the wrong size"));
+  std::vector<float> values(size);
+  h5::readDataset(file.get(), name, values.data(), path);
+  return values;
 }
 
 /// Starts the work directory over, or checks that it belongs to this build.
@@ -263,9 +349,12 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   };
   BuildStats stats;
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
+  if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);
+  GroundTruth truthSet = loadGroundTruth(o);
 
   const RowSource source(scene, o.render);
   const TransportHeader& header = source.header();
+  layOutGroundTruth(truthSet, header.cubemapResolution, header.channels);
   stats.rows = header.rows();
   log(concat("G-buffer: ", header.rows(), " occupied pixels"));
 
@@ -325,7 +414,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   const BasisProjector projector(basis, header.latticeSize(), header.rowLength());
   struct Slot {
     size_t tile = 0;
-    std::vector<float> rows;
+    std::vector<float> rows, truth;
     Model part;
     TileEnergies energies;
     std::pair<long long, long long> rays;
@@ -353,6 +442,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   const auto writePart = [&](const Slot& slot, const std::string& path) {
     ModelFileWriter part(path, head, ModelFileKind::Clusters);
     part.append(slot.part);
+    if (!slot.truth.empty()) part.writeArray("ground_truth", slot.truth);
     part.finish(slot.part, slot.energies.attributes());
   };
   runOrderedPipeline<Slot>(
@@ -368,8 +458,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       },
       [&](Slot& slot) {
         if (static_cast<long long>(slot.tile) == faultTile) std::raise(SIGKILL);
-        slot.part = compressTile(tiles[slot.tile], source, projector, basis, o, side, slot.rows,
-                                 slot.energies, slot.rays);
+        slot.part = compressTile(tiles[slot.tile], source, projector, basis, o, truthSet, side,
+                                 slot.rows, slot.truth, slot.energies, slot.rays);
       },
       [&](Slot& slot) {
         stats.occlusionRays += slot.rays.first, stats.pathRays += slot.rays.second;
@@ -413,15 +503,39 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   }
   ModelFileWriter writer(outPath, head);
   TileEnergies sum;
+  const int maps = truthSet.maps();
+  sum.truthDiff.assign(maps, 0.0), sum.truthNorm.assign(maps, 0.0);
+  std::vector<std::vector<float>> truth(maps);
+  if (!o.groundTruthDir.empty())
+    for (auto& t : truth) t.assign(3 * static_cast<size_t>(stats.rows), 0.0f);
   for (size_t t = 0; t < tiles.size(); ++t) {
     TileEnergies e;
+    e.truthDiff.assign(maps, 0.0), e.truthNorm.assign(maps, 0.0);
     std::map<std::string, double> extra = e.attributes();
-    const Model part = readModelClusters(tilePath(dir, t), head, &extra);
+    const std::string path = tilePath(dir, t);
+    const Model part = readModelClusters(path, head, &extra);
     writer.append(part);
     sum.energy += extra["energy"];
     sum.globalResidual += extra["global_residual"];
     sum.errorEnergy += extra["error_energy"];
+    for (int m = 0; m < maps; ++m) {
+      sum.truthDiff[m] += extra[concat("truth_diff_", m)];
+      sum.truthNorm[m] += extra[concat("truth_norm_", m)];
+    }
     stats.frameBytes += part.frameBytes();
+    if (!o.groundTruthDir.empty()) {
+      const std::vector<long long>& rows = tiles[t].rows;
+      const std::vector<float> values = readTileArray(path, "ground_truth", maps * rows.size() * 3);
+      for (int m = 0; m < maps; ++m)
+        for (size_t i = 0; i < rows.size(); ++i)
+          for (int c = 0; c < 3; ++c)
+            truth[m][3 * rows[i] + c] = values[(m * rows.size() + i) * 3 + c];
+    }
+  }
+  for (int m = 0; m < maps; ++m) {
+    const double error = sum.truthNorm[m] > 0 ? std::sqrt(sum.truthDiff[m] / sum.truthNorm[m])
+                                              : std::sqrt(sum.truthDiff[m]);
+    stats.imageErrors.emplace_back(truthSet.environments[m]->name(), error);
   }
   Model summary;
   summary.transportError =
@@ -435,6 +549,13 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   stats.transportError = summary.transportError;
   stats.globalEnergyKept = summary.globalEnergyKept;
   stats.frameBytes += static_cast<long long>(basis.basis.size()) * 4;
+  for (int m = 0; m < maps && !o.groundTruthDir.empty(); ++m) {
+    const Image image = composeImage(header, truth[m], Background::Env, *truthSet.environments[m],
+                                     Eigen::Matrix3d::Identity());
+    writeImage(image,
+               (fs::path(o.groundTruthDir) / (truthSet.environments[m]->name() + ".exr")).string(),
+               ImageFormat::Exr, 0);
+  }
   std::error_code ec;
   fs::remove_all(dir, ec);  // the model is in place: the tiles are no longer needed
   stats.assembleSeconds = watch.seconds() - assembleStart;

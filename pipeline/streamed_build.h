@@ -7,6 +7,8 @@
 // tile order. Memory holds a few tiles whatever the image size.
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cluster/compress.h"
 #include "precompute/render/scene.h"
@@ -25,6 +27,13 @@ struct BuildOptions {
   bool resume = false;
   /// Tiles in flight at once (each holds its rows in float).
   int tilesInFlight = 3;
+  /// Lightings (`--env` specs) whose dense relight B = albedo (T L), the
+  /// ground truth no file holds, is computed tile by tile from the rendered
+  /// rows, with the model's image error against it (as eval measures it).
+  std::vector<std::string> groundTruth;
+  /// Where the ground-truth images go (EXR, one per lighting, composed as
+  /// `relight` composes a transport's); empty: the errors alone.
+  std::string groundTruthDir;
   /// Called in order as tiles finish: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
   /// Stage messages.
@@ -46,6 +55,9 @@ struct BuildStats {
   double costPerPixel = 0, transportError = 0, globalEnergyKept = 0;
   long long frameBytes = 0;
   long long peakWorkBytes = 0;  ///< largest size of the tile files on disk
+  /// Per ground-truth lighting: its name and the model's relative L2 image
+  /// error against the dense relight (occupied pixels, RGB).
+  std::vector<std::pair<std::string, double>> imageErrors;
 };
 
 /// Validates the options (UserError / ParameterError before any work), builds

@@ -109,6 +109,7 @@ std::string messageWithFlag(const ParameterError& error) {
       {"basis precision", "--bases"},
       {"precision", "--precision"},
       {"environment", "--env"},
+      {"ground-truth lightings", "--env"},
       {"rotation", "--rotate"},
       {"background", "--background"},
       {"cube-map resolution", "--cubemap"},

@@ -3,6 +3,7 @@
 
 #include "cluster/compress.h"
 #include "core/ranks.h"
+#include "eval/error_measures.h"
 #include "pipeline/streamed_build.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -19,6 +20,8 @@ struct BuildArgs {
   std::string out;
   bool resume = false;
   int tilesInFlight = 3;
+  std::string groundTruth;
+  std::vector<std::string> envs;
 };
 
 void run(const BuildArgs& a) {
@@ -30,6 +33,9 @@ void run(const BuildArgs& a) {
   o.compress = compress.options();
   o.resume = a.resume;
   o.tilesInFlight = a.tilesInFlight;
+  o.groundTruthDir = a.groundTruth;
+  o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
+                                                           : expandEnvironments(a.envs);
   const Scene scene = a.render.loadScene();
   if (ranks::rank() == 0)
     for (const auto& w : samplingWarnings(scene, o.render)) std::cerr << "warning: " << w << "\n";
@@ -46,6 +52,13 @@ void run(const BuildArgs& a) {
   const BuildStats s = buildStreamed(scene, a.out, o);
   progress.finish();
   if (!lead) return;
+  nlohmann::json errors = nlohmann::json::object();
+  for (const auto& [name, error] : s.imageErrors) {
+    errors[name] = error;
+    if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
+  }
+  if (!a.groundTruth.empty() && !a.common.quiet)
+    std::cerr << "ground-truth images (dense relight, EXR) in " << a.groundTruth << "\n";
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << ": " << compress.method << ", " << s.clusters
               << " clusters over " << s.tiles << " tiles, N = " << s.globalBases << ", "
@@ -78,6 +91,7 @@ void run(const BuildArgs& a) {
                                 {"assemble_seconds", s.assembleSeconds},
                                 {"seconds", s.seconds},
                                 {"work_bytes", s.peakWorkBytes},
+                                {"image_errors", errors},
                                 {"peak_memory_bytes", peakMemoryBytes()}});
 }
 
@@ -94,6 +108,13 @@ void registerBuild(CLI::App& app) {
   sub->add_flag("--resume", args->resume,
                 "Continue an interrupted build of the same scene and settings from its finished "
                 "tiles (kept in OUT.tiles/)");
+  sub->add_option("--ground-truth", args->groundTruth,
+                  "Directory for the dense relight of every --env (EXR): the ground truth no "
+                  "transport file holds, computed from the rendered rows; the model's image error "
+                  "against it is reported");
+  sub->add_option("--env", args->envs,
+                  "Lightings of the ground truth and image errors (default with --ground-truth: "
+                  "the evaluation set)");
   sub->add_option("--tiles-in-flight", args->tilesInFlight,
                   "Tiles rendered and compressed at once (default 3; each holds its rows)");
   args->common.add(*sub);

@@ -1,5 +1,6 @@
 #include "precompute/transport/hdf5_handles.h"
 
+#include <algorithm>
 #include <fstream>
 #include <mutex>
 
@@ -182,21 +183,30 @@ void readWhole(hid_t file, const std::string& name, hid_t type, void* data,
 
 }  // namespace
 
-GrowingDataset::GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t chunk,
-                               const std::string& ctx)
-    : name_(name), ctx_(ctx) {
+GrowingDataset::GrowingDataset(hid_t file, const std::string& name, hid_t fileType,
+                               hsize_t maxChunk, const std::string& ctx)
+    : file_(file),
+      fileType_(fileType),
+      maxChunk_(std::max<hsize_t>(1, maxChunk)),
+      name_(name),
+      ctx_(ctx) {}
+
+void GrowingDataset::create(hsize_t chunk) {
+  if (set_.get() >= 0) return;
+  chunk = std::clamp<hsize_t>(chunk, 1, maxChunk_);
   const hsize_t empty = 0, unlimited = H5S_UNLIMITED;
   Handle space(H5Screate_simple(1, &empty, &unlimited), H5Sclose);
-  const Handle create = datasetCreation();
-  check(H5Pset_chunk(create.get(), 1, &chunk), ctx, "chunks of " + name);
-  set_ = Handle(checkId(H5Dcreate2(file, name.c_str(), fileType, space.get(), H5P_DEFAULT,
-                                   create.get(), H5P_DEFAULT),
-                        ctx, "cannot create dataset " + name),
+  const Handle creation = datasetCreation();
+  check(H5Pset_chunk(creation.get(), 1, &chunk), ctx_, "chunks of " + name_);
+  set_ = Handle(checkId(H5Dcreate2(file_, name_.c_str(), fileType_, space.get(), H5P_DEFAULT,
+                                   creation.get(), H5P_DEFAULT),
+                        ctx_, "cannot create dataset " + name_),
                 H5Dclose);
 }
 
 void GrowingDataset::append(hid_t memType, const void* data, hsize_t count) {
   if (count == 0) return;
+  create(count);
   const hsize_t grown = size_ + count;
   const auto fail = [&] {
     throw WriteError(

@@ -77,18 +77,24 @@ void writeTyped(hid_t file, const std::string& name, const std::vector<hsize_t>&
                 const void* data, const std::string& ctx);
 void readTyped(hid_t file, const std::string& name, hid_t type, void* data, const std::string& ctx);
 /// A one-dimensional dataset that grows as values are appended (chunked, no
-/// timestamps): for files written piece by piece.
+/// timestamps): for files written piece by piece. It is created at the first
+/// append (or at create()), with chunks of that append's size up to
+/// `maxChunk`: a file written in one append wastes nothing on its last chunk.
 class GrowingDataset {
  public:
   GrowingDataset() = default;
-  /// chunk: values per chunk (small for per-cluster arrays, large for values).
-  GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t chunk,
+  GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t maxChunk,
                  const std::string& ctx);
   /// Appends count values of memType (converted to the file's type).
   void append(hid_t memType, const void* data, hsize_t count);
+  /// Creates the dataset if no append has (an empty one).
+  void create() { create(1); }
   hsize_t size() const { return size_; }
 
  private:
+  void create(hsize_t chunk);
+  hid_t file_ = -1, fileType_ = -1;
+  hsize_t maxChunk_ = 1;
   Handle set_;
   std::string name_, ctx_;
   hsize_t size_ = 0;

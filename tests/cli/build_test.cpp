@@ -4,10 +4,17 @@
 // requests are refused before any work with nothing written.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <Eigen/Core>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "cluster/model_file.h"
+#include "cluster/model_reference.h"
+#include "core/statistics.h"
+#include "relight/dense_relight.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -108,6 +115,57 @@ TEST(Build, AnInterruptedBuildLeavesNoModelAndResumesToTheSameOne) {
   EXPECT_FALSE(fs::exists(dir.file("n.h5")));
 }
 
+std::vector<float> readExr(const std::string& path, int width, int height) {
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in) << path;
+  std::vector<float> pixels(static_cast<size_t>(width) * height * 3);
+  if (in) EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()));
+  return pixels;
+}
+
+TEST(Build, ItsGroundTruthIsTheDenseRelightAndItsErrorsAreEvals) {
+  // No transport file is kept, so the build computes the ground truth from
+  // the rows it renders: the images must be relight's of the two-step
+  // transport, and the errors those of the model against that dense relight.
+  TempDir dir;
+  ASSERT_EQ(runCli("precompute " + kScene + " --quiet --out " + dir.file("t.h5")).status, 0);
+  const std::vector<std::string> envs{"sky", "sun:50,30,4,1000"};
+  const RunResult built =
+      runCli("build " + kScene + " " + kCompress + " --coeffs f16 --quiet --ground-truth " +
+             dir.file("truth") + " --env sky --env sun:50,30,4,1000 --json " + dir.file("b.json") +
+             " --out " + dir.file("b.h5"));
+  ASSERT_EQ(built.status, 0) << built.output;
+  const auto report = nlohmann::json::parse(std::ifstream(dir.file("b.json")));
+  const TransportReader transport(dir.file("t.h5"));
+  const Model model = readModel(dir.file("b.h5"));
+  const CubeLattice lattice(transport.header().cubemapResolution);
+  std::vector<LatticeLighting> lightings;
+  for (const auto& spec : envs) {
+    lightings.emplace_back(3 * lattice.size(), 0.0);
+    loadEnvironment(spec)->integrate(lattice, Eigen::Matrix3d::Identity(), lightings.back());
+  }
+  const auto dense = denseRelight(transport, lightings);
+  const auto relit = relightModelReference(model, lightings);
+  for (size_t m = 0; m < envs.size(); ++m) {
+    const std::string name = loadEnvironment(envs[m])->name();
+    SCOPED_TRACE(name);
+    const double error = relativeL2(relit[m], dense[m]);
+    EXPECT_GT(error, 1e-4) << "a lossy model";
+    EXPECT_NEAR(report["image_errors"][name].get<double>(), error, 1e-6 + 1e-4 * error);
+
+    const RunResult r = runCli("relight " + dir.file("t.h5") + " --env " + envs[m] +
+                               " --quiet --out " + dir.file(name + ".exr"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto expected = readExr(dir.file(name + ".exr"), 96, 96);
+    const auto truth = readExr(dir.file("truth/" + name + ".exr"), 96, 96);
+    double worst = 0, peak = 0;
+    for (size_t i = 0; i < truth.size(); ++i)
+      worst = std::max(worst, double(std::abs(truth[i] - expected[i]))),
+      peak = std::max(peak, double(std::abs(expected[i])));
+    EXPECT_LT(worst, 2e-3 * peak) << "half-float EXRs of the same relight";
+  }
+}
+
 TEST(Build, RefusesWhatItCannotStreamBeforeAnyWork) {
   TempDir dir;
   const std::string out = " --out " + dir.file("m.h5");
@@ -115,6 +173,7 @@ TEST(Build, RefusesWhatItCannotStreamBeforeAnyWork) {
   expectFailure("build " + kScene + " --method adaptive-binary" + out, "precompute, then compress");
   expectFailure("build " + kScene + " --tolerance 2" + out, "--tolerance");
   expectFailure("build " + kScene + " --sample-rows 0" + out, "--sample-rows");
+  expectFailure("build " + kScene + " --env nosuchmap.exr" + out, "nosuchmap.exr");
   expectFailure("build " + kScene + " --out " + dir.file("missing/m.h5"), "does not exist");
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
