@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "cluster/global_basis.h"
 #include "cluster/model_file.h"
@@ -90,25 +91,33 @@ std::uint64_t fingerprint(const void* data, size_t bytes,
 
 void validate(const BuildOptions& o) {
   validateCompressOptions(o.compress);
-  const Method m = o.compress.method;
-  if (m != Method::AdaptiveQuad && m != Method::Block)
-    throw ParameterError("method", methodName(m),
-                         "is not streamed: build compresses tile by tile (adaptive-quad or "
-                         "block); for global, cpca and adaptive-binary run precompute, then "
-                         "compress");
+  if (o.compress.method == Method::Global)
+    throw ParameterError("method", "global",
+                         "is one cluster of every row, which a streamed build never holds; run "
+                         "precompute, then compress");
   if (o.compress.allocateRanks)
     throw ParameterError("allocate ranks", "on",
                          "needs every cluster's spectrum at once, which a streamed build never "
                          "holds; run precompute, then compress");
+  if (o.tileSide < 0) throw ParameterError("tile side", o.tileSide, "must be >= 1 (0: default)");
   if (o.tilesInFlight < 1) throw ParameterError("tiles in flight", o.tilesInFlight, "must be >= 1");
   if (!o.groundTruthDir.empty() && o.groundTruth.empty())
     throw ParameterError("ground-truth lightings", "none", "are needed for ground-truth images");
 }
 
-/// Tile side: adaptive-quad's root block; for block, whole blocks of about 64.
-int tileSide(const CompressOptions& o) {
-  const int block = blockSideFor(o);
-  return o.method == Method::AdaptiveQuad ? block : block * std::max(1, 64 / block);
+/// CPCA and adaptive binary cluster rows wherever they are, so their tiles
+/// are groups of pixels large enough to hold many clusters.
+bool clustersTileGroups(Method m) {
+  return m == Method::Cpca || m == Method::AdaptiveBinary;
+}
+
+/// Tile side: adaptive-quad's root block; for block, whole blocks of about 64;
+/// for CPCA and adaptive binary, groups of 256 unless told.
+int tileSide(const BuildOptions& o) {
+  const CompressOptions& c = o.compress;
+  if (clustersTileGroups(c.method)) return o.tileSide > 0 ? o.tileSide : 256;
+  const int block = blockSideFor(c);
+  return c.method == Method::AdaptiveQuad ? block : block * std::max(1, 64 / block);
 }
 
 std::string tilePath(const std::string& dir, size_t tile) {
@@ -130,7 +139,9 @@ std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile) {
                         {"bases", coeffPrecisionName(c.bases)},
                         {"sample_rows", c.sampleRows},
                         {"seed", c.seed},
-                        {"mean", false},
+                        {"mean", clustersTileGroups(c.method)},
+                        {"clusters", c.clusters},
+                        {"clustering_dims", c.clusteringDims},
                         {"source", concat("build of ", scene.name)},
                         {"streamed", true},
                         {"tile", tile},
@@ -265,20 +276,45 @@ Model compressTile(const Tile& tile, const RowSource& source, const BasisProject
 
   const std::vector<std::int32_t> pixels = tilePixels(tile, header.camera.size, header.pixels);
   const CompressOptions& c = o.compress;
+  const bool mean = clustersTileGroups(c.method);  // the CPCA family keeps a mean, as compress
   const ClusterInput in{
-      &projection.coefficients, &pixels, {tile.width, tile.height}, c.tolerance, false,
+      &projection.coefficients, &pixels, {tile.width, tile.height}, c.tolerance, mean,
       c.clusteringDims};
   Partition partition;
-  if (c.method == Method::AdaptiveQuad) {
-    QuadTreeOptions q;
-    q.rootBlock = side;
-    q.exact = c.exactQuadTree;
-    partition = adaptiveQuadTree(in, q);
-  } else {
-    partition = fixedBlocks(in, blockSideFor(c));
+  CpcaOptions cpcaOptions;
+  cpcaOptions.seed = c.seed;
+  switch (c.method) {
+    case Method::AdaptiveQuad: {
+      QuadTreeOptions q;
+      q.rootBlock = side;
+      q.exact = c.exactQuadTree;
+      partition = adaptiveQuadTree(in, q);
+      break;
+    }
+    case Method::Block:
+      partition = fixedBlocks(in, blockSideFor(c));
+      break;
+    case Method::Cpca: {  // K clusters over the image: each group its share by rows
+      cpcaOptions.clusters = static_cast<int>(std::clamp<long long>(
+          std::llround(double(c.clusters) * count / std::max(1LL, header.rows())), 1, count));
+      std::vector<int> all(static_cast<size_t>(count));
+      std::iota(all.begin(), all.end(), 0);
+      partition = cpca(in, all, cpcaOptions);
+      break;
+    }
+    case Method::AdaptiveBinary: {  // the initial clusters in every group
+      BinaryOptions b;
+      b.initialClusters = static_cast<int>(std::min<long long>(c.clusters, count));
+      b.split = cpcaOptions;
+      partition = adaptiveBinary(in, b);
+      break;
+    }
+    case Method::Global:
+      ACPCA_CHECK(false, "global is refused before any work");
   }
   ModelOptions m;
   m.tolerance = c.tolerance;
+  m.mean = mean;
   m.precision = c.coeffs;
   m.basisPrecision = c.bases;
   Model part = buildModel(local, basis, projection, partition, m);
@@ -372,7 +408,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
              " directions the sample sees, ", basis.sampleEnergyKept, " of the sample's energy (",
              basis.heldOutEnergyKept, " on held-out rows)"));
 
-  const int side = tileSide(c);
+  const int side = tileSide(o);
   const std::vector<Tile> tiles = planTiles(header.camera.size, header.pixels, side);
   stats.tiles = static_cast<long long>(tiles.size());
   Model head;
@@ -380,6 +416,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   head.method = methodName(c.method);
   head.settings = settingsJson(o, scene, side);
   head.globalBasis = basis.basis;
+  head.hasMean = clustersTileGroups(c.method);
   head.precision = c.coeffs;
   head.basisPrecision = c.bases;
 

@@ -18,10 +18,15 @@ namespace acpca {
 
 struct BuildOptions {
   PrecomputeOptions render;  ///< how rows are rendered, as precompute renders them
-  /// method adaptive-quad or block: the tiles are their root blocks (block
-  /// side, 64 by default); global energy, sample rows, seed, tolerance and
-  /// storage as compress takes them.
+  /// adaptive-quad and block: the tiles are their root blocks (block side, 64
+  /// by default), and the model is the one compress makes; cpca and
+  /// adaptive-binary cluster each tile (a group of pixels, tileSide) on its
+  /// own: CPCA with its share of the K clusters by rows, adaptive binary from
+  /// `clusters` initial ones; global is refused. Global energy, sample rows,
+  /// seed, tolerance and storage as compress takes them.
   CompressOptions compress;
+  /// cpca, adaptive-binary: side of the tile groups (0: 256).
+  int tileSide = 0;
   /// Continue an interrupted build from its finished tiles (same scene and
   /// settings); without it, what an earlier build left is started over.
   bool resume = false;

@@ -105,6 +105,7 @@ std::string messageWithFlag(const ParameterError& error) {
       {"sample rows", "--sample-rows"},
       {"allocate ranks", "--allocate-ranks"},
       {"tiles in flight", "--tiles-in-flight"},
+      {"tile side", "--tile"},
       {"coefficient precision", "--coeffs"},
       {"basis precision", "--bases"},
       {"precision", "--precision"},

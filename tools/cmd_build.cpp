@@ -19,7 +19,7 @@ struct BuildArgs {
   CompressFlags compress;
   std::string out;
   bool resume = false;
-  int tilesInFlight = 3;
+  int tilesInFlight = 3, tile = 0;
   std::string groundTruth;
   std::vector<std::string> envs;
 };
@@ -33,6 +33,7 @@ void run(const BuildArgs& a) {
   o.compress = compress.options();
   o.resume = a.resume;
   o.tilesInFlight = a.tilesInFlight;
+  o.tileSide = a.tile;
   o.groundTruthDir = a.groundTruth;
   o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
                                                            : expandEnvironments(a.envs);
@@ -115,6 +116,9 @@ void registerBuild(CLI::App& app) {
   sub->add_option("--env", args->envs,
                   "Lightings of the ground truth and image errors (default with --ground-truth: "
                   "the evaluation set)");
+  sub->add_option("--tile", args->tile,
+                  "cpca, adaptive-binary: side of the pixel groups clustered on their own "
+                  "(default 256)");
   sub->add_option("--tiles-in-flight", args->tilesInFlight,
                   "Tiles rendered and compressed at once (default 3; each holds its rows)");
   args->common.add(*sub);

@@ -56,15 +56,17 @@ Scene RenderFlags::loadScene() const {
 void CompressFlags::add(CLI::App& app, bool streamed) {
   if (streamed)
     app.add_option("--method", method,
-                   "adaptive-quad (default; the tiles are its root blocks) or block");
+                   "adaptive-quad (default; the tiles are its root blocks), block, or cpca and "
+                   "adaptive-binary (each group of --tile pixels clustered on its own)");
   else
     app.add_option("--method", method, "global, block, cpca, adaptive-quad or adaptive-binary")
         ->required();
   app.add_option("--tolerance", tolerance, "Fraction of each cluster's energy kept");
   app.add_option("--global-energy", globalEnergy,
                  "Fraction of energy the global basis keeps (1: every direction)");
-  if (!streamed)
-    app.add_option("--clusters", clusters, "cpca: K; adaptive-binary: initial clusters");
+  app.add_option("--clusters", clusters,
+                 streamed ? "cpca: K over the image; adaptive-binary: initial clusters per group"
+                          : "cpca: K; adaptive-binary: initial clusters");
   app.add_option("--block", block, "block: side (default 8); adaptive-quad: root side (64)");
   app.add_flag("--exact-tree", exactQuadTree,
                "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
@@ -75,10 +77,9 @@ void CompressFlags::add(CLI::App& app, bool streamed) {
   app.add_option("--bases", bases,
                  "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
   app.add_option("--sample-rows", sampleRows, "Rows sampled for the global basis");
-  if (!streamed)
-    app.add_option("--clustering-dims", clusteringDims,
-                   "cpca, adaptive-binary: leading global coefficients rows are clustered on "
-                   "(0: all)");
+  app.add_option("--clustering-dims", clusteringDims,
+                 "cpca, adaptive-binary: leading global coefficients rows are clustered on "
+                 "(0: all)");
   app.add_option("--seed", seed, "Random seed (sampling, CPCA seeding)");
 }
 

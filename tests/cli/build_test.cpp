@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "cluster/model_file.h"
 #include "cluster/model_reference.h"
@@ -115,6 +116,38 @@ TEST(Build, AnInterruptedBuildLeavesNoModelAndResumesToTheSameOne) {
   EXPECT_FALSE(fs::exists(dir.file("n.h5")));
 }
 
+TEST(Build, CpcaAndAdaptiveBinaryClusterEachTileGroupOnItsOwn) {
+  // Their clusters may gather rows from anywhere, so a streamed build clusters
+  // each group of pixels alone: no cluster crosses a group, and the model is
+  // close to (never much worse than) the whole-image one.
+  TempDir dir;
+  ASSERT_EQ(runCli("precompute " + kScene + " --quiet --out " + dir.file("t.h5")).status, 0);
+  for (const std::string method : {"cpca", "adaptive-binary"}) {
+    SCOPED_TRACE(method);
+    const std::string settings = kCompress + " --method " + method + " --clusters 6";
+    const RunResult built =
+        runCli("build " + kScene + " " + settings + " --tile 48 --quiet --out " + dir.file("b.h5"));
+    ASSERT_EQ(built.status, 0) << built.output;
+    ASSERT_EQ(runCli("compress " + dir.file("t.h5") + " " + settings + " --quiet --out " +
+                     dir.file("c.h5"))
+                  .status,
+              0);
+    const Model streamed = readModel(dir.file("b.h5")), whole = readModel(dir.file("c.h5"));
+    EXPECT_TRUE(streamed.hasMean);
+    EXPECT_TRUE(streamed.globalBasis == whole.globalBasis);
+    for (int c = 0; c < streamed.clusters(); ++c) {
+      std::set<int> groups;
+      for (long long r = streamed.rowOffsets[c]; r < streamed.rowOffsets[c + 1]; ++r) {
+        const int pixel = streamed.geometry.pixels[streamed.clusterRows[r]];
+        groups.insert((pixel / 96) / 48 * 2 + (pixel % 96) / 48);
+      }
+      EXPECT_EQ(groups.size(), 1u) << "cluster " << c << " crosses tile groups";
+    }
+    EXPECT_LT(streamed.transportError, 1.5 * whole.transportError);
+    EXPECT_LT(streamed.totalCost(), 2.0 * whole.totalCost());
+  }
+}
+
 std::vector<float> readExr(const std::string& path, int width, int height) {
   auto in = OIIO::ImageInput::open(path);
   EXPECT_TRUE(in) << path;
@@ -169,8 +202,9 @@ TEST(Build, ItsGroundTruthIsTheDenseRelightAndItsErrorsAreEvals) {
 TEST(Build, RefusesWhatItCannotStreamBeforeAnyWork) {
   TempDir dir;
   const std::string out = " --out " + dir.file("m.h5");
-  expectFailure("build " + kScene + " --method cpca" + out, "--method");
-  expectFailure("build " + kScene + " --method adaptive-binary" + out, "precompute, then compress");
+  expectFailure("build " + kScene + " --method global" + out, "--method");
+  expectFailure("build " + kScene + " --method global" + out, "precompute, then compress");
+  expectFailure("build " + kScene + " --method cpca --tile -1" + out, "--tile");
   expectFailure("build " + kScene + " --tolerance 2" + out, "--tolerance");
   expectFailure("build " + kScene + " --sample-rows 0" + out, "--sample-rows");
   expectFailure("build " + kScene + " --env nosuchmap.exr" + out, "nosuchmap.exr");
