@@ -106,11 +106,23 @@ struct ModelFileWriter::Datasets {
   explicit Datasets(const std::string& path) : output(path) {}
   AtomicOutput output;
   h5::Handle file, half;
-  h5::GrowingDataset rows, rowOffsets, ranks, basisOffsets, bases, means, coefficientOffsets, scale,
-      coefficients;
+  h5::PiecewiseDataset rows, rowOffsets, ranks, basisOffsets, bases, means, coefficientOffsets,
+      scale, coefficients;
 };
 
-ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head, ModelFileKind kind)
+ModelSizes ModelSizes::of(const Model& m) {
+  return {m.clusters(), static_cast<long long>(m.clusterRows.size()),
+          static_cast<long long>(m.bases.size()), m.coefficientOffsets.back()};
+}
+
+ModelSizes& ModelSizes::operator+=(const ModelSizes& o) {
+  clusters += o.clusters, rows += o.rows, basisValues += o.basisValues,
+      coefficients += o.coefficients;
+  return *this;
+}
+
+ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head,
+                                 const ModelSizes& sizes, ModelFileKind kind)
     : path_(path),
       kind_(kind),
       globalBases_(head.globalBases()),
@@ -141,22 +153,25 @@ ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head, Mod
                      {static_cast<hsize_t>(vg.rows()), static_cast<hsize_t>(vg.cols())}, vg.data(),
                      ctx);
   }
-  // Chunks: small for the per-cluster arrays, about 4 MB for the values.
-  constexpr hsize_t kSmall = 4096, kLarge = 1 << 20;
   const hid_t basisType = basisPrecision_ == CoeffPrecision::F16 ? d.half.get() : H5T_NATIVE_FLOAT;
   const hid_t coefficientType = precision_ == CoeffPrecision::F16  ? d.half.get()
                                 : precision_ == CoeffPrecision::I8 ? H5T_NATIVE_INT8
                                                                    : H5T_NATIVE_FLOAT;
-  d.rows = h5::GrowingDataset(f, "cluster_rows", H5T_NATIVE_INT32, kLarge / 4, ctx);
-  d.rowOffsets = h5::GrowingDataset(f, "cluster_row_offsets", H5T_NATIVE_INT64, kSmall, ctx);
-  d.ranks = h5::GrowingDataset(f, "cluster_rank", H5T_NATIVE_INT32, kSmall, ctx);
-  d.basisOffsets = h5::GrowingDataset(f, "cluster_basis_offsets", H5T_NATIVE_INT64, kSmall, ctx);
-  d.bases = h5::GrowingDataset(f, "bases", basisType, kLarge, ctx);
-  d.means = h5::GrowingDataset(f, "means", basisType, kLarge / 4, ctx);
+  const auto size = [](long long n) { return static_cast<hsize_t>(n); };
+  const long long c = sizes.clusters, n = globalBases_;
+  d.rows = h5::PiecewiseDataset(f, "cluster_rows", H5T_NATIVE_INT32, size(sizes.rows), ctx);
+  d.rowOffsets = h5::PiecewiseDataset(f, "cluster_row_offsets", H5T_NATIVE_INT64, size(c + 1), ctx);
+  d.ranks = h5::PiecewiseDataset(f, "cluster_rank", H5T_NATIVE_INT32, size(c), ctx);
+  d.basisOffsets =
+      h5::PiecewiseDataset(f, "cluster_basis_offsets", H5T_NATIVE_INT64, size(c + 1), ctx);
+  d.bases = h5::PiecewiseDataset(f, "bases", basisType, size(sizes.basisValues), ctx);
+  d.means = h5::PiecewiseDataset(f, "means", basisType, size(c * n), ctx);
   d.coefficientOffsets =
-      h5::GrowingDataset(f, "coefficient_offsets", H5T_NATIVE_INT64, kSmall, ctx);
-  d.scale = h5::GrowingDataset(f, "coefficient_scale", H5T_NATIVE_FLOAT, kSmall, ctx);
-  d.coefficients = h5::GrowingDataset(f, "coefficients", coefficientType, kLarge, ctx);
+      h5::PiecewiseDataset(f, "coefficient_offsets", H5T_NATIVE_INT64, size(c + 1), ctx);
+  d.scale = h5::PiecewiseDataset(f, "coefficient_scale", H5T_NATIVE_FLOAT,
+                                 size(n > 0 ? sizes.basisValues / n : 0), ctx);
+  d.coefficients =
+      h5::PiecewiseDataset(f, "coefficients", coefficientType, size(sizes.coefficients), ctx);
   const std::int64_t zero = 0;
   for (auto* offsets : {&d.rowOffsets, &d.basisOffsets, &d.coefficientOffsets})
     offsets->append(H5T_NATIVE_INT64, &zero, 1);
@@ -178,9 +193,9 @@ void ModelFileWriter::append(const Model& m) {
     return out;
   };
   const std::vector<std::int64_t> rowOffsets = shifted(m.rowOffsets, rows_),
-                                  basisOffsets = shifted(m.basisOffsets, d.bases.size()),
+                                  basisOffsets = shifted(m.basisOffsets, d.bases.written()),
                                   coefficientOffsets =
-                                      shifted(m.coefficientOffsets, d.coefficients.size());
+                                      shifted(m.coefficientOffsets, d.coefficients.written());
   d.rows.append(H5T_NATIVE_INT32, m.clusterRows.data(), m.clusterRows.size());
   d.rowOffsets.append(H5T_NATIVE_INT64, rowOffsets.data(), rowOffsets.size());
   d.ranks.append(H5T_NATIVE_INT32, m.ranks.data(), m.ranks.size());
@@ -232,8 +247,9 @@ void ModelFileWriter::finish(const Model& summary, const std::map<std::string, d
   h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
   for (auto* set : {&d.rows, &d.rowOffsets, &d.ranks, &d.basisOffsets, &d.bases, &d.means,
                     &d.coefficientOffsets, &d.scale, &d.coefficients}) {
-    set->create();  // every dataset exists, empty or not
-    *set = h5::GrowingDataset();
+    ACPCA_CHECK(set->written() == set->size(), path_, ": ", set->written(), " of ", set->size(),
+                " values appended");
+    *set = h5::PiecewiseDataset();
   }
   d.half.reset();
   h5::closeWrittenFile(d.file, path_);
@@ -241,7 +257,7 @@ void ModelFileWriter::finish(const Model& summary, const std::map<std::string, d
 }
 
 void writeModel(const Model& m, const std::string& path) {
-  ModelFileWriter writer(path, m);
+  ModelFileWriter writer(path, m, ModelSizes::of(m));
   writer.append(m);
   writer.finish(m);
 }
@@ -335,6 +351,24 @@ Model readModel(const std::string& path) {
 }  // namespace acpca
 
 namespace acpca {
+
+ModelSizes readModelClusterSizes(const std::string& path, int globalBases) {
+  const h5::Handle file = h5::openFileReadOnly(path);
+  const hid_t f = file.get();
+  if (!h5::hasAttribute(f, "format") ||
+      h5::readStringAttribute(f, "format", path) != kClustersFormat)
+    throw UserError(concat(path, ": not a file of model clusters"));
+  const auto length = [&](const char* name) {
+    const auto shape = h5::datasetShape(f, name, path);
+    if (shape.size() != 1) throw UserError(concat(path, ": dataset '", name, "' is not 1-D"));
+    return static_cast<long long>(shape[0]);
+  };
+  ModelSizes s{h5::readIntAttribute(f, "clusters", path), length("cluster_rows"), length("bases"),
+               length("coefficients")};
+  if (h5::readIntAttribute(f, "global_bases", path) != globalBases || s.clusters < 0)
+    throw UserError(concat(path, ": clusters of another model"));
+  return s;
+}
 
 Model readModelClusters(const std::string& path, const Model& head,
                         std::map<std::string, double>* extra) {

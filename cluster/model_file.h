@@ -18,15 +18,23 @@ inline constexpr int kModelVersion = 2;  // 2: one i8 scale per cluster basis
 /// the model: no image header, no global basis).
 enum class ModelFileKind { Whole, Clusters };
 
+/// How many values a model's cluster arrays hold.
+struct ModelSizes {
+  long long clusters = 0, rows = 0, basisValues = 0, coefficients = 0;
+  static ModelSizes of(const Model& m);
+  ModelSizes& operator+=(const ModelSizes& o);
+};
+
 /// Writes a model file cluster by cluster: the image header and the global
-/// basis first, then clusters appended in order, then the figures and the
-/// `complete` mark; atomically (temporary name, renamed by finish()). Memory
-/// holds one append, so a streamed build never holds the whole model.
+/// basis first, then clusters appended in order until `sizes` are filled,
+/// then the figures and the `complete` mark; atomically (temporary name,
+/// renamed by finish()). Memory holds one append, so a streamed build never
+/// holds the whole model; the file's layout is that of one written whole.
 class ModelFileWriter {
  public:
   /// From `head`: geometry, method, settings, global basis, mean and
-  /// precisions (its clusters are not written).
-  ModelFileWriter(const std::string& path, const Model& head,
+  /// precisions (its clusters are not written); `sizes`: of all appends.
+  ModelFileWriter(const std::string& path, const Model& head, const ModelSizes& sizes,
                   ModelFileKind kind = ModelFileKind::Whole);
   ~ModelFileWriter();
   /// Appends the clusters of `clusters` (rows indexed in the whole image,
@@ -55,6 +63,8 @@ class ModelFileWriter {
 
 /// Writes atomically (temporary name, renamed when complete).
 void writeModel(const Model& model, const std::string& path);
+/// The sizes a clusters-only file holds (without reading its arrays).
+ModelSizes readModelClusterSizes(const std::string& path, int globalBases);
 /// Reads a clusters-only file (ModelFileKind::Clusters) of a model with this
 /// many global bases and these precisions; its `extra` attributes into extra.
 Model readModelClusters(const std::string& path, const Model& head,

@@ -132,6 +132,30 @@ std::vector<char> receiveBytes(int from, int tag) {
 #endif
 }
 
+std::vector<char> receiveBytesFromAny(int tag, int& from) {
+#ifdef ACPCA_WITH_MPI
+  MPI_Status status;
+  MPI_Probe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &status);
+  from = status.MPI_SOURCE;  // then its messages under the tag arrive in order
+  return receiveValues<char>(from, tag, MPI_BYTE);
+#else
+  (void)tag, (void)from;
+  ACPCA_CHECK(false, "receive without MPI");
+  return {};
+#endif
+}
+
+bool pending(int tag) {
+#ifdef ACPCA_WITH_MPI
+  int flag = 0;
+  MPI_Iprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+  return flag != 0;
+#else
+  (void)tag;
+  return false;
+#endif
+}
+
 void broadcast(std::vector<char>& bytes) {
 #ifdef ACPCA_WITH_MPI
   if (rankCount <= 1) return;

@@ -35,6 +35,11 @@ std::vector<float> receive(int from, int tag);
 /// The same for bytes (a serialized message, a file's contents).
 void sendBytes(int to, int tag, const std::vector<char>& bytes);
 std::vector<char> receiveBytes(int from, int tag);
+/// Receives what sendBytes sent under `tag` from whichever rank sent first;
+/// `from` says which.
+std::vector<char> receiveBytesFromAny(int tag, int& from);
+/// Whether a message under `tag` is waiting (from any rank).
+bool pending(int tag);
 /// Rank 0's bytes, on every rank (a no-op when not distributed).
 void broadcast(std::vector<char>& bytes);
 

@@ -1,33 +1,26 @@
 #include "pipeline/streamed_build.h"
 
-#include <tbb/parallel_for.h>
-
 #include <unistd.h>
 #include <cmath>
 #include <csignal>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
-#include <numeric>
 
 #include "cluster/global_basis.h"
 #include "cluster/model_file.h"
-#include "cluster/model_fit.h"
-#include "cluster/model_reference.h"
-#include "cluster/partition.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/ordered_pipeline.h"
 #include "core/ranks.h"
 #include "core/stopwatch.h"
+#include "pipeline/ground_truth.h"
+#include "pipeline/sampled_basis.h"
+#include "pipeline/tile_compression.h"
+#include "pipeline/tile_files.h"
 #include "pipeline/tile_plan.h"
-#include "precompute/transport/hdf5_handles.h"
-#include "precompute/transport/row_layout.h"
-#include "relight/environment.h"
 #include "relight/image_output.h"
 
 namespace acpca {
@@ -35,59 +28,6 @@ namespace acpca {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// The energies a tile's transport error is assembled from: |T|^2, what the
-/// global basis misses, and everything the tile's model misses (the global
-/// residual, its clusters' residuals and the quantization error).
-struct TileEnergies {
-  double energy = 0, globalResidual = 0, errorEnergy = 0;
-  /// Per ground-truth lighting: sum over the tile's rows of |B_model - B|^2 and |B|^2.
-  std::vector<double> truthDiff, truthNorm;
-  std::map<std::string, double> attributes() const {
-    std::map<std::string, double> a{
-        {"energy", energy}, {"global_residual", globalResidual}, {"error_energy", errorEnergy}};
-    for (size_t m = 0; m < truthDiff.size(); ++m)
-      a[concat("truth_diff_", m)] = truthDiff[m], a[concat("truth_norm_", m)] = truthNorm[m];
-    return a;
-  }
-};
-
-/// The lightings of the ground truth, integrated onto the lattice once.
-struct GroundTruth {
-  std::vector<std::unique_ptr<Environment>> environments;
-  std::vector<std::vector<double>> lightings;
-  Eigen::MatrixXf onRows;  ///< rowLength x 3M: column 3m + c is map m's channel c on the rows
-  int maps() const { return static_cast<int>(environments.size()); }
-};
-
-/// The environments, before any work (a bad spec is refused first).
-GroundTruth loadGroundTruth(const BuildOptions& o) {
-  GroundTruth g;
-  for (const auto& spec : o.groundTruth) g.environments.push_back(loadEnvironment(spec));
-  return g;
-}
-
-/// Integrated onto the lattice and laid out as the rows meet them.
-void layOutGroundTruth(GroundTruth& g, int cubemapResolution, int channels) {
-  const CubeLattice lattice(cubemapResolution);
-  for (const auto& env : g.environments) {
-    std::vector<double> lighting(3 * static_cast<size_t>(lattice.size()), 0.0);
-    env->integrate(lattice, Eigen::Matrix3d::Identity(), lighting);
-    g.lightings.push_back(std::move(lighting));
-  }
-  g.onRows.resize(static_cast<Eigen::Index>(channels) * lattice.size(), 3 * g.maps());
-  for (int m = 0; m < g.maps(); ++m)
-    g.onRows.middleCols(3 * m, 3) = lightingOnRows<float>(g.lightings[m], lattice.size(), channels);
-}
-
-/// FNV-1a over bytes: a fingerprint of what a resumed build must share with
-/// the build it continues (not a defence against tampering).
-std::uint64_t fingerprint(const void* data, size_t bytes,
-                          std::uint64_t hash = 14695981039346656037ull) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
-  return hash;
-}
 
 void validate(const BuildOptions& o) {
   validateCompressOptions(o.compress);
@@ -103,27 +43,6 @@ void validate(const BuildOptions& o) {
   if (o.tilesInFlight < 1) throw ParameterError("tiles in flight", o.tilesInFlight, "must be >= 1");
   if (!o.groundTruthDir.empty() && o.groundTruth.empty())
     throw ParameterError("ground-truth lightings", "none", "are needed for ground-truth images");
-}
-
-/// CPCA and adaptive binary cluster rows wherever they are, so their tiles
-/// are groups of pixels large enough to hold many clusters.
-bool clustersTileGroups(Method m) {
-  return m == Method::Cpca || m == Method::AdaptiveBinary;
-}
-
-/// Tile side: adaptive-quad's root block; for block, whole blocks of about 64;
-/// for CPCA and adaptive binary, groups of 256 unless told.
-int tileSide(const BuildOptions& o) {
-  const CompressOptions& c = o.compress;
-  if (clustersTileGroups(c.method)) return o.tileSide > 0 ? o.tileSide : 256;
-  const int block = blockSideFor(c);
-  return c.method == Method::AdaptiveQuad ? block : block * std::max(1, 64 / block);
-}
-
-std::string tilePath(const std::string& dir, size_t tile) {
-  char name[32];
-  std::snprintf(name, sizeof name, "tile-%07zu.h5", tile);
-  return (fs::path(dir) / name).string();
 }
 
 /// The model's settings, as compress records them, plus how its rows were made.
@@ -156,225 +75,7 @@ std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile) {
       .dump();
 }
 
-/// Renders the sampled rows and fits the global basis to them, as
-/// computeGlobalBasis does from a transport file (same rows, same values).
-GlobalBasis fitBasis(const RowSource& source, const GlobalBasisOptions& options,
-                     BuildStats& stats) {
-  const BasisSample sample = chooseBasisSample(source.header().rows(), options);
-  const int l = source.rowLength();
-  const auto renderRows = [&](const std::vector<long long>& rows) {
-    std::vector<float> values(rows.size() * static_cast<size_t>(l));
-    const auto [shadow, paths] = source.render(rows, values.data());
-    stats.occlusionRays += shadow, stats.pathRays += paths;
-    return Eigen::Map<const RowMatrixF>(values.data(), static_cast<Eigen::Index>(rows.size()), l)
-        .cast<double>()
-        .eval();
-  };
-  const Eigen::MatrixXd held = renderRows(sample.heldOut);
-  const Eigen::MatrixXd rows = renderRows(sample.rows);
-  return basisFromSample(rows, held, options);
-}
-
-/// Values appended to / read from a byte message in order.
-struct Bytes {
-  std::vector<char> data;
-  size_t at = 0;
-  template <typename T>
-  void put(const T* values, size_t count) {
-    const auto* p = reinterpret_cast<const char*>(values);
-    data.insert(data.end(), p, p + count * sizeof(T));
-  }
-  template <typename T>
-  void get(T* values, size_t count) {
-    ACPCA_CHECK(at + count * sizeof(T) <= data.size(), "message shorter than its contents");
-    std::memcpy(values, data.data() + at, count * sizeof(T));
-    at += count * sizeof(T);
-  }
-};
-
-/// Rank 0's basis on every rank: it alone renders the sample and fits the
-/// basis, so every rank projects with the same values.
-void shareBasis(GlobalBasis& basis) {
-  Bytes b;
-  if (ranks::rank() == 0) {
-    const long long sizes[4] = {basis.basis.rows(), basis.basis.cols(),
-                                static_cast<long long>(basis.active.size()),
-                                (static_cast<long long>(basis.activeDirections) << 32) |
-                                    static_cast<unsigned>(basis.sampledRows)};
-    const double kept[2] = {basis.sampleEnergyKept, basis.heldOutEnergyKept};
-    b.put(sizes, 4), b.put(kept, 2), b.put(basis.active.data(), basis.active.size());
-    b.put(basis.basis.data(), static_cast<size_t>(basis.basis.size()));
-  }
-  ranks::broadcast(b.data);
-  if (ranks::rank() == 0) return;
-  long long sizes[4];
-  double kept[2];
-  b.get(sizes, 4), b.get(kept, 2);
-  basis.active.resize(static_cast<size_t>(sizes[2]));
-  b.get(basis.active.data(), basis.active.size());
-  basis.basis.resize(sizes[0], sizes[1]);
-  b.get(basis.basis.data(), static_cast<size_t>(basis.basis.size()));
-  basis.activeDirections = static_cast<int>(sizes[3] >> 32);
-  basis.sampledRows = static_cast<int>(sizes[3] & 0xffffffff);
-  basis.sampleEnergyKept = kept[0], basis.heldOutEnergyKept = kept[1];
-}
-
-/// A file's bytes, and a file written from bytes atomically.
-std::vector<char> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const std::string& path, const std::vector<char>& bytes) {
-  AtomicOutput output(path);
-  {
-    std::ofstream out(output.tempPath(), std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) throw WriteError(concat(path, ": cannot write (disk full?)"));
-  }
-  output.commit();
-}
-
-/// A tile's clusters: its rows rendered, projected onto the global basis and
-/// compressed with the tile as the root block; rows indexed in the image.
-/// With a ground truth, its values for the tile's rows (map by map, row by
-/// row, RGB) go into `truth`, and the model's error against them into energies.
-Model compressTile(const Tile& tile, const RowSource& source, const BasisProjector& projector,
-                   const GlobalBasis& basis, const BuildOptions& o, const GroundTruth& truthSet,
-                   int side, std::vector<float>& rows, std::vector<float>& truth,
-                   TileEnergies& energies, std::pair<long long, long long>& rays) {
-  const TransportHeader& header = source.header();
-  const long long count = static_cast<long long>(tile.rows.size());
-  const int l = source.rowLength();
-  // `rows` is the slot's, reused tile after tile: a fresh 100 MB buffer per
-  // tile cost more in page faults than the tile's projection.
-  rows.resize(static_cast<size_t>(count) * l);
-  rays = source.render(tile.rows, rows.data());
-  const GlobalProjection projection = projector.project(rows.data(), count);
-
-  // The tile's own geometry: its rows' albedo, numbered from 0.
-  TransportHeader local;
-  local.cubemapResolution = header.cubemapResolution;
-  local.channels = header.channels;
-  local.pixels.resize(static_cast<size_t>(count));
-  for (long long i = 0; i < count; ++i) {
-    local.pixels[i] = static_cast<std::int32_t>(i);
-    for (int c = 0; c < 3; ++c) local.albedo.push_back(header.albedo[3 * tile.rows[i] + c]);
-  }
-  const int maps = truthSet.maps();
-  truth.assign(static_cast<size_t>(maps) * count * 3, 0.0f);
-  if (maps > 0) {  // B = albedo (T L), as denseRelight computes it from a file
-    const Eigen::MatrixXf product =
-        Eigen::Map<const RowMatrixF>(rows.data(), count, l) * truthSet.onRows;
-    for (int m = 0; m < maps; ++m)
-      for (long long i = 0; i < count; ++i)
-        for (int c = 0; c < 3; ++c)
-          truth[(static_cast<size_t>(m) * count + i) * 3 + c] =
-              local.albedo[3 * i + c] * product(i, 3 * m + c);
-  }
-
-  const std::vector<std::int32_t> pixels = tilePixels(tile, header.camera.size, header.pixels);
-  const CompressOptions& c = o.compress;
-  const bool mean = clustersTileGroups(c.method);  // the CPCA family keeps a mean, as compress
-  const ClusterInput in{
-      &projection.coefficients, &pixels, {tile.width, tile.height}, c.tolerance, mean,
-      c.clusteringDims};
-  Partition partition;
-  CpcaOptions cpcaOptions;
-  cpcaOptions.seed = c.seed;
-  switch (c.method) {
-    case Method::AdaptiveQuad: {
-      QuadTreeOptions q;
-      q.rootBlock = side;
-      q.exact = c.exactQuadTree;
-      partition = adaptiveQuadTree(in, q);
-      break;
-    }
-    case Method::Block:
-      partition = fixedBlocks(in, blockSideFor(c));
-      break;
-    case Method::Cpca: {  // K clusters over the image: each group its share by rows
-      cpcaOptions.clusters = static_cast<int>(std::clamp<long long>(
-          std::llround(double(c.clusters) * count / std::max(1LL, header.rows())), 1, count));
-      std::vector<int> all(static_cast<size_t>(count));
-      std::iota(all.begin(), all.end(), 0);
-      partition = cpca(in, all, cpcaOptions);
-      break;
-    }
-    case Method::AdaptiveBinary: {  // the initial clusters in every group
-      BinaryOptions b;
-      b.initialClusters = static_cast<int>(std::min<long long>(c.clusters, count));
-      b.split = cpcaOptions;
-      partition = adaptiveBinary(in, b);
-      break;
-    }
-    case Method::Global:
-      ACPCA_CHECK(false, "global is refused before any work");
-  }
-  ModelOptions m;
-  m.tolerance = c.tolerance;
-  m.mean = mean;
-  m.precision = c.coeffs;
-  m.basisPrecision = c.bases;
-  Model part = buildModel(local, basis, projection, partition, m);
-  energies.energy = projection.transportEnergy();
-  energies.globalResidual = projection.residualEnergy.sum();
-  energies.errorEnergy = part.transportError * part.transportError * energies.energy;
-  if (maps > 0) {  // the model's image error, as eval measures it (relative L2 over RGB)
-    const auto relit = relightModelReference(part, truthSet.lightings);
-    energies.truthDiff.assign(maps, 0.0), energies.truthNorm.assign(maps, 0.0);
-    for (int map = 0; map < maps; ++map)
-      for (long long k = 0; k < 3 * count; ++k) {
-        const double t = truth[static_cast<size_t>(map) * count * 3 + k];
-        energies.truthDiff[map] += (relit[map][k] - t) * (relit[map][k] - t);
-        energies.truthNorm[map] += t * t;
-      }
-  }
-  part.globalBasis.resize(0, 0);
-  part.geometry = TransportHeader();
-  for (auto& r : part.clusterRows) r = static_cast<std::int32_t>(tile.rows[r]);
-  return part;
-}
-
-/// A float dataset of a tile file, of the size expected.
-std::vector<float> readTileArray(const std::string& path, const std::string& name, size_t size) {
-  const h5::Handle file = h5::openFileReadOnly(path);
-  if (h5::datasetShape(file.get(), name, path) != std::vector<hsize_t>{size})
-    throw UserError(concat(path, ": dataset '", name, "' has the wrong size"));
-  std::vector<float> values(size);
-  h5::readDataset(file.get(), name, values.data(), path);
-  return values;
-}
-
-/// Starts the work directory over, or checks that it belongs to this build.
-void prepareWorkDirectory(const std::string& dir, const std::string& identity, bool resume,
-                          const std::function<void(const std::string&)>& log) {
-  const std::string stamp = (fs::path(dir) / "build.json").string();
-  std::error_code ec;
-  if (resume && fs::exists(stamp, ec)) {
-    std::ifstream in(stamp);
-    const std::string found((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (found != identity)
-      throw UserError(concat(dir,
-                             ": was left by a build of another scene or other settings; "
-                             "run without --resume to start over"));
-    return;
-  }
-  if (fs::exists(dir, ec)) {
-    if (log) log(concat("starting over: removing ", dir, resume ? "" : " (--resume continues it)"));
-    fs::remove_all(dir, ec);
-    if (ec) throw WriteError(concat(dir, ": cannot remove (", ec.message(), ")"));
-  }
-  createOutputDirectory(dir);
-  writeTextFile(stamp, identity);
-}
-
 }  // namespace
-
-std::string buildWorkDirectory(const std::string& outPath) {
-  return outPath + ".tiles";
-}
 
 BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
   validate(o);
@@ -386,7 +87,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   BuildStats stats;
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
   if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);
-  GroundTruth truthSet = loadGroundTruth(o);
+  GroundTruth truthSet = loadGroundTruth(o.groundTruth);
 
   const RowSource source(scene, o.render);
   const TransportHeader& header = source.header();
@@ -398,7 +99,11 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   const int rank = ranks::rank(), rankCount = ranks::count();
   const bool lead = rank == 0;
   GlobalBasis basis;
-  if (lead) basis = fitBasis(source, {c.globalEnergy, c.sampleRows, c.seed}, stats);
+  if (lead) {
+    std::pair<long long, long long> rays{0, 0};
+    basis = fitBasis(source, {c.globalEnergy, c.sampleRows, c.seed}, rays);
+    stats.occlusionRays += rays.first, stats.pathRays += rays.second;
+  }
   shareBasis(basis);
   stats.globalBases = basis.globalBases();
   stats.sampleEnergyKept = basis.sampleEnergyKept;
@@ -426,26 +131,24 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   hash = fingerprint(basis.basis.data(), basis.basis.size() * 4, hash);
   const std::string dir = buildWorkDirectory(outPath);
   // Rank 0 keeps the work directory and says which tiles are left to do.
-  Bytes todoMessage;
+  std::vector<char> done(tiles.size(), 0);
   if (lead) {
     prepareWorkDirectory(dir, head.settings + "\n" + std::to_string(hash) + "\n", o.resume, o.log);
     for (size_t t = 0; t < tiles.size(); ++t) {
       std::error_code ec;
-      const char done = o.resume && fs::exists(tilePath(dir, t), ec);
-      todoMessage.put(&done, 1);
+      done[t] = o.resume && fs::exists(tilePath(dir, t), ec);
     }
   }
-  ranks::broadcast(todoMessage.data);
-  // Tiles left to do are dealt round robin; rank 0 writes every finished tile
-  // in tile order, its own and those the others send, so the files do not
-  // depend on the rank count.
+  ranks::broadcast(done);
+  // Tiles left to do are dealt round robin; rank 0 writes every finished
+  // tile, its own and those the others send; a tile's file is the same bytes
+  // whoever made it, so nothing depends on the rank count.
   std::vector<size_t> todo, mine;
   for (size_t t = 0; t < tiles.size(); ++t)
-    if (!todoMessage.data[t]) todo.push_back(t);
+    if (!done[t]) todo.push_back(t);
   for (size_t i = 0; i < todo.size(); ++i)
     if (static_cast<int>(i % rankCount) == rank) mine.push_back(todo[i]);
-  const auto owner = [&](size_t i) { return static_cast<int>(i % rankCount); };
-  const auto tag = [](size_t tile) { return static_cast<int>(tile % 32767); };
+  constexpr int kTileTag = 1;
   stats.tilesResumed = static_cast<long long>(tiles.size() - todo.size());
 
   const BasisProjector projector(basis, header.latticeSize(), header.rowLength());
@@ -461,23 +164,30 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   const long long faultTile = fault ? std::atoll(fault) : -1;
   long long rowsDone = 0;
   for (size_t t = 0; t < tiles.size(); ++t)
-    if (todoMessage.data[t]) rowsDone += static_cast<long long>(tiles[t].rows.size());
-  size_t next = 0, written = 0;  // into mine; into todo (rank 0)
+    if (done[t]) rowsDone += static_cast<long long>(tiles[t].rows.size());
+  size_t next = 0;  // into mine
   const auto wrote = [&](size_t tile) {
     rowsDone += static_cast<long long>(tiles[tile].rows.size());
     if (o.progress) o.progress(rowsDone, stats.rows);
   };
-  // Rank 0: the other ranks' tiles that come before todo[end], in order.
-  const auto receiveOthersBefore = [&](size_t end) {
-    for (; written < end; ++written)
-      if (owner(written) != 0) {
-        writeBytes(tilePath(dir, todo[written]),
-                   ranks::receiveBytes(owner(written), tag(todo[written])));
-        wrote(todo[written]);
-      }
+  // Rank 0 writes the other ranks' tiles as they arrive, in any order (each
+  // is a file of its own; the model is assembled in tile order), so a slow
+  // tile holds up no rank but its own. A message is the tile's index, then
+  // the file's bytes.
+  long long othersLeft = lead ? static_cast<long long>(todo.size() - mine.size()) : 0;
+  const auto receiveOther = [&] {
+    int from = 0;
+    const std::vector<char> message = ranks::receiveBytesFromAny(kTileTag, from);
+    std::uint64_t tile = 0;
+    ACPCA_CHECK(message.size() >= sizeof tile, "tile message from rank ", from, " is empty");
+    std::memcpy(&tile, message.data(), sizeof tile);
+    ACPCA_CHECK(tile < tiles.size(), "tile ", tile, " from rank ", from);
+    writeBytes(tilePath(dir, tile), {message.begin() + sizeof tile, message.end()});
+    wrote(tile);
+    --othersLeft;
   };
   const auto writePart = [&](const Slot& slot, const std::string& path) {
-    ModelFileWriter part(path, head, ModelFileKind::Clusters);
+    ModelFileWriter part(path, head, ModelSizes::of(slot.part), ModelFileKind::Clusters);
     part.append(slot.part);
     if (!slot.truth.empty()) part.writeArray("ground_truth", slot.truth);
     part.finish(slot.part, slot.energies.attributes());
@@ -501,10 +211,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       [&](Slot& slot) {
         stats.occlusionRays += slot.rays.first, stats.pathRays += slot.rays.second;
         if (lead) {
-          receiveOthersBefore(static_cast<size_t>(
-              std::lower_bound(todo.begin(), todo.end(), slot.tile) - todo.begin()));
+          while (othersLeft > 0 && ranks::pending(kTileTag)) receiveOther();
           writePart(slot, tilePath(dir, slot.tile));
-          ++written;
           wrote(slot.tile);
         } else {
           // Written where this rank can (its temporary directory), sent as
@@ -513,13 +221,18 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
               (fs::temp_directory_path() / concat("acpca-tile-", ::getpid(), "-", slot.tile, ".h5"))
                   .string();
           writePart(slot, local);
-          ranks::sendBytes(0, tag(slot.tile), readBytes(local));
+          const std::uint64_t tile = slot.tile;
+          std::vector<char> message(sizeof tile);
+          std::memcpy(message.data(), &tile, sizeof tile);
+          const std::vector<char> bytes = readBytes(local);
+          message.insert(message.end(), bytes.begin(), bytes.end());
+          ranks::sendBytes(0, kTileTag, message);
           std::error_code ec;
           fs::remove(local, ec);
         }
         slot.part = Model();
       });
-  if (lead) receiveOthersBefore(todo.size());
+  while (othersLeft > 0) receiveOther();
   stats.occlusionRays = ranks::sum(stats.occlusionRays);
   stats.pathRays = ranks::sum(stats.pathRays);
   if (!lead) {  // rank 0 assembles the model
@@ -538,7 +251,10 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     for (const auto& entry : fs::directory_iterator(dir, ec))
       stats.peakWorkBytes += static_cast<long long>(entry.file_size(ec));
   }
-  ModelFileWriter writer(outPath, head);
+  ModelSizes sizes;  // the tiles' sizes first: the model's arrays are written whole-sized
+  for (size_t t = 0; t < tiles.size(); ++t)
+    sizes += readModelClusterSizes(tilePath(dir, t), basis.globalBases());
+  ModelFileWriter writer(outPath, head, sizes);
   TileEnergies sum;
   const int maps = truthSet.maps();
   sum.truthDiff.assign(maps, 0.0), sum.truthNorm.assign(maps, 0.0);

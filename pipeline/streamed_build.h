@@ -72,7 +72,4 @@ struct BuildStats {
 BuildStats buildStreamed(const Scene& scene, const std::string& outPath,
                          const BuildOptions& options);
 
-/// Where a build of outPath keeps its finished tiles.
-std::string buildWorkDirectory(const std::string& outPath);
-
 }  // namespace acpca

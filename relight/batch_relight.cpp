@@ -8,6 +8,7 @@
 #include "cluster/model_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/ranks.h"
 #include "core/statistics.h"
 #include "core/stopwatch.h"
 #include "core/table.h"
@@ -114,12 +115,61 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output", "ms"});
   std::vector<double> msPerFrame;
   nlohmann::json outputs = nlohmann::json::array();
-  for (size_t g = 0; g < frames.size(); g += kGroup) {
-    const size_t count = std::min(kGroup, frames.size() - g);
+  // Rank 0 writes every frame (images, manifest row), in frame order.
+  const auto writeFrame = [&](size_t i, const Image& image, double ms) {
+    const Frame& f = frames[i];
+    std::vector<std::string> paths;
+    for (ImageFormat format : formats) {
+      fs::path path = out;
+      if (batch)
+        path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
+      else if (formats.size() > 1)
+        path = out.parent_path() / (out.stem().string() + extensionOf(format));
+      writeImage(image, path.string(), format, a.exposure, a.exrFloat);
+      paths.push_back(path.string());
+    }
+    std::string joined;
+    for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
+    manifest.add({a.input, f.input->spec, f.rotation.yaw, f.rotation.pitch, f.rotation.roll,
+                  a.exposure, joined, ms});
+    outputs.push_back({{"env", f.input->spec},
+                       {"yaw", f.rotation.yaw},
+                       {"pitch", f.rotation.pitch},
+                       {"roll", f.rotation.roll},
+                       {"paths", paths}});
+    if (a.progress)
+      a.progress(static_cast<long long>(i + 1), static_cast<long long>(frames.size()));
+  };
+  // Under mpirun -np K frame i goes to rank i mod K; the others send each
+  // composed image (and its time) to rank 0, which receives in frame order (a
+  // sender waits its turn, so memory stays bounded): the same files for any K.
+  const int rank = ranks::rank(), rankCount = ranks::count();
+  const auto owner = [&](size_t i) { return static_cast<int>(i % rankCount); };
+  const auto tag = [](size_t i) { return static_cast<int>(i % 32767); };
+  const int channels = ImageComposer::channels(a.background);
+  size_t nextToWrite = 0;
+  const auto writeOthersBefore = [&](size_t end) {
+    for (; nextToWrite < end; ++nextToWrite) {
+      if (owner(nextToWrite) == 0) continue;  // rank 0's own, written already
+      std::vector<float> message = ranks::receive(owner(nextToWrite), tag(nextToWrite));
+      ACPCA_CHECK(!message.empty(), "frame ", nextToWrite, " arrived empty");
+      const double ms = message.back();
+      message.pop_back();
+      Image image{source.header.camera.size.width, source.header.camera.size.height, channels,
+                  std::move(message)};
+      msPerFrame.push_back(ms);
+      writeFrame(nextToWrite, image, ms);
+    }
+  };
+  std::vector<size_t> mine;
+  for (size_t i = 0; i < frames.size(); ++i)
+    if (owner(i) == rank) mine.push_back(i);
+  for (size_t g = 0; g < mine.size(); g += kGroup) {
+    const size_t count = std::min(kGroup, mine.size() - g);
     std::vector<LatticeLighting> lightings;
     for (size_t k = 0; k < count; ++k)
-      lightings.push_back(computeLighting(*frames[g + k].input->env, lattice,
-                                          frames[g + k].rotation, a.rotationMode));
+      lightings.push_back(computeLighting(*frames[mine[g + k]].input->env, lattice,
+                                          frames[mine[g + k]].rotation, a.rotationMode));
     // Timing mode: one untimed warm-up, then the timed repeats.
     std::vector<double> ms;
     std::vector<std::vector<float>> results = source.relight(lightings, ms);
@@ -130,39 +180,34 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
       for (int rep = 0; rep < a.timingRepeats; ++rep) {
         results = source.relight(lightings, ms);
         for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
-        msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+        if (rankCount == 1) msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
       }
       for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
-    } else {
+      if (rankCount > 1 && rank == 0)
+        msPerFrame.insert(msPerFrame.end(), frameMs.begin(), frameMs.end());
+    } else if (rank == 0) {
       msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
     }
     for (size_t k = 0; k < count; ++k) {
-      const Frame& f = frames[g + k];
-      const Image image = composeImage(source.header, results[k], a.background, *f.input->env,
-                                       rotationMatrix(f.rotation));
-      std::vector<std::string> paths;
-      for (ImageFormat format : formats) {
-        fs::path path = out;
-        if (batch)
-          path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
-        else if (formats.size() > 1)
-          path = out.parent_path() / (out.stem().string() + extensionOf(format));
-        writeImage(image, path.string(), format, a.exposure, a.exrFloat);
-        paths.push_back(path.string());
+      const size_t i = mine[g + k];
+      Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
+                                 rotationMatrix(frames[i].rotation));
+      if (rank == 0) {
+        writeOthersBefore(i);
+        writeFrame(i, image, frameMs[k]);
+        nextToWrite = i + 1;
+      } else {
+        image.pixels.push_back(static_cast<float>(frameMs[k]));
+        ranks::send(0, tag(i), image.pixels);
       }
-      const double ms = frameMs[k];
-      std::string joined;
-      for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
-      manifest.add({a.input, f.input->spec, f.rotation.yaw, f.rotation.pitch, f.rotation.roll,
-                    a.exposure, joined, ms});
-      outputs.push_back({{"env", f.input->spec},
-                         {"yaw", f.rotation.yaw},
-                         {"pitch", f.rotation.pitch},
-                         {"roll", f.rotation.roll},
-                         {"paths", paths}});
     }
-    if (a.progress)
-      a.progress(static_cast<long long>(g + count), static_cast<long long>(frames.size()));
+  }
+  if (rank == 0) writeOthersBefore(frames.size());
+  if (rank != 0) {  // rank 0 wrote the images and reports
+    BatchRelightResult result;
+    result.method = source.method;
+    result.frames = static_cast<long long>(frames.size());
+    return result;
   }
   if (batch) manifest.writeCsv((out / "manifest.csv").string());
 

@@ -55,7 +55,9 @@ struct BatchRelightResult {
 void validateBatchRelight(const BatchRelightOptions& options);
 
 /// Relights and writes every frame. Frames go in groups of 32, each group one
-/// pass over T for a transport, so memory stays flat for any count. In a batch
+/// pass over T for a transport, so memory stays flat for any count. Under
+/// `mpirun -np K` the frames are dealt round robin and rank 0 writes them all
+/// (the same files for any K; the other ranks return without figures). In a batch
 /// a map that cannot be loaded is skipped (and listed in `failed`); the images
 /// of the others are written.
 BatchRelightResult relightBatch(const BatchRelightOptions& options);

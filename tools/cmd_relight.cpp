@@ -2,6 +2,7 @@
 // lightings and rotations -> images (relight/batch_relight.h).
 #include <iostream>
 
+#include "core/ranks.h"
 #include "relight/batch_relight.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -33,11 +34,16 @@ void run(RelightArgs& a) {
   validateBatchRelight(o);
 
   ThreadLimit limit(a.common.threads);
-  Progress progress("relight", "frames", a.common.quiet);
+  // Under mpirun the ranks share the frames; rank 0 writes and reports.
+  const bool lead = ranks::rank() == 0;
+  Progress progress("relight", "frames", a.common.quiet || !lead);
   o.progress = [&](long long done, long long total) { progress.update(done, total); };
-  o.warn = [](const std::string& text) { std::cerr << "adaptive-cpca: " << text << "\n"; };
+  o.warn = [lead](const std::string& text) {
+    if (lead) std::cerr << "adaptive-cpca: " << text << "\n";
+  };
   const BatchRelightResult result = relightBatch(o);
   progress.finish();
+  if (!lead) return;
   if (!a.common.quiet) std::cerr << result.summary << "\n";
   writeJson(a.common.jsonPath, result.json);
   if (!result.failed.empty()) {

@@ -60,11 +60,12 @@ void refuseUnknownSubcommand(const CLI::App& app, int argc, char** argv) {
 void refuseUndistributedCommand(int argc, char** argv) {
   if (!ranks::distributed() || argc < 2) return;
   const std::string word = argv[1];
-  if (word == "precompute" || word == "build" || word == "--help" || word == "-h" ||
-      word == "--version")
+  if (word == "precompute" || word == "build" || word == "relight" || word == "--help" ||
+      word == "-h" || word == "--version")
     return;
   throw UserError(concat("'", word, "' does not run over MPI ranks (this job has ", ranks::count(),
-                         "); only precompute and build do: run ", word, " as one process"));
+                         "); only precompute, build and relight do: run ", word,
+                         " as one process"));
 }
 
 }  // namespace

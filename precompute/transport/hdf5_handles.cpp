@@ -183,42 +183,29 @@ void readWhole(hid_t file, const std::string& name, hid_t type, void* data,
 
 }  // namespace
 
-GrowingDataset::GrowingDataset(hid_t file, const std::string& name, hid_t fileType,
-                               hsize_t maxChunk, const std::string& ctx)
-    : file_(file),
-      fileType_(fileType),
-      maxChunk_(std::max<hsize_t>(1, maxChunk)),
-      name_(name),
-      ctx_(ctx) {}
-
-void GrowingDataset::create(hsize_t chunk) {
-  if (set_.get() >= 0) return;
-  chunk = std::clamp<hsize_t>(chunk, 1, maxChunk_);
-  const hsize_t empty = 0, unlimited = H5S_UNLIMITED;
-  Handle space(H5Screate_simple(1, &empty, &unlimited), H5Sclose);
+PiecewiseDataset::PiecewiseDataset(hid_t file, const std::string& name, hid_t fileType,
+                                   hsize_t size, const std::string& ctx)
+    : name_(name), ctx_(ctx), size_(size) {
+  Handle space(H5Screate_simple(1, &size, nullptr), H5Sclose);
   const Handle creation = datasetCreation();
-  check(H5Pset_chunk(creation.get(), 1, &chunk), ctx_, "chunks of " + name_);
-  set_ = Handle(checkId(H5Dcreate2(file_, name_.c_str(), fileType_, space.get(), H5P_DEFAULT,
+  set_ = Handle(checkId(H5Dcreate2(file, name.c_str(), fileType, space.get(), H5P_DEFAULT,
                                    creation.get(), H5P_DEFAULT),
-                        ctx_, "cannot create dataset " + name_),
+                        ctx, "cannot create dataset " + name),
                 H5Dclose);
 }
 
-void GrowingDataset::append(hid_t memType, const void* data, hsize_t count) {
+void PiecewiseDataset::append(hid_t memType, const void* data, hsize_t count) {
   if (count == 0) return;
-  create(count);
-  const hsize_t grown = size_ + count;
-  const auto fail = [&] {
-    throw WriteError(
-        concat(ctx_, ": cannot write dataset ", name_, " (disk full, or its directory removed?)"));
-  };
-  if (H5Dset_extent(set_.get(), &grown) < 0) fail();
+  ACPCA_CHECK(written_ + count <= size_, name_, ": ", written_ + count, " values written into ",
+              size_);
   Handle fileSpace(H5Dget_space(set_.get()), H5Sclose);
-  check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &size_, nullptr, &count, nullptr),
+  check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &written_, nullptr, &count, nullptr),
         ctx_, "selection in " + name_);
   Handle memSpace(H5Screate_simple(1, &count, nullptr), H5Sclose);
-  if (H5Dwrite(set_.get(), memType, memSpace.get(), fileSpace.get(), H5P_DEFAULT, data) < 0) fail();
-  size_ = grown;
+  if (H5Dwrite(set_.get(), memType, memSpace.get(), fileSpace.get(), H5P_DEFAULT, data) < 0)
+    throw WriteError(
+        concat(ctx_, ": cannot write dataset ", name_, " (disk full, or its directory removed?)"));
+  written_ += count;
 }
 
 void writeAttribute(hid_t object, const std::string& name, long long value,

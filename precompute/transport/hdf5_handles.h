@@ -76,28 +76,24 @@ void writeDataset(hid_t file, const std::string& name, const std::vector<hsize_t
 void writeTyped(hid_t file, const std::string& name, const std::vector<hsize_t>& shape, hid_t type,
                 const void* data, const std::string& ctx);
 void readTyped(hid_t file, const std::string& name, hid_t type, void* data, const std::string& ctx);
-/// A one-dimensional dataset that grows as values are appended (chunked, no
-/// timestamps): for files written piece by piece. It is created at the first
-/// append (or at create()), with chunks of that append's size up to
-/// `maxChunk`: a file written in one append wastes nothing on its last chunk.
-class GrowingDataset {
+/// A one-dimensional dataset of a known size written in consecutive pieces:
+/// contiguous and without timestamps, as writeDataset's, so a file written
+/// piece by piece has the layout of one written whole.
+class PiecewiseDataset {
  public:
-  GrowingDataset() = default;
-  GrowingDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t maxChunk,
-                 const std::string& ctx);
-  /// Appends count values of memType (converted to the file's type).
+  PiecewiseDataset() = default;
+  PiecewiseDataset(hid_t file, const std::string& name, hid_t fileType, hsize_t size,
+                   const std::string& ctx);
+  /// Writes count values of memType (converted to the file's type) after the
+  /// last piece; never past the size.
   void append(hid_t memType, const void* data, hsize_t count);
-  /// Creates the dataset if no append has (an empty one).
-  void create() { create(1); }
+  hsize_t written() const { return written_; }
   hsize_t size() const { return size_; }
 
  private:
-  void create(hsize_t chunk);
-  hid_t file_ = -1, fileType_ = -1;
-  hsize_t maxChunk_ = 1;
   Handle set_;
   std::string name_, ctx_;
-  hsize_t size_ = 0;
+  hsize_t size_ = 0, written_ = 0;
 };
 
 /// Reads a whole dataset whose shape the caller has already validated.

@@ -5,9 +5,12 @@
 // without it.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "cluster/model_file.h"
 #include "tests/cli/run_cli.h"
@@ -122,6 +125,61 @@ TEST(Mpi, BuildMakesTheSameModelForAnyRankCount) {
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_EQ(resumed.output.find("\"tiles_resumed\": 0,"), std::string::npos) << resumed.output;
   expectSameModel(readModel(out), alone, "resumed after a killed rank");
+}
+
+/// Every pixel value of an image file.
+std::vector<float> exrPixels(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) return {};
+  return pixels;
+}
+
+TEST(Mpi, BatchRelightWritesTheSameImagesForAnyRankCount) {
+  TempDir dir;
+  ASSERT_EQ(runCli("precompute --scene plant --size 40x32 --cubemap 8 --spp 1 --quiet --out " +
+                   dir.file("t.h5"))
+                .status,
+            0);
+  ASSERT_EQ(runCli("compress " + dir.file("t.h5") + " --method adaptive-quad --block 16 --quiet " +
+                   "--out " + dir.file("m.h5"))
+                .status,
+            0);
+  // 3 maps x 2 rotations (a sweep leaves out its end): 6 frames, dealt unevenly over 4 ranks.
+  const std::string batch = " --env sky --env sun:50,30,4,1000 --env constant:1 --rotate 0:90:45 ";
+  for (const std::string input : {"m.h5", "t.h5"}) {  // a model, and the dense transport
+    SCOPED_TRACE(input);
+    const std::string alone = dir.file("alone-" + input);
+    ASSERT_EQ(runCli("relight " + dir.file(input) + batch + "--quiet --out " + alone).status, 0);
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(alone))
+      if (entry.path().extension() == ".exr") names.push_back(entry.path().filename().string());
+    ASSERT_EQ(names.size(), 6u);
+    for (int ranks : {2, 4}) {
+      const std::string out = dir.file("ranks" + std::to_string(ranks) + "-" + input);
+      const RunResult r =
+          runCli("relight " + dir.file(input) + batch + "--quiet --out " + out, mpirun(ranks));
+      ASSERT_EQ(r.status, 0) << r.output;
+      for (const auto& name : names)  // pixels: an EXR's bytes carry the time it was written
+        ASSERT_FALSE(exrPixels(alone + "/" + name).empty()) << name;
+      for (const auto& name : names)
+        EXPECT_EQ(exrPixels(out + "/" + name), exrPixels(alone + "/" + name))
+            << name << ", " << ranks << " ranks";
+      // The manifest lists the same frames in the same order (times differ).
+      const auto firstColumns = [](const std::string& csv) {
+        std::string kept, line;
+        std::istringstream in(csv);
+        while (std::getline(in, line)) kept += line.substr(0, line.rfind(',')) + "\n";
+        return kept;
+      };
+      std::string manifest = firstColumns(test::readFile(out + "/manifest.csv"));
+      for (size_t at; (at = manifest.find(out)) != std::string::npos;)
+        manifest.replace(at, out.size(), alone);
+      EXPECT_EQ(manifest, firstColumns(test::readFile(alone + "/manifest.csv")));
+    }
+  }
 }
 
 TEST(Mpi, CommandsThatDoNotDealTheirWorkRefuseToRunOnSeveralRanks) {

@@ -336,7 +336,7 @@ TEST_F(CompressPlant, AModelWrittenInPiecesReadsAsTheWholeOne) {
   };
   const int c = whole.clusters();
   {
-    ModelFileWriter writer(dir.file("pieces.h5"), whole);
+    ModelFileWriter writer(dir.file("pieces.h5"), whole, ModelSizes::of(whole));
     for (const auto& [first, last] : {std::pair{0, 1}, std::pair{1, c / 2}, std::pair{c / 2, c}})
       writer.append(piece(first, last));
     EXPECT_EQ(writer.clustersWritten(), c);
@@ -354,7 +354,7 @@ TEST_F(CompressPlant, AModelWrittenInPiecesReadsAsTheWholeOne) {
   EXPECT_EQ(back.coeffScale, whole.coeffScale);
   EXPECT_DOUBLE_EQ(back.transportError, whole.transportError);
   // A writer that never finishes leaves nothing behind.
-  { ModelFileWriter unfinished(dir.file("never.h5"), whole); }
+  { ModelFileWriter unfinished(dir.file("never.h5"), whole, ModelSizes::of(whole)); }
   EXPECT_FALSE(std::filesystem::exists(dir.file("never.h5")));
 }
 
