@@ -152,7 +152,9 @@ std::vector<float> readExr(const std::string& path, int width, int height) {
   auto in = OIIO::ImageInput::open(path);
   EXPECT_TRUE(in) << path;
   std::vector<float> pixels(static_cast<size_t>(width) * height * 3);
-  if (in) EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()));
+  if (in) {
+    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()));
+  }
   return pixels;
 }
 

@@ -28,9 +28,10 @@ TEST(TilePlan, EveryRowInOneTileInRowMajorOrderWithEdgeTilesCut) {
     EXPECT_EQ(tile.width, tile.x0 == 8 ? 2 : 4);
     EXPECT_EQ(tile.height, tile.y0 == 4 ? 3 : 4);
     EXPECT_TRUE(std::is_sorted(tile.rows.begin(), tile.rows.end()));
-    if (t > 0)
+    if (t > 0) {
       EXPECT_TRUE(tiles[t - 1].y0 < tile.y0 ||
                   (tiles[t - 1].y0 == tile.y0 && tiles[t - 1].x0 < tile.x0));
+    }
     const std::vector<std::int32_t> local = tilePixels(tile, size, pixels);
     for (size_t i = 0; i < tile.rows.size(); ++i) {
       const int x = pixels[tile.rows[i]] % 10, y = pixels[tile.rows[i]] / 10;
