@@ -34,6 +34,40 @@ void validateCompressOptions(const CompressOptions& o) {
   if (o.sampleRows < 1) throw ParameterError("sample rows", o.sampleRows, "must be >= 1");
 }
 
+bool keepsMean(Method m) {
+  return m == Method::Cpca || m == Method::AdaptiveBinary;
+}
+
+Partition partitionRows(const ClusterInput& in, const CompressOptions& o) {
+  CpcaOptions cpcaOptions;
+  cpcaOptions.clusters = o.clusters;
+  cpcaOptions.seed = o.seed;
+  switch (o.method) {
+    case Method::Global:
+      return singleCluster(in);
+    case Method::Block:
+      return fixedBlocks(in, blockSideFor(o));
+    case Method::Cpca: {
+      std::vector<int> all(in.rows());
+      for (long long r = 0; r < in.rows(); ++r) all[r] = static_cast<int>(r);
+      return cpca(in, all, cpcaOptions);
+    }
+    case Method::AdaptiveQuad: {
+      QuadTreeOptions q;
+      q.rootBlock = blockSideFor(o);
+      q.exact = o.exactQuadTree;
+      return adaptiveQuadTree(in, q);
+    }
+    case Method::AdaptiveBinary: {
+      BinaryOptions b;
+      b.initialClusters = o.clusters;
+      b.split = cpcaOptions;
+      return adaptiveBinary(in, b);
+    }
+  }
+  return {};
+}
+
 Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
   validateCompressOptions(o);
   const int block = blockSideFor(o);
@@ -49,46 +83,14 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   const GlobalProjection projection = projectOntoBasis(transport, basis);
   log("projected every row onto the global basis");
 
-  // CPCA-based methods keep a mean per cluster, as Sloan's CPCA does.
-  const bool mean = o.method == Method::Cpca || o.method == Method::AdaptiveBinary;
+  const bool mean = keepsMean(o.method);
   ClusterInput in{&projection.coefficients,
                   &transport.header().pixels,
                   transport.header().camera.size,
                   o.tolerance,
                   mean,
                   o.clusteringDims};
-  Partition partition;
-  CpcaOptions cpcaOptions;
-  cpcaOptions.clusters = o.clusters;
-  cpcaOptions.seed = o.seed;
-  switch (o.method) {
-    case Method::Global:
-      partition = singleCluster(in);
-      break;
-    case Method::Block:
-      partition = fixedBlocks(in, block);
-      break;
-    case Method::Cpca: {
-      std::vector<int> all(in.rows());
-      for (long long r = 0; r < in.rows(); ++r) all[r] = static_cast<int>(r);
-      partition = cpca(in, all, cpcaOptions);
-      break;
-    }
-    case Method::AdaptiveQuad: {
-      QuadTreeOptions q;
-      q.rootBlock = block;
-      q.exact = o.exactQuadTree;
-      partition = adaptiveQuadTree(in, q);
-      break;
-    }
-    case Method::AdaptiveBinary: {
-      BinaryOptions b;
-      b.initialClusters = o.clusters;
-      b.split = cpcaOptions;
-      partition = adaptiveBinary(in, b);
-      break;
-    }
-  }
+  const Partition partition = partitionRows(in, o);
   log(concat(methodName(o.method), ": ", partition.size(), " clusters"));
   ModelOptions modelOptions;
   modelOptions.tolerance = o.tolerance;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cluster/model_fit.h"
+#include "cluster/partition.h"
 
 namespace acpca {
 
@@ -38,6 +39,14 @@ struct CompressOptions {
 
 /// The block side `options` means for its method (resolving block = 0).
 int blockSideFor(const CompressOptions& options);
+
+/// CPCA-based methods keep a mean per cluster, as Sloan's CPCA does.
+bool keepsMean(Method m);
+
+/// The method's partition of the rows `in` holds (block side and root from
+/// blockSideFor, CPCA's K and adaptive binary's initial clusters from
+/// `clusters`).
+Partition partitionRows(const ClusterInput& in, const CompressOptions& options);
 
 /// Throws ParameterError on a bad value.
 void validateCompressOptions(const CompressOptions& options);

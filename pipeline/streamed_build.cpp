@@ -205,8 +205,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       },
       [&](Slot& slot) {
         if (static_cast<long long>(slot.tile) == faultTile) std::raise(SIGKILL);
-        slot.part = compressTile(tiles[slot.tile], source, projector, basis, o, truthSet, side,
-                                 slot.rows, slot.truth, slot.energies, slot.rays);
+        slot.part = compressTile(tiles[slot.tile], source, projector, basis, o, truthSet, slot.rows,
+                                 slot.truth, slot.energies, slot.rays);
       },
       [&](Slot& slot) {
         stats.occlusionRays += slot.rays.first, stats.pathRays += slot.rays.second;

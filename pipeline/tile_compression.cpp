@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "cluster/compress.h"
 #include "cluster/model_fit.h"
 #include "cluster/model_reference.h"
 #include "cluster/partition.h"
@@ -25,8 +26,8 @@ int tileSide(const BuildOptions& o) {
 
 Model compressTile(const Tile& tile, const RowSource& source, const BasisProjector& projector,
                    const GlobalBasis& basis, const BuildOptions& o, const GroundTruth& truthSet,
-                   int side, std::vector<float>& rows, std::vector<float>& truth,
-                   TileEnergies& energies, std::pair<long long, long long>& rays) {
+                   std::vector<float>& rows, std::vector<float>& truth, TileEnergies& energies,
+                   std::pair<long long, long long>& rays) {
   const TransportHeader& header = source.header();
   const long long count = static_cast<long long>(tile.rows.size());
   const int l = source.rowLength();
@@ -59,42 +60,17 @@ Model compressTile(const Tile& tile, const RowSource& source, const BasisProject
 
   const std::vector<std::int32_t> pixels = tilePixels(tile, header.camera.size, header.pixels);
   const CompressOptions& c = o.compress;
-  const bool mean = clustersTileGroups(c.method);  // the CPCA family keeps a mean, as compress
+  const bool mean = keepsMean(c.method);
   const ClusterInput in{
       &projection.coefficients, &pixels, {tile.width, tile.height}, c.tolerance, mean,
       c.clusteringDims};
-  Partition partition;
-  CpcaOptions cpcaOptions;
-  cpcaOptions.seed = c.seed;
-  switch (c.method) {
-    case Method::AdaptiveQuad: {
-      QuadTreeOptions q;
-      q.rootBlock = side;
-      q.exact = c.exactQuadTree;
-      partition = adaptiveQuadTree(in, q);
-      break;
-    }
-    case Method::Block:
-      partition = fixedBlocks(in, blockSideFor(c));
-      break;
-    case Method::Cpca: {  // K clusters over the image: each group its share by rows
-      cpcaOptions.clusters = static_cast<int>(std::clamp<long long>(
-          std::llround(double(c.clusters) * count / std::max(1LL, header.rows())), 1, count));
-      std::vector<int> all(static_cast<size_t>(count));
-      std::iota(all.begin(), all.end(), 0);
-      partition = cpca(in, all, cpcaOptions);
-      break;
-    }
-    case Method::AdaptiveBinary: {  // the initial clusters in every group
-      BinaryOptions b;
-      b.initialClusters = static_cast<int>(std::min<long long>(c.clusters, count));
-      b.split = cpcaOptions;
-      partition = adaptiveBinary(in, b);
-      break;
-    }
-    case Method::Global:
-      ACPCA_CHECK(false, "global is refused before any work");
-  }
+  CompressOptions here = c;      // the tile alone: the tile is the root block
+  if (c.method == Method::Cpca)  // K clusters over the image: each group its share by rows
+    here.clusters = static_cast<int>(std::clamp<long long>(
+        std::llround(double(c.clusters) * count / std::max(1LL, header.rows())), 1, count));
+  if (c.method == Method::AdaptiveBinary)  // the initial clusters in every group
+    here.clusters = static_cast<int>(std::min<long long>(c.clusters, count));
+  const Partition partition = partitionRows(in, here);
   ModelOptions m;
   m.tolerance = c.tolerance;
   m.mean = mean;

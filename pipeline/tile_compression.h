@@ -47,7 +47,7 @@ int tileSide(const BuildOptions& o);
 /// row, RGB) go into `truth`, and the model's error against them into energies.
 Model compressTile(const Tile& tile, const RowSource& source, const BasisProjector& projector,
                    const GlobalBasis& basis, const BuildOptions& o, const GroundTruth& truthSet,
-                   int side, std::vector<float>& rows, std::vector<float>& truth,
-                   TileEnergies& energies, std::pair<long long, long long>& rays);
+                   std::vector<float>& rows, std::vector<float>& truth, TileEnergies& energies,
+                   std::pair<long long, long long>& rays);
 
 }  // namespace acpca
