@@ -58,7 +58,7 @@ std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile) {
                         {"bases", coeffPrecisionName(c.bases)},
                         {"sample_rows", c.sampleRows},
                         {"seed", c.seed},
-                        {"mean", clustersTileGroups(c.method)},
+                        {"mean", keepsMean(c.method)},
                         {"clusters", c.clusters},
                         {"clustering_dims", c.clusteringDims},
                         {"source", concat("build of ", scene.name)},
@@ -121,7 +121,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   head.method = methodName(c.method);
   head.settings = settingsJson(o, scene, side);
   head.globalBasis = basis.basis;
-  head.hasMean = clustersTileGroups(c.method);
+  head.hasMean = keepsMean(c.method);
   head.precision = c.coeffs;
   head.basisPrecision = c.bases;
 
