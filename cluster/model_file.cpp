@@ -131,7 +131,7 @@ ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head,
       basisPrecision_(head.basisPrecision),
       data_(std::make_unique<Datasets>(path)) {
   Datasets& d = *data_;
-  d.file = h5::createFile(d.output.tempPath());
+  d.file = h5::createFile(d.output.tempPath(), path);
   d.half = h5::halfType();
   const hid_t f = d.file.get();
   const std::string& ctx = path;

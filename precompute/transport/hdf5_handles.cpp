@@ -61,19 +61,19 @@ Handle halfType() {
   return type;
 }
 
-Handle createFile(const std::string& path) {
+Handle createFile(const std::string& path, const std::string& output) {
   silenceLibraryErrors();
   // The 1.10 file format: every piece of metadata (superblock, object headers,
   // chunk indices) carries a checksum that HDF5 verifies before parsing it, so a
   // corrupt or hostile file is refused instead of reaching the library's parsers
   // (which fuzzing showed can crash on damaged unchecked metadata).
   Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_V110), path,
+  check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_V110), output,
         "file format bounds");
   // No object timestamps (HDF5 keeps them by default): equal runs write equal bytes.
   Handle create(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
-  check(H5Pset_obj_track_times(create.get(), false), path, "object timestamps");
-  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()), path,
+  check(H5Pset_obj_track_times(create.get(), false), output, "object timestamps");
+  return Handle(checkId(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()), output,
                         "cannot create the file (is the directory writable?)"),
                 H5Fclose);
 }

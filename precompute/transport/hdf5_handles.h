@@ -40,7 +40,9 @@ hid_t checkId(hid_t id, const std::string& context, const std::string& what);
 /// (HDF5 1.10 has no predefined half type).
 Handle halfType();
 
-Handle createFile(const std::string& path);
+/// Creates `path` (usually an AtomicOutput's temporary); errors name `output`,
+/// the file the user asked for.
+Handle createFile(const std::string& path, const std::string& output);
 /// A dataset creation property list without object timestamps (files of equal
 /// runs are equal byte for byte).
 Handle datasetCreation();

@@ -66,7 +66,7 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
     : output_(path), header_(header) {
   header_.validate(path);
   const std::string& ctx = path;
-  file_ = h5::createFile(output_.tempPath());
+  file_ = h5::createFile(output_.tempPath(), path);
   const hid_t f = file_.get();
   h5::writeAttribute(f, "format", std::string(kTransportFormat), ctx);
   h5::writeAttribute(f, "version", static_cast<long long>(kTransportVersion), ctx);
