@@ -7,11 +7,10 @@
 #include <memory>
 #include <vector>
 
+#include "cluster/pca.h"
 #include "precompute/transport/transport_file.h"
 
 namespace acpca {
-
-using RowMatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 struct GlobalBasisOptions {
   double energy = 0.999;   ///< fraction of the sample's energy kept (1: every direction)

@@ -82,10 +82,10 @@ ClusterFit fitClusterFloat(const RowMatrixF& g, const std::vector<int>& rows, do
                            bool subtractMean) {
   const int n = static_cast<int>(g.cols());
   const long long p = static_cast<long long>(rows.size());
-  Eigen::MatrixXf gathered(p, n);
+  RowMatrixF gathered(p, n);
   for (long long i = 0; i < p; ++i) gathered.row(i) = g.row(rows[i]);
   const CentredRowsF centred = centreInDouble(gathered, subtractMean);
-  const Eigen::MatrixXf& x = centred.rows;
+  const RowMatrixF& x = centred.rows;
   ClusterFit fit;
   PcaResult& pca = fit.pca;
   pca.mean = centred.mean;

@@ -11,8 +11,8 @@
 namespace acpca {
 
 /// Rows `rows` of G, their first `width` columns.
-inline Eigen::MatrixXf gatherRows(const ClusterInput& in, const std::vector<int>& rows, int width) {
-  Eigen::MatrixXf m(rows.size(), width);
+inline RowMatrixF gatherRows(const ClusterInput& in, const std::vector<int>& rows, int width) {
+  RowMatrixF m(rows.size(), width);
   for (size_t i = 0; i < rows.size(); ++i) m.row(i) = in.coefficients->row(rows[i]).head(width);
   return m;
 }

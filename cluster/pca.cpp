@@ -40,32 +40,42 @@ PcaResult pcaToTolerance(const Eigen::MatrixXd& input, double tolerance, bool su
   return result;
 }
 
-CentredRowsF centreInDouble(const Eigen::MatrixXf& input, bool subtractMean) {
+CentredRowsF centreInDouble(const RowMatrixF& input, bool subtractMean) {
   CentredRowsF c;
-  c.mean = subtractMean && input.rows() > 0
-               ? Eigen::RowVectorXd(input.cast<double>().colwise().mean())
-               : Eigen::RowVectorXd::Zero(input.cols());
-  c.rows = (input.cast<double>().rowwise() - c.mean).cast<float>();
-  c.energy = c.rows.cast<double>().squaredNorm();
+  const Eigen::Index p = input.rows();
+  c.mean = Eigen::RowVectorXd::Zero(input.cols());
+  if (subtractMean && p > 0) {
+    for (Eigen::Index i = 0; i < p; ++i) c.mean += input.row(i).cast<double>();
+    c.mean /= static_cast<double>(p);
+  }
+  // Row by row: no double copy of the whole matrix.
+  c.rows.resize(p, input.cols());
+  for (Eigen::Index i = 0; i < p; ++i) {
+    c.rows.row(i) = (input.row(i).cast<double>() - c.mean).cast<float>();
+    c.energy += c.rows.row(i).cast<double>().squaredNorm();
+  }
   return c;
 }
 
-Eigen::MatrixXf smallerGram(const Eigen::MatrixXf& x) {
-  Eigen::MatrixXf gram;
-  if (x.rows() < x.cols())
-    gram.noalias() = x * x.transpose();
+Eigen::MatrixXf smallerGram(const RowMatrixF& x) {
+  const bool viaRows = x.rows() < x.cols();
+  const Eigen::Index n = viaRows ? x.rows() : x.cols();
+  Eigen::MatrixXf gram = Eigen::MatrixXf::Zero(n, n);
+  if (viaRows)
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(x);
   else
-    gram.noalias() = x.transpose() * x;
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(x.transpose());
+  gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
   return gram;
 }
 
-int rankToTolerance(const Eigen::MatrixXf& input, double tolerance, bool subtractMean) {
+int rankToTolerance(const RowMatrixF& input, double tolerance, bool subtractMean) {
   if (tolerance > 0.9999)
     return pcaToTolerance(input.cast<double>(), tolerance, subtractMean, false).rank;
   if (input.rows() == 0 || input.cols() == 0) return 0;
   const CentredRowsF centred = centreInDouble(input, subtractMean);
   if (centred.energy == 0) return 0;
-  const SymmetricEigen eig = symmetricEigen(smallerGram(centred.rows).cast<double>(), false);
+  const SymmetricEigenF eig = symmetricEigenFloat(smallerGram(centred.rows), false);
   return rankForEnergy(eig.values, centred.energy, tolerance);
 }
 

@@ -64,6 +64,19 @@ TEST(Pca, TheFloatRankMatchesTheDoubleRankForEitherGramShape) {
   EXPECT_EQ(rankToTolerance(lowRank(30, 20, 3, 2).cast<float>(), 1.0, false), 3);
 }
 
+TEST(Pca, TheSmallerGramIsTheSmallerProductAndExactlySymmetric) {
+  for (auto [rows, cols] : {std::pair{20, 70}, std::pair{70, 20}, std::pair{33, 33}}) {
+    const Eigen::MatrixXd x = lowRank(rows, cols, 15, 3);
+    const Eigen::MatrixXd expected =
+        rows < cols ? Eigen::MatrixXd(x * x.transpose()) : Eigen::MatrixXd(x.transpose() * x);
+    const Eigen::MatrixXf gram = smallerGram(x.cast<float>());
+    ASSERT_EQ(gram.rows(), std::min(rows, cols));
+    ASSERT_EQ(gram.cols(), std::min(rows, cols));
+    EXPECT_LT((gram.cast<double>() - expected).norm(), 1e-5 * expected.norm());
+    EXPECT_EQ(gram, gram.transpose());  // the upper triangle mirrors the lower
+  }
+}
+
 TEST(Pca, AllZeroRowsGiveRankZero) {
   const PcaResult pca = pcaToTolerance(Eigen::MatrixXd::Zero(7, 12), 0.999, true);
   EXPECT_EQ(pca.rank, 0);
