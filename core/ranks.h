@@ -3,6 +3,8 @@
 // mpirun did not start, or a build without MPI (ACPCA_MPI off), is rank 0 of
 // 1, and every function here is then a no-op or an identity: callers need no
 // #ifdef. Only one thread at a time may call these (MPI_THREAD_SERIALIZED).
+// Receives and collectives wait by polling with short sleeps, not by spinning
+// as MPI does: a waiting rank leaves its core to the ranks that compute.
 #include <string>
 #include <vector>
 

@@ -1,13 +1,18 @@
 #include "pipeline/streamed_build.h"
 
 #include <unistd.h>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "cluster/global_basis.h"
 #include "cluster/model_file.h"
@@ -165,16 +170,19 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   long long rowsDone = 0;
   for (size_t t = 0; t < tiles.size(); ++t)
     if (done[t]) rowsDone += static_cast<long long>(tiles[t].rows.size());
-  size_t next = 0;  // into mine
+  size_t next = 0;          // into mine
+  std::mutex progressLock;  // rank 0 counts its own tiles and those it receives
   const auto wrote = [&](size_t tile) {
+    std::lock_guard<std::mutex> lock(progressLock);
     rowsDone += static_cast<long long>(tiles[tile].rows.size());
     if (o.progress) o.progress(rowsDone, stats.rows);
   };
-  // Rank 0 writes the other ranks' tiles as they arrive, in any order (each
-  // is a file of its own; the model is assembled in tile order), so a slow
-  // tile holds up no rank but its own. A message is the tile's index, then
-  // the file's bytes.
-  long long othersLeft = lead ? static_cast<long long>(todo.size() - mine.size()) : 0;
+  // Rank 0 takes the other ranks' tiles on a thread of its own, as they
+  // arrive and in any order (each is a file of its own; the model is
+  // assembled in tile order): a sender waits for none of rank 0's tiles, and
+  // a slow tile holds up only its own rank. A message is the tile's index,
+  // then the file's bytes. While that thread runs, it alone calls MPI on rank
+  // 0, and only it writes raw bytes (no HDF5, which is not thread-safe).
   const auto receiveOther = [&] {
     int from = 0;
     const std::vector<char> message = ranks::receiveBytesFromAny(kTileTag, from);
@@ -184,8 +192,31 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     ACPCA_CHECK(tile < tiles.size(), "tile ", tile, " from rank ", from);
     writeBytes(tilePath(dir, tile), {message.begin() + sizeof tile, message.end()});
     wrote(tile);
-    --othersLeft;
   };
+  struct Receiver {
+    std::atomic<bool> stop{false};
+    std::exception_ptr failure;
+    std::thread thread;
+    ~Receiver() {  // on the way out after a failure: stop waiting for tiles
+      stop = true;
+      if (thread.joinable()) thread.join();
+    }
+  } receiver;
+  if (lead && todo.size() > mine.size())
+    receiver.thread = std::thread([&, others = todo.size() - mine.size()]() mutable {
+      try {
+        while (others > 0 && !receiver.stop) {
+          if (!ranks::pending(kTileTag)) {
+            std::this_thread::sleep_for(std::chrono::microseconds(500));
+            continue;
+          }
+          receiveOther();
+          --others;
+        }
+      } catch (...) {
+        receiver.failure = std::current_exception();
+      }
+    });
   const auto writePart = [&](const Slot& slot, const std::string& path) {
     ModelFileWriter part(path, head, ModelSizes::of(slot.part), ModelFileKind::Clusters);
     part.append(slot.part);
@@ -211,7 +242,6 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       [&](Slot& slot) {
         stats.occlusionRays += slot.rays.first, stats.pathRays += slot.rays.second;
         if (lead) {
-          while (othersLeft > 0 && ranks::pending(kTileTag)) receiveOther();
           writePart(slot, tilePath(dir, slot.tile));
           wrote(slot.tile);
         } else {
@@ -232,7 +262,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
         }
         slot.part = Model();
       });
-  while (othersLeft > 0) receiveOther();
+  if (receiver.thread.joinable()) receiver.thread.join();
+  if (receiver.failure) std::rethrow_exception(receiver.failure);
   stats.occlusionRays = ranks::sum(stats.occlusionRays);
   stats.pathRays = ranks::sum(stats.pathRays);
   if (!lead) {  // rank 0 assembles the model
