@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "cluster/global_basis.h"
@@ -22,6 +23,7 @@
 #include "core/ranks.h"
 #include "core/stopwatch.h"
 #include "pipeline/ground_truth.h"
+#include "pipeline/kept_transport.h"
 #include "pipeline/sampled_basis.h"
 #include "pipeline/tile_compression.h"
 #include "pipeline/tile_files.h"
@@ -48,6 +50,13 @@ void validate(const BuildOptions& o) {
   if (o.tilesInFlight < 1) throw ParameterError("tiles in flight", o.tilesInFlight, "must be >= 1");
   if (!o.groundTruthDir.empty() && o.groundTruth.empty())
     throw ParameterError("ground-truth lightings", "none", "are needed for ground-truth images");
+  if (!o.keepTransport.empty() && o.resume)
+    throw UserError(
+        "--keep-transport cannot resume: an interrupted build kept no rows of its finished tiles");
+  if (!o.keepTransport.empty() && ranks::distributed())
+    throw UserError(
+        "--keep-transport runs in one process: under mpirun every rank's rows would cross the "
+        "network to rank 0 (run precompute under mpirun for the transport)");
 }
 
 /// The model's settings, as compress records them, plus how its rows were made.
@@ -91,6 +100,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   };
   BuildStats stats;
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
+  if (!o.keepTransport.empty()) AtomicOutput check(o.keepTransport);
   if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);
   GroundTruth truthSet = loadGroundTruth(o.groundTruth);
 
@@ -223,6 +233,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     if (!slot.truth.empty()) part.writeArray("ground_truth", slot.truth);
     part.finish(slot.part, slot.energies.attributes());
   };
+  std::optional<KeptTransport> kept;
+  if (!o.keepTransport.empty()) kept.emplace(o.keepTransport, header, tiles);
   runOrderedPipeline<Slot>(
       o.tilesInFlight,
       [&](Slot& slot) {
@@ -243,6 +255,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
         stats.occlusionRays += slot.rays.first, stats.pathRays += slot.rays.second;
         if (lead) {
           writePart(slot, tilePath(dir, slot.tile));
+          if (kept) kept->add(slot.tile, slot.rows.data());
           wrote(slot.tile);
         } else {
           // Written where this rank can (its temporary directory), sent as
@@ -264,6 +277,10 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       });
   if (receiver.thread.joinable()) receiver.thread.join();
   if (receiver.failure) std::rethrow_exception(receiver.failure);
+  if (kept) {
+    kept->finish();
+    log(concat("wrote the transport to ", o.keepTransport));
+  }
   stats.occlusionRays = ranks::sum(stats.occlusionRays);
   stats.pathRays = ranks::sum(stats.pathRays);
   if (!lead) {  // rank 0 assembles the model

@@ -39,6 +39,10 @@ struct BuildOptions {
   /// Where the ground-truth images go (EXR, one per lighting, composed as
   /// `relight` composes a transport's); empty: the errors alone.
   std::string groundTruthDir;
+  /// Also write the dense transport the tiles render to this file, as
+  /// precompute writes it (one process, not with resume: it needs every tile's
+  /// rows, in order). Empty: none.
+  std::string keepTransport;
   /// Called in order as tiles finish: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
   /// Stage messages.

@@ -20,7 +20,7 @@ struct BuildArgs {
   std::string out;
   bool resume = false;
   int tilesInFlight = 3, tile = 0;
-  std::string groundTruth;
+  std::string groundTruth, keepTransport;
   std::vector<std::string> envs;
 };
 
@@ -35,6 +35,7 @@ void run(const BuildArgs& a) {
   o.tilesInFlight = a.tilesInFlight;
   o.tileSide = a.tile;
   o.groundTruthDir = a.groundTruth;
+  o.keepTransport = a.keepTransport;
   o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
                                                            : expandEnvironments(a.envs);
   const Scene scene = a.render.loadScene();
@@ -113,6 +114,9 @@ void registerBuild(CLI::App& app) {
                   "Directory for the dense relight of every --env (EXR): the ground truth no "
                   "transport file holds, computed from the rendered rows; the model's image error "
                   "against it is reported");
+  sub->add_option("--keep-transport", args->keepTransport,
+                  "Also write the dense transport to this file, as precompute would (one "
+                  "process; about a band of tiles' rows in memory; the disk must hold it)");
   sub->add_option("--env", args->envs,
                   "Lightings of the ground truth and image errors (default with --ground-truth: "
                   "the evaluation set)");

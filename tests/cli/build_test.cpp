@@ -73,9 +73,20 @@ TEST(Build, EqualsPrecomputeThenCompress) {
   for (const auto& [tolerance, bound] : {std::pair{"0.999", 2e-3}, std::pair{"0.99995", 1e-5}}) {
     SCOPED_TRACE(tolerance);
     const std::string settings = kCompress + " --tolerance " + tolerance;
-    const RunResult built = runCli("build " + kScene + " " + settings + " --quiet --json " +
-                                   dir.file("b.json") + " --out " + dir.file("b.h5"));
+    const bool keep = std::string(tolerance) == "0.999";
+    const RunResult built = runCli(
+        "build " + kScene + " " + settings + " --quiet --json " + dir.file("b.json") +
+        (keep ? " --keep-transport " + dir.file("kept.h5") : "") + " --out " + dir.file("b.h5"));
     ASSERT_EQ(built.status, 0) << built.output;
+    if (keep) {  // three bands of three 32x32 tiles, written as precompute writes T
+      const auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+      };
+      const std::string kept = bytes(dir.file("kept.h5"));
+      EXPECT_FALSE(kept.empty());
+      EXPECT_TRUE(kept == bytes(dir.file("t.h5"))) << "--keep-transport: precompute's file";
+    }
     const RunResult compressed =
         runCli("compress " + dir.file("t.h5") + " --method adaptive-quad " + settings +
                " --quiet --out " + dir.file("c.h5"));
@@ -211,6 +222,10 @@ TEST(Build, RefusesWhatItCannotStreamBeforeAnyWork) {
   expectFailure("build " + kScene + " --sample-rows 0" + out, "--sample-rows");
   expectFailure("build " + kScene + " --env nosuchmap.exr" + out, "nosuchmap.exr");
   expectFailure("build " + kScene + " --out " + dir.file("missing/m.h5"), "does not exist");
+  expectFailure("build " + kScene + " --keep-transport " + dir.file("missing/t.h5") + out,
+                "does not exist");
+  expectFailure("build " + kScene + " --resume --keep-transport " + dir.file("t.h5") + out,
+                "cannot resume");
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 

@@ -195,6 +195,15 @@ TEST(Mpi, CommandsThatDoNotDealTheirWorkRefuseToRunOnSeveralRanks) {
   EXPECT_FALSE(fs::exists(dir.file("m.h5")));
   // One rank is an ordinary run.
   EXPECT_EQ(runCli("info " + dir.file("t.h5"), mpirun(1)).status, 0);
+  // build deals its tiles, but --keep-transport needs every row in one process.
+  const RunResult kept = runCli("build --scene plant --size 16x16 --cubemap 4 --keep-transport " +
+                                    dir.file("kept.h5") + " --out " + dir.file("b.h5"),
+                                mpirun(2));
+  EXPECT_NE(kept.status, 0) << kept.output;
+  EXPECT_NE(kept.output.find("--keep-transport runs in one process"), std::string::npos)
+      << kept.output;
+  EXPECT_FALSE(fs::exists(dir.file("kept.h5")));
+  EXPECT_FALSE(fs::exists(dir.file("b.h5")));
 }
 #else
 TEST(Mpi, NeedsAnMpiBuild) {
