@@ -103,6 +103,11 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
       r.basisSeconds = basisSeconds;
       std::vector<int> clusterOfRow;
       std::vector<int> ranks;
+      // Global PCA at lower ranks (below): the energy of its dropped
+      // coefficients, per divisor (the bases are orthonormal and the residual
+      // orthogonal to them, so the energies add).
+      constexpr int kDivisors[] = {8, 4, 2};
+      double dropped[3] = {0, 0, 0};
       {
         ModelOptions options;
         options.tolerance = tol;
@@ -113,18 +118,24 @@ std::vector<SweepResult> sweepMethods(const EvaluationData& data, const SweepSet
         r.transportError = m.transportError;
         ranks = m.ranks;
         if (observe) clusterOfRow = m.clusterOfRow();
+        if (method == "global" && m.clusters() == 1)
+          for (int d = 0; d < 3; ++d)
+            for (long long row = 0; row < m.rows(); ++row)
+              for (int j = m.ranks[0] / kDivisors[d]; j < m.ranks[0]; ++j)
+                dropped[d] += double(m.coefficient(0, row, j)) * m.coefficient(0, row, j);
       }  // the relighter holds its own copy
       r.compressSeconds = watch.seconds();
       measure(r, *relighter, clusterOfRow);
       // PCA bases are nested: the first k of them are the best rank-k fit, so
       // global PCA at lower ranks comes from the same model (--max-rank).
-      if (method == "global" && !ranks.empty() && ranks[0] > 8)
-        for (int divisor : {8, 4, 2}) {
-          const int k = ranks[0] / divisor;
+      if (method == "global" && ranks.size() == 1 && ranks[0] > 8)
+        for (int d = 0; d < 3; ++d) {
+          const int k = ranks[0] / kDivisors[d];
           relighter->setMaxRank(k);
           SweepResult t = r;
           t.setting = concat("first ", k, " bases");
-          t.transportError = NAN;
+          t.transportError = std::sqrt(r.transportError * r.transportError +
+                                       dropped[d] / std::max(projection.transportEnergy(), 1e-300));
           measure(t, *relighter, clusterOfRow);
         }
       return r.clusters;

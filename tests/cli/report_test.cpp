@@ -2,6 +2,7 @@
 // row per method and setting, numbers that hold together.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -119,6 +120,21 @@ TEST_F(Reports, EvalWritesEveryFileWithOneRowPerMethodSettingAndMap) {
     if (row["method"] == "dense") {
       EXPECT_LT(row["image_error"].get<double>(), 1e-4);
     }
+  }
+  // Global PCA's lower ranks (its first k bases) have a transport error too:
+  // larger for fewer bases, never below the whole model's.
+  std::map<double, std::vector<std::pair<int, double>>> globalByEnergy;
+  for (const auto& row : json["results"])
+    if (row["method"] == "global") {
+      ASSERT_TRUE(row["transport_error"].is_number()) << row["setting"];
+      const std::string setting = row["setting"];
+      const int k = setting.rfind("first ", 0) == 0 ? std::stoi(setting.substr(6)) : 1 << 30;
+      globalByEnergy[row["global_energy"].get<double>()].push_back(
+          {k, row["transport_error"].get<double>()});
+    }
+  for (auto& [energy, curve] : globalByEnergy) {
+    std::sort(curve.begin(), curve.end());
+    for (size_t i = 1; i < curve.size(); ++i) EXPECT_GE(curve[i - 1].second, curve[i].second);
   }
   std::stringstream summary;
   summary << std::ifstream(report + "/summary.md").rdbuf();
