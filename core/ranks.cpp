@@ -37,7 +37,7 @@ constexpr long long kChunk = 1ll << 28;  // floats per message: counts are ints
 /// finds both sides in MPI.
 template <typename Ready>
 void waitSleeping(Ready&& ready) {
-  while (!ready()) std::this_thread::sleep_for(std::chrono::microseconds(500));
+  while (!ready()) sleepBetweenPolls();
 }
 
 /// The source of the first message under `tag` from `from` (or any rank).
@@ -187,6 +187,10 @@ bool pending(int tag) {
   (void)tag;
   return false;
 #endif
+}
+
+void sleepBetweenPolls() {
+  std::this_thread::sleep_for(std::chrono::microseconds(500));
 }
 
 void broadcast(std::vector<char>& bytes) {

@@ -42,6 +42,9 @@ std::vector<char> receiveBytes(int from, int tag);
 std::vector<char> receiveBytesFromAny(int tag, int& from);
 /// Whether a message under `tag` is waiting (from any rank).
 bool pending(int tag);
+/// What a rank waiting on others does between polls: sleep briefly (0.5 ms),
+/// leaving its core to the ranks that compute.
+void sleepBetweenPolls();
 /// Rank 0's bytes, on every rank (a no-op when not distributed).
 void broadcast(std::vector<char>& bytes);
 

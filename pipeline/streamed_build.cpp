@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -217,7 +216,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       try {
         while (others > 0 && !receiver.stop) {
           if (!ranks::pending(kTileTag)) {
-            std::this_thread::sleep_for(std::chrono::microseconds(500));
+            ranks::sleepBetweenPolls();
             continue;
           }
           receiveOther();
