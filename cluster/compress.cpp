@@ -78,7 +78,7 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
 
   const GlobalBasis basis = computeGlobalBasis(transport, {o.globalEnergy, o.sampleRows, o.seed});
   log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
-             " seen directions, ", basis.sampleEnergyKept, " of the sample's energy (",
+             " directions the sample sees, ", basis.sampleEnergyKept, " of the sample's energy (",
              basis.heldOutEnergyKept, " on held-out rows)"));
   const GlobalProjection projection = projectOntoBasis(transport, basis);
   log("projected every row onto the global basis");

@@ -47,6 +47,25 @@ Eigen::MatrixXd gramMatrix(const Eigen::MatrixXd& rows) {
   return gram;
 }
 
+/// Sum of |r V|^2 over the rows r, read on the active directions (V has a row
+/// per active direction): in parallel blocks of rows, summed in block order.
+double projectedEnergy(const Eigen::MatrixXd& rows, const std::vector<int>& active,
+                       const Eigen::Ref<const Eigen::MatrixXd>& vectors) {
+  constexpr Eigen::Index kBlock = 256;
+  const Eigen::Index blocks = (rows.rows() + kBlock - 1) / kBlock;
+  std::vector<double> energy(static_cast<size_t>(blocks), 0.0);
+  tbb::parallel_for(Eigen::Index(0), blocks, [&](Eigen::Index b) {
+    const Eigen::Index first = b * kBlock, count = std::min(kBlock, rows.rows() - first);
+    Eigen::MatrixXd compact(count, static_cast<Eigen::Index>(active.size()));
+    for (size_t k = 0; k < active.size(); ++k)
+      compact.col(static_cast<Eigen::Index>(k)) = rows.col(active[k]).segment(first, count);
+    energy[static_cast<size_t>(b)] = (compact * vectors).squaredNorm();
+  });
+  double sum = 0;
+  for (double e : energy) sum += e;
+  return sum;
+}
+
 }  // namespace
 
 BasisSample chooseBasisSample(long long total, const GlobalBasisOptions& options) {
@@ -78,59 +97,57 @@ GlobalBasis basisFromSample(const Eigen::MatrixXd& sample, const Eigen::MatrixXd
 
   const Eigen::MatrixXd gram = gramMatrix(compact);
   const double energy = compact.squaredNorm();
-  const SymmetricEigen eig = symmetricEigen(gram, true);
+  const SymmetricEigen eig = symmetricEigenAlone(gram, true);
   const int n = rankForEnergy(eig.values, energy, options.energy);
   result.basis = Eigen::MatrixXf::Zero(l, n);
   for (size_t k = 0; k < active.size(); ++k)
     result.basis.row(active[k]) = eig.vectors.row(k).head(n).cast<float>();
   result.sampleEnergyKept = energy > 0 ? eig.values.head(n).sum() / energy : 1.0;
-  const Eigen::MatrixXd projected = heldOut * result.basis.cast<double>();
   const double heldEnergy = heldOut.squaredNorm();
-  result.heldOutEnergyKept = heldEnergy > 0 ? projected.squaredNorm() / heldEnergy : 1.0;
+  result.heldOutEnergyKept =
+      heldEnergy > 0 ? projectedEnergy(heldOut, active, eig.vectors.leftCols(n)) / heldEnergy : 1.0;
   return result;
 }
+
+namespace {
+
+/// The listed rows (sorted, distinct) as a rows x l matrix in double; each run
+/// of consecutive rows is one read, so only these rows leave the file.
+Eigen::MatrixXd readListedRows(const TransportReader& transport,
+                               const std::vector<long long>& list) {
+  const int l = transport.rowLength();
+  Eigen::MatrixXd rows(static_cast<Eigen::Index>(list.size()), l);
+  std::vector<float> run;
+  for (size_t i = 0; i < list.size();) {
+    size_t j = i + 1;
+    while (j < list.size() && list[j] == list[j - 1] + 1) ++j;
+    run.resize((j - i) * static_cast<size_t>(l));
+    transport.readRows(list[i], static_cast<long long>(j - i), run.data());
+    rows.middleRows(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j - i)) =
+        Eigen::Map<const RowMatrixF>(run.data(), static_cast<Eigen::Index>(j - i), l)
+            .cast<double>();
+    i = j;
+  }
+  return rows;
+}
+
+}  // namespace
 
 GlobalBasis computeGlobalBasis(const TransportReader& transport,
                                const GlobalBasisOptions& options) {
   if (!(options.energy > 0 && options.energy <= 1))
     throw ParameterError("global energy", options.energy, "is outside (0, 1]");
   const int l = transport.rowLength();
-  const long long total = transport.rows();
-  if (total == 0) {
+  if (transport.rows() == 0) {
     GlobalBasis empty;
     empty.basis = Eigen::MatrixXf::Zero(l, 0);
     return empty;
   }
-
-  // Two independent samples: one to build the basis, one to check it.
-  const BasisSample chosen = chooseBasisSample(total, options);
-  const std::vector<long long>& sample = chosen.rows;
-  const std::vector<long long>& heldOut = chosen.heldOut;
-  std::vector<int> slotOf(static_cast<size_t>(total), -1),
-      heldSlotOf(static_cast<size_t>(total), -1);
-  for (size_t i = 0; i < sample.size(); ++i) slotOf[sample[i]] = static_cast<int>(i);
-  for (size_t i = 0; i < heldOut.size(); ++i) heldSlotOf[heldOut[i]] = static_cast<int>(i);
-
-  Eigen::MatrixXd rows(sample.size(), l), held(heldOut.size(), l);
-  std::mutex mutex;
-  std::vector<char> seen(l, 0);
-  streamRowBlocks(transport, rowsPerBlock(transport),
-                  [&](long long first, long long count, const float* block) {
-                    std::vector<char> localSeen(l, 0);
-                    for (long long r = 0; r < count; ++r) {
-                      const float* row = block + r * l;
-                      for (int j = 0; j < l; ++j) localSeen[j] |= row[j] != 0;
-                      if (const int s = slotOf[first + r]; s >= 0)
-                        for (int j = 0; j < l; ++j) rows(s, j) = row[j];
-                      if (const int s = heldSlotOf[first + r]; s >= 0)
-                        for (int j = 0; j < l; ++j) held(s, j) = row[j];
-                    }
-                    std::lock_guard lock(mutex);  // an OR: the order of merging does not matter
-                    for (int j = 0; j < l; ++j) seen[j] |= localSeen[j];
-                  });
-  GlobalBasis result = basisFromSample(rows, held, options);
-  result.activeDirections = static_cast<int>(std::count(seen.begin(), seen.end(), 1));
-  return result;
+  // Two independent samples: one to build the basis, one to check it. Only
+  // they are read, so T itself is read once, by the projection.
+  const BasisSample chosen = chooseBasisSample(transport.rows(), options);
+  return basisFromSample(readListedRows(transport, chosen.rows),
+                         readListedRows(transport, chosen.heldOut), options);
 }
 
 /// Rows are zero below their own horizon, and the lattice orders a face by

@@ -20,7 +20,7 @@ struct GlobalBasisOptions {
 
 struct GlobalBasis {
   Eigen::MatrixXf basis;     ///< l x N, orthonormal columns; zero on unseen directions
-  int activeDirections = 0;  ///< lattice directions some pixel sees (of those known)
+  int activeDirections = 0;  ///< lattice directions some sampled row sees
   /// The directions the basis lives on, increasing: those some sampled row
   /// sees (the basis is zero on the others, so they never enter a product).
   std::vector<int> active;
@@ -46,7 +46,7 @@ BasisSample chooseBasisSample(long long total, const GlobalBasisOptions& options
 GlobalBasis basisFromSample(const Eigen::MatrixXd& sample, const Eigen::MatrixXd& heldOut,
                             const GlobalBasisOptions& options);
 
-/// Streams the file once to gather the sample and count the seen directions.
+/// Reads the sampled rows alone (a few percent of the file) and fits on them.
 GlobalBasis computeGlobalBasis(const TransportReader& transport, const GlobalBasisOptions& options);
 
 struct GlobalProjection {

@@ -3,7 +3,9 @@
 #include <dlfcn.h>
 #include <lapacke.h>
 
+#include <algorithm>
 #include <mutex>
+#include <thread>
 
 #include "core/error.h"
 
@@ -21,6 +23,11 @@ void setBlasThreads(int threads) {
 }
 
 std::once_flag singleThreaded;
+
+/// OpenBLAS threads of a solve made alone: fixed by the machine, not by --threads.
+int aloneBlasThreads() {
+  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
+}
 
 lapack_int syevd(char jobz, lapack_int n, double* a, double* w) {
   return LAPACKE_dsyevd(LAPACK_COL_MAJOR, jobz, 'L', n, a, n, w);
@@ -50,6 +57,15 @@ Result decompose(const Matrix& a, bool wantVectors) {
 }  // namespace
 
 SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors) {
+  return decompose<SymmetricEigen>(a, wantVectors);
+}
+
+SymmetricEigen symmetricEigenAlone(const Eigen::MatrixXd& a, bool wantVectors) {
+  std::call_once(singleThreaded, [] { setBlasThreads(1); });
+  struct Threads {
+    Threads() { setBlasThreads(aloneBlasThreads()); }
+    ~Threads() { setBlasThreads(1); }
+  } during;
   return decompose<SymmetricEigen>(a, wantVectors);
 }
 

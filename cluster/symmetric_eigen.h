@@ -12,9 +12,15 @@ struct SymmetricEigen {
 
 /// a must be symmetric; only its lower triangle is read. LAPACK runs on one
 /// thread (set on first use): the callers parallelise over clusters with TBB,
-/// and OpenBLAS's own threads fighting TBB's measured slower, even for the
-/// single large solve of the global basis.
+/// and OpenBLAS's own threads inside TBB's tasks would fight them.
 SymmetricEigen symmetricEigen(const Eigen::MatrixXd& a, bool wantVectors);
+
+/// The same for one large solve made while no other work runs (the global
+/// basis): LAPACK gets min(4, cores) OpenBLAS threads for this call, then one
+/// again (2x faster on two cores at 3,700 square). OpenBLAS's result depends on
+/// its thread count, so that count ignores --threads: the basis is the same for
+/// any --threads or rank count on a machine. Never call it from parallel work.
+SymmetricEigen symmetricEigenAlone(const Eigen::MatrixXd& a, bool wantVectors);
 
 /// The same in single precision (LAPACK ssyevd): about twice as fast, with
 /// eigenvalues good to about 1e-7 of the largest. Vectors in float.

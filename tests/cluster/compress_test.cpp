@@ -408,6 +408,33 @@ TEST(GlobalProjection, SkippingZeroRunsGivesTheFullProduct) {
   }
 }
 
+TEST(GlobalBasis, TheFileBasisReadsExactlyTheSampledRows) {
+  // The file pass reads only the sampled and held-out rows (runs of them):
+  // gathering the same rows from the whole transport must give the same basis.
+  const TransportReader t(test::fixture("small-plant"));
+  const GlobalBasisOptions options{0.999, 300, 7};
+  const BasisSample chosen = chooseBasisSample(t.rows(), options);
+  ASSERT_LT(static_cast<long long>(chosen.rows.size()), t.rows());
+  const int l = t.rowLength();
+  std::vector<float> all(static_cast<size_t>(t.rows()) * l);
+  t.readRows(0, t.rows(), all.data());
+  const auto gather = [&](const std::vector<long long>& list) {
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(list.size()), l);
+    for (size_t i = 0; i < list.size(); ++i)
+      for (int j = 0; j < l; ++j) m(static_cast<Eigen::Index>(i), j) = all[list[i] * l + j];
+    return m;
+  };
+  const GlobalBasis expected =
+      basisFromSample(gather(chosen.rows), gather(chosen.heldOut), options);
+  const GlobalBasis fromFile = computeGlobalBasis(t, options);
+  ASSERT_GT(fromFile.globalBases(), 0);
+  EXPECT_EQ(fromFile.basis, expected.basis);
+  EXPECT_EQ(fromFile.active, expected.active);
+  EXPECT_EQ(fromFile.heldOutEnergyKept, expected.heldOutEnergyKept);
+  EXPECT_GT(fromFile.heldOutEnergyKept, 0.9);
+  EXPECT_LE(fromFile.heldOutEnergyKept, 1.0 + 1e-12);
+}
+
 TEST(CompressBouncedPlant, RgbRowsModelRoundTripsWithItsLayout) {
   test::TempDir dir;
   const TransportReader t(test::fixture("bounced-plant"));

@@ -1,8 +1,11 @@
 #include "cluster/pca.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <random>
+
+#include "cluster/symmetric_eigen.h"
 
 namespace acpca {
 namespace {
@@ -74,6 +77,33 @@ TEST(Pca, TheSmallerGramIsTheSmallerProductAndExactlySymmetric) {
     ASSERT_EQ(gram.cols(), std::min(rows, cols));
     EXPECT_LT((gram.cast<double>() - expected).norm(), 1e-5 * expected.norm());
     EXPECT_EQ(gram, gram.transpose());  // the upper triangle mirrors the lower
+  }
+}
+
+TEST(SymmetricEigen, TheSolveAloneDecomposesAndIgnoresTheThreadCount) {
+  // A Gram matrix large enough for OpenBLAS to split the work between threads.
+  const Eigen::MatrixXd x = lowRank(300, 400, 250, 5);
+  const Eigen::MatrixXd gram = x.transpose() * x;
+  const SymmetricEigen alone = symmetricEigenAlone(gram, true);
+  const SymmetricEigen one = symmetricEigen(gram, true);
+  ASSERT_EQ(alone.vectors.cols(), 400);
+  // A V = V diag(values), V orthonormal, the values those of the one-thread solve.
+  const double scale = alone.values[0];
+  EXPECT_LT((gram * alone.vectors - alone.vectors * alone.values.asDiagonal()).norm(),
+            1e-11 * scale * 400);
+  EXPECT_LT((alone.vectors.transpose() * alone.vectors - Eigen::MatrixXd::Identity(400, 400))
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-12 * 400);
+  EXPECT_LT((alone.values - one.values).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  EXPECT_EQ((alone.values.array() > 1e-9 * scale).count(), 250);
+  // Bit for bit the same under any TBB thread limit: the BLAS thread count
+  // follows the machine, not --threads.
+  for (int threads : {1, 2}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const SymmetricEigen again = symmetricEigenAlone(gram, true);
+    EXPECT_EQ(again.values, alone.values) << threads;
+    EXPECT_EQ(again.vectors, alone.vectors) << threads;
   }
 }
 
