@@ -28,29 +28,33 @@ double laneSum(const float* a, size_t begin, size_t end) {
 
 }  // namespace
 
-BandwidthMeasurement measureStreamingRead(double bytes, int passes) {
-  const size_t count = static_cast<size_t>(bytes / sizeof(float));
-  std::vector<float> data(count);
+StreamingRead::StreamingRead(double bytes) : data_(static_cast<size_t>(bytes / sizeof(float))) {
   // Touch every page in parallel so first-touch placement matches the readers.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1 << 20),
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, data_.size(), 1 << 20),
                     [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) data[i] = float(i & 1023);
+                      for (size_t i = r.begin(); i != r.end(); ++i) data_[i] = float(i & 1023);
                     });
+}
+
+double StreamingRead::pass() {
+  const Stopwatch watch;
+  checksum_ += tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, data_.size(), 1 << 18), 0.0,
+      [&](const tbb::blocked_range<size_t>& r, double acc) {
+        return acc + laneSum(data_.data(), r.begin(), r.end());
+      },
+      [](double a, double b) { return a + b; });
+  return bytes() / watch.seconds() / 1e9;
+}
+
+BandwidthMeasurement measureStreamingRead(double bytes, int passes) {
+  StreamingRead array(bytes);
   BandwidthMeasurement m;
-  m.bytes = double(count) * sizeof(float);
+  m.bytes = array.bytes();
+  array.pass();  // warm-up
   std::vector<double> rates;
-  for (int pass = -1; pass < passes; ++pass) {
-    const Stopwatch watch;
-    const double sum = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, count, 1 << 18), 0.0,
-        [&](const tbb::blocked_range<size_t>& r, double acc) {
-          return acc + laneSum(data.data(), r.begin(), r.end());
-        },
-        [](double a, double b) { return a + b; });
-    const double seconds = watch.seconds();
-    m.checksum += sum;
-    if (pass >= 0) rates.push_back(m.bytes / seconds / 1e9);
-  }
+  for (int pass = 0; pass < passes; ++pass) rates.push_back(array.pass());
+  m.checksum = array.checksum();
   std::sort(rates.begin(), rates.end());
   m.gbPerSecondMedian = rates.empty() ? 0 : rates[rates.size() / 2];
   m.gbPerSecondBest = rates.empty() ? 0 : rates.back();

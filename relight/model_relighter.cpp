@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "core/error.h"
 #include "core/half.h"
@@ -13,6 +14,31 @@
 namespace acpca {
 
 using kernels::kChunkRows;
+
+/// Rows per band of the shading order: 96 KB of RGB output, so a thread's
+/// writes stay in its L2 cache; enough bands to share between threads.
+constexpr long long kBandRows = 8192;
+
+/// What the chunk's 16 lanes hold: 16 rows in a row (their outputs one run of
+/// 48 floats) and/or 16 pixels in a row (one run of the image).
+constexpr std::uint8_t kRowsConsecutive = 1, kPixelsConsecutive = 2;
+
+/// A chunk of 16 consecutive rows: one run the compiler writes in vectors.
+void storeRows(const float (*shaded)[kChunkRows], const float* albedo, float* __restrict out) {
+  for (int lane = 0; lane < kChunkRows; ++lane)
+    for (int ch = 0; ch < 3; ++ch)
+      out[3 * lane + ch] = albedo[ch * kChunkRows + lane] * shaded[ch][lane];
+}
+
+/// The same into 16 consecutive image pixels of `stride` floats, coverage-weighted.
+template <int stride>
+void addPixels(const float (*shaded)[kChunkRows], const float* albedo, const float* coverage,
+               float* __restrict out) {
+  for (int lane = 0; lane < kChunkRows; ++lane)
+    for (int ch = 0; ch < 3; ++ch)
+      out[stride * lane + ch] +=
+          coverage[lane] * (albedo[ch * kChunkRows + lane] * shaded[ch][lane]);
+}
 
 namespace {
 
@@ -91,23 +117,67 @@ ModelRelighter::ModelRelighter(const Model& m)
   for (int c = 0; c < clusters; ++c) {
     const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
     const long long chunkCount = (p + kChunkRows - 1) / kChunkRows;
-    clusterChunks_.push_back(static_cast<long long>(chunks_.size()));
     for (long long j = 0; j < chunkCount; ++j) {
       chunks_.push_back({c, chunkedOffsets.back() + j * ranks_[c] * kChunkRows});
       for (int lane = 0; lane < kChunkRows; ++lane) {
         const long long r = j * kChunkRows + lane;
-        const int row = r < p ? m.clusterRows[m.rowOffsets[c] + r] : -1;
-        chunkRows_.push_back(row);
-        chunkPixels_.push_back(row >= 0 ? m.geometry.pixels[row] : -1);
-        chunkCoverage_.push_back(row >= 0 ? m.geometry.coverage[row] : 0.0f);
+        chunkRows_.push_back(r < p ? m.clusterRows[m.rowOffsets[c] + r] : -1);
       }
     }
     chunkedOffsets.push_back(chunkedOffsets.back() + chunkCount * ranks_[c] * kChunkRows);
     lightingOffset_.push_back(lightingOffset_.back() + ranks_[c]);
   }
-  clusterChunks_.push_back(static_cast<long long>(chunks_.size()));
   const long long totalRank = lightingOffset_.back();
   lightingOffset_.pop_back();
+
+  // Shading order: by band of the first row (rows run in image order), then
+  // cluster, as chunks were made. Coefficients are repacked in that order.
+  const long long bands = std::max(1LL, (rows() + kBandRows - 1) / kBandRows);
+  const auto bandOf = [&](size_t j) { return chunkRows_[j * kChunkRows] / kBandRows; };
+  std::vector<size_t> order(chunks_.size());
+  for (size_t j = 0; j < order.size(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return bandOf(a) < bandOf(b); });
+  const std::vector<Chunk> clusterOrder = std::move(chunks_);
+  const std::vector<std::int32_t> clusterOrderRows = std::move(chunkRows_);
+  chunks_.clear(), chunkRows_.clear();
+  bandChunks_.assign(bands + 1, 0);
+  long long offset = 0;
+  for (size_t j : order) {
+    const int c = clusterOrder[j].cluster;
+    chunks_.push_back({c, offset});
+    offset += ranks_[c] * kChunkRows;
+    ++bandChunks_[clusterOrderRows[j * kChunkRows] / kBandRows + 1];
+    for (int lane = 0; lane < kChunkRows; ++lane) {
+      const int row = clusterOrderRows[j * kChunkRows + lane];
+      chunkRows_.push_back(row);
+      chunkPixels_.push_back(row >= 0 ? m.geometry.pixels[row] : -1);
+      chunkCoverage_.push_back(row >= 0 ? m.geometry.coverage[row] : 0.0f);
+    }
+  }
+  for (long long b = 0; b < bands; ++b) bandChunks_[b + 1] += bandChunks_[b];
+  chunkConsecutive_.assign(chunks_.size(), 0);
+  for (size_t j = 0; j < chunks_.size(); ++j) {
+    const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
+    const std::int32_t* pixels = chunkPixels_.data() + j * kChunkRows;
+    bool rowRun = true, pixelRun = true;
+    for (int lane = 1; lane < kChunkRows; ++lane) {
+      rowRun = rowRun && rows[lane] == rows[0] + lane;
+      pixelRun = pixelRun && rows[lane] >= 0 && pixels[lane] == pixels[0] + lane;
+    }
+    chunkConsecutive_[j] = (rowRun ? kRowsConsecutive : 0) | (pixelRun ? kPixelsConsecutive : 0);
+  }
+  const auto inShadingOrder = [&](const auto& source) {
+    using T = typename std::decay_t<decltype(source)>::value_type;
+    const std::vector<T> byCluster = packCoefficients(m, source, chunkedOffsets);
+    std::vector<T> packed(static_cast<size_t>(offset));
+    tbb::parallel_for(size_t(0), order.size(), [&](size_t i) {
+      const Chunk& from = clusterOrder[order[i]];
+      std::copy_n(byCluster.begin() + from.coefficientOffset, ranks_[from.cluster] * kChunkRows,
+                  packed.begin() + chunks_[i].coefficientOffset);
+    });
+    return packed;
+  };
   chunkAlbedo_.assign(chunks_.size() * 3 * kChunkRows, 0.0f);
   for (size_t j = 0; j < chunks_.size(); ++j)
     for (int lane = 0; lane < kChunkRows; ++lane)
@@ -116,13 +186,13 @@ ModelRelighter::ModelRelighter(const Model& m)
           chunkAlbedo_[(j * 3 + c) * kChunkRows + lane] = m.geometry.albedo[3 * row + c];
   switch (precision_) {
     case CoeffPrecision::F32:
-      coeffF32_ = packCoefficients(m, m.coeffF32, chunkedOffsets);
+      coeffF32_ = inShadingOrder(m.coeffF32);
       break;
     case CoeffPrecision::F16:
-      coeffF16_ = packCoefficients(m, m.coeffF16, chunkedOffsets);
+      coeffF16_ = inShadingOrder(m.coeffF16);
       break;
     case CoeffPrecision::I8:
-      coeffI8_ = packCoefficients(m, m.coeffI8, chunkedOffsets);
+      coeffI8_ = inShadingOrder(m.coeffI8);
       break;
   }
 
@@ -248,42 +318,61 @@ void ModelRelighter::lightCluster(int c, const std::vector<B>& bases) {
     mean[0] = mean[1] = mean[2] = 0;
 }
 
-/// Every chunk of 16 rows of cluster c: u_p . L_i times albedo (eq. 17). A large
-/// cluster (global PCA is one) spreads its chunks over the threads.
+/// Every chunk of one band: u_p . L_i times albedo (eq. 17).
 template <typename T>
-void ModelRelighter::shadeCluster(int c, const std::vector<T>& coefficients,
-                                  const Output& out) const {
-  const auto shade = [&](long long begin, long long end) {
-    float shaded[3][kChunkRows];
-    for (long long j = begin; j < end; ++j) {
-      kernels::shadeChunk(coefficients.data() + chunks_[j].coefficientOffset,
-                          clusterLighting_.data() + 3 * lightingOffset_[c], activeRanks_[c],
-                          meanTerm_.data() + 3 * c, shaded);
-      const float* albedo = chunkAlbedo_.data() + j * 3 * kChunkRows;
-      if (!out.image) {
-        const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
-        for (int lane = 0; lane < kChunkRows; ++lane)
-          if (rows[lane] >= 0)
-            for (int ch = 0; ch < 3; ++ch)
-              out.values[3 * rows[lane] + ch] = albedo[ch * kChunkRows + lane] * shaded[ch][lane];
-      } else {
-        const std::int32_t* pixels = chunkPixels_.data() + j * kChunkRows;
-        const float* coverage = chunkCoverage_.data() + j * kChunkRows;
-        for (int lane = 0; lane < kChunkRows; ++lane)
-          if (pixels[lane] >= 0)
-            for (int ch = 0; ch < 3; ++ch)
-              out.values[static_cast<size_t>(out.stride) * pixels[lane] + ch] +=
-                  coverage[lane] * (albedo[ch * kChunkRows + lane] * shaded[ch][lane]);
+void ModelRelighter::shadeBand(int band, const std::vector<T>& coefficients,
+                               const Output& out) const {
+  // Every output line of the band is written this frame, and none is in cache
+  // any more (a frame streams far more than the caches hold): ask for them all
+  // for writing now, in order, instead of one cache miss per chunk later.
+  const long long firstRow = band * kBandRows, lastRow = std::min(rows(), firstRow + kBandRows) - 1;
+  if (lastRow >= firstRow) {
+    const auto* first = reinterpret_cast<const char*>(
+        out.values +
+        static_cast<size_t>(out.stride) * (out.image ? geometry_.pixels[firstRow] : firstRow));
+    const auto* end = reinterpret_cast<const char*>(
+        out.values +
+        static_cast<size_t>(out.stride) * ((out.image ? geometry_.pixels[lastRow] : lastRow) + 1));
+    for (const char* line = first; line < end; line += 64) __builtin_prefetch(line, 1, 3);
+  }
+  float shaded[3][kChunkRows];
+  for (long long j = bandChunks_[band]; j < bandChunks_[band + 1]; ++j) {
+    const int c = chunks_[j].cluster;
+    kernels::shadeChunk(coefficients.data() + chunks_[j].coefficientOffset,
+                        clusterLighting_.data() + 3 * lightingOffset_[c], activeRanks_[c],
+                        meanTerm_.data() + 3 * c, shaded);
+    const float* albedo = chunkAlbedo_.data() + j * 3 * kChunkRows;
+    const bool consecutive =
+        chunkConsecutive_[j] & (out.image ? kPixelsConsecutive : kRowsConsecutive);
+    if (!out.image) {
+      const std::int32_t* rows = chunkRows_.data() + j * kChunkRows;
+      if (consecutive) {
+        storeRows(shaded, albedo, out.values + 3 * static_cast<size_t>(rows[0]));
+        continue;
       }
+      for (int lane = 0; lane < kChunkRows; ++lane)
+        if (rows[lane] >= 0)
+          for (int ch = 0; ch < 3; ++ch)
+            out.values[3 * rows[lane] + ch] = albedo[ch * kChunkRows + lane] * shaded[ch][lane];
+    } else {
+      const std::int32_t* pixels = chunkPixels_.data() + j * kChunkRows;
+      const float* coverage = chunkCoverage_.data() + j * kChunkRows;
+      float* first = out.values + static_cast<size_t>(out.stride) * pixels[0];
+      if (consecutive && out.stride == 4) {
+        addPixels<4>(shaded, albedo, coverage, first);
+        continue;
+      }
+      if (consecutive && out.stride == 3) {
+        addPixels<3>(shaded, albedo, coverage, first);
+        continue;
+      }
+      for (int lane = 0; lane < kChunkRows; ++lane)
+        if (pixels[lane] >= 0)
+          for (int ch = 0; ch < 3; ++ch)
+            out.values[static_cast<size_t>(out.stride) * pixels[lane] + ch] +=
+                coverage[lane] * (albedo[ch * kChunkRows + lane] * shaded[ch][lane]);
     }
-  };
-  const long long first = clusterChunks_[c], last = clusterChunks_[c + 1];
-  constexpr long long kSerialChunks = 64;
-  if (last - first <= kSerialChunks)
-    shade(first, last);
-  else
-    tbb::parallel_for(tbb::blocked_range<long long>(first, last, 32),
-                      [&](const tbb::blocked_range<long long>& r) { shade(r.begin(), r.end()); });
+  }
 }
 
 template <typename B, typename T>
@@ -291,10 +380,12 @@ void ModelRelighter::shadeAll(const std::vector<B>& bases, const std::vector<T>&
                               const Output& out) {
   tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
                     [&](const tbb::blocked_range<int>& range) {
-                      for (int c = range.begin(); c != range.end(); ++c) {
-                        lightCluster(c, bases);
-                        shadeCluster(c, coefficients, out);
-                      }
+                      for (int c = range.begin(); c != range.end(); ++c) lightCluster(c, bases);
+                    });
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(bandChunks_.size()) - 1, 1),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int b = range.begin(); b != range.end(); ++b)
+                        shadeBand(b, coefficients, out);
                     });
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -168,6 +169,34 @@ TEST_F(Reports, QuickEvalSweepsItsListsAndKeepsTheOnesGiven) {
   int cpcaSettings = 0;
   for (const auto& row : json["results"]) cpcaSettings += row["method"] == "cpca";
   EXPECT_EQ(cpcaSettings, 4);
+}
+
+TEST_F(Reports, RelightBenchSetsEachFrameBesideItsOwnStreamingPass) {
+  TempDir out;
+  const std::string model = out.file("m.h5");
+  ASSERT_EQ(runCli("compress " + transport() + " --method global --quiet --out " + model).status,
+            0);
+  const RunResult r = runCli("bench relight " + model + " --transport " + transport() +
+                             " --env sky --frames 3 --dense-frames 1 --stream-gib 0.05 --quiet"
+                             " --json " +
+                             out.file("bench.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto json = nlohmann::json::parse(std::ifstream(out.file("bench.json")));
+  ASSERT_GE(json["relighters"].size(), 2u);  // the model at each kernel level, then dense
+  for (const auto& row : json["relighters"]) {
+    const std::string name = row["name"];
+    EXPECT_GT(row["ms_per_frame_median"].get<double>(), 0) << name;
+    EXPECT_GT(row["paired_stream_gb_per_s"].get<double>(), 0) << name;
+    // bytes / ms over the paired pass's GB/s: finite, positive, and about the
+    // frame's GB/s over the stream's (both passes read the same machine).
+    const double paired = row["fraction_of_paired_stream"];
+    EXPECT_TRUE(std::isfinite(paired) && paired > 0) << name;
+    EXPECT_NEAR(paired, row["gb_per_s"].get<double>() / row["paired_stream_gb_per_s"].get<double>(),
+                0.5 * paired + 1e-9)
+        << name;
+  }
+  const auto& first = json["relighters"][0];
+  EXPECT_LT(first["relative_l2_vs_dense"].get<double>(), 0.2);
 }
 
 TEST_F(Reports, RelightBenchRefusesFilesOfAnotherImageByName) {

@@ -170,6 +170,98 @@ Model truncated(const Model& m, int k) {
   return t;
 }
 
+/// A model over more rows than several shading bands, whose chunks come in
+/// every kind: 16 rows in a row (cluster 0 holds rows 0..9000 in order), rows
+/// scattered over the image (the others), rows in a row whose pixels are not
+/// (a background pixel every 50), and clusters padded to 16.
+Model bandedModel(CoeffPrecision precision, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> gauss;
+  Model m;
+  auto& g = m.geometry;
+  const std::vector<int> sizes{9001, 7000, 4003, 16, 1, 1500};
+  const std::vector<int> ranks{3, 5, 2, 4, 0, 7};
+  long long rows = 0;
+  for (int s : sizes) rows += s;
+  g.camera.size = {250, 100};
+  g.cubemapResolution = 2;
+  for (long long r = 0; r < rows; ++r) {
+    g.pixels.push_back(static_cast<int>(r + r / 50));
+    g.coverage.push_back(0.5f + 0.5f * static_cast<float>(r % 7) / 6);
+    for (int c = 0; c < 3; ++c) g.albedo.push_back(0.3f + 0.1f * c);
+  }
+  const int n = 9;
+  m.globalBasis = Eigen::MatrixXf::NullaryExpr(24, n, [&] { return gauss(rng); });
+  m.hasMean = true;
+  m.precision = precision;
+  // Rows 9001.. go to the other clusters in a scattered order (sorted within each).
+  const long long rest = rows - sizes[0];
+  std::vector<std::int32_t> scattered(rest);
+  for (long long i = 0; i < rest; ++i)
+    scattered[i] = static_cast<std::int32_t>(sizes[0] + (i * 7919) % rest);
+  m.rowOffsets = {0};
+  m.basisOffsets = {0};
+  m.coefficientOffsets = {0};
+  for (size_t c = 0; c < sizes.size(); ++c) {
+    const long long begin = m.rowOffsets.back();
+    std::vector<std::int32_t> members;
+    for (long long i = begin; i < begin + sizes[c]; ++i)
+      members.push_back(c == 0 ? static_cast<std::int32_t>(i) : scattered[i - sizes[0]]);
+    std::sort(members.begin(), members.end());
+    m.clusterRows.insert(m.clusterRows.end(), members.begin(), members.end());
+    m.rowOffsets.push_back(begin + sizes[c]);
+    m.ranks.push_back(ranks[c]);
+    for (int i = 0; i < n * ranks[c]; ++i) m.bases.push_back(gauss(rng));
+    m.basisOffsets.push_back(m.bases.size());
+    for (int i = 0; i < n; ++i) m.means.push_back(gauss(rng));
+    const long long count = static_cast<long long>(sizes[c]) * ranks[c];
+    for (long long i = 0; i < count; ++i) {
+      const float v = gauss(rng);
+      if (precision == CoeffPrecision::F32) m.coeffF32.push_back(v);
+      if (precision == CoeffPrecision::F16) {
+        std::uint16_t h;
+        floatToHalf(&v, &h, 1);
+        m.coeffF16.push_back(h);
+      }
+      if (precision == CoeffPrecision::I8)
+        m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
+    }
+    m.coeffScale.insert(m.coeffScale.end(), ranks[c],
+                        precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
+    m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
+  }
+  return m;
+}
+
+TEST(ModelRelighter, ShadingInImageBandsGivesEveryRowAndPixelItsValue) {
+  const LatticeLighting lighting = randomLighting(24, 8);
+  for (CoeffPrecision p : {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8}) {
+    const Model m = bandedModel(p, 3);
+    ASSERT_GT(m.geometry.rows(), 2 * 8192) << "spans three bands";
+    const auto reference = relightModelReference(m, {lighting})[0];
+    ModelRelighter relighter(m);
+    const std::vector<float> rgb = relighter.relight(lighting);
+    EXPECT_LT(maxRelativeDifference(rgb, reference), 1e-5) << coeffPrecisionName(p);
+    {
+      const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      EXPECT_EQ(relighter.relight(lighting), rgb) << "one thread";
+    }
+    // Into an image of 3 and 4 channels: coverage x value added to what was
+    // there, background pixels untouched.
+    for (int channels : {3, 4}) {
+      const size_t pixels = static_cast<size_t>(m.geometry.camera.size.pixels());
+      std::vector<float> image(pixels * channels, 0.25f), expected = image;
+      for (long long r = 0; r < m.geometry.rows(); ++r)
+        for (int c = 0; c < 3; ++c)
+          expected[channels * static_cast<size_t>(m.geometry.pixels[r]) + c] +=
+              m.geometry.coverage[r] * rgb[3 * r + c];
+      relighter.relightInto(lighting, image.data(), channels);
+      EXPECT_LT(maxRelativeDifference(image, expected), 1e-6)
+          << coeffPrecisionName(p) << ", " << channels << " channels";
+    }
+  }
+}
+
 TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
   const Model m = randomModel(CoeffPrecision::F32, true, 11);
   const LatticeLighting lighting = randomLighting(24, 5);
