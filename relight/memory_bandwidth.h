@@ -4,6 +4,8 @@
 // figures are reported as a fraction of it.
 #include <vector>
 
+#include "core/huge_pages.h"
+
 namespace acpca {
 
 struct BandwidthMeasurement {
@@ -25,7 +27,7 @@ class StreamingRead {
   double checksum() const { return checksum_; }
 
  private:
-  std::vector<float> data_;
+  HugePageVector<float> data_;  ///< on huge pages, as the relighter's arrays
   double checksum_ = 0;
 };
 

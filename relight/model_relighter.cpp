@@ -105,7 +105,7 @@ ModelRelighter::ModelRelighter(const Model& m)
     basesF16_.resize(tiles.size());
     floatToHalf(tiles.data(), basesF16_.data(), tiles.size());  // exact: half values
   } else {
-    bases_ = std::move(tiles);
+    bases_.assign(tiles.begin(), tiles.end());
   }
   if (hasMean_) means_ = m.means;
   if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
@@ -139,7 +139,7 @@ ModelRelighter::ModelRelighter(const Model& m)
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return bandOf(a) < bandOf(b); });
   const std::vector<Chunk> clusterOrder = std::move(chunks_);
-  const std::vector<std::int32_t> clusterOrderRows = std::move(chunkRows_);
+  const HugePageVector<std::int32_t> clusterOrderRows = std::move(chunkRows_);
   chunks_.clear(), chunkRows_.clear();
   bandChunks_.assign(bands + 1, 0);
   long long offset = 0;
@@ -170,7 +170,7 @@ ModelRelighter::ModelRelighter(const Model& m)
   const auto inShadingOrder = [&](const auto& source) {
     using T = typename std::decay_t<decltype(source)>::value_type;
     const std::vector<T> byCluster = packCoefficients(m, source, chunkedOffsets);
-    std::vector<T> packed(static_cast<size_t>(offset));
+    HugePageVector<T> packed(static_cast<size_t>(offset));
     tbb::parallel_for(size_t(0), order.size(), [&](size_t i) {
       const Chunk& from = clusterOrder[order[i]];
       std::copy_n(byCluster.begin() + from.coefficientOffset, ranks_[from.cluster] * kChunkRows,
@@ -297,7 +297,7 @@ void ModelRelighter::lightGlobal(const LatticeLighting& lighting) {
 
 /// L_i = W_i^T L_g (the i8 step folded in) and the mean term mu_i . L_g.
 template <typename B>
-void ModelRelighter::lightCluster(int c, const std::vector<B>& bases) {
+void ModelRelighter::lightCluster(int c, const HugePageVector<B>& bases) {
   const int n = globalBases_;
   float* li = clusterLighting_.data() + 3 * lightingOffset_[c];
   const float zero[3] = {0, 0, 0};
@@ -320,7 +320,7 @@ void ModelRelighter::lightCluster(int c, const std::vector<B>& bases) {
 
 /// Every chunk of one band: u_p . L_i times albedo (eq. 17).
 template <typename T>
-void ModelRelighter::shadeBand(int band, const std::vector<T>& coefficients,
+void ModelRelighter::shadeBand(int band, const HugePageVector<T>& coefficients,
                                const Output& out) const {
   // Every output line of the band is written this frame, and none is in cache
   // any more (a frame streams far more than the caches hold): ask for them all
@@ -376,7 +376,7 @@ void ModelRelighter::shadeBand(int band, const std::vector<T>& coefficients,
 }
 
 template <typename B, typename T>
-void ModelRelighter::shadeAll(const std::vector<B>& bases, const std::vector<T>& coefficients,
+void ModelRelighter::shadeAll(const HugePageVector<B>& bases, const HugePageVector<T>& coefficients,
                               const Output& out) {
   tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(ranks_.size()), 1),
                     [&](const tbb::blocked_range<int>& range) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cluster/model.h"
+#include "core/huge_pages.h"
 #include "relight/environment.h"
 
 namespace acpca {
@@ -66,11 +67,12 @@ class ModelRelighter {
   };
   void lightGlobal(const LatticeLighting& lighting);
   template <typename B>
-  void lightCluster(int c, const std::vector<B>& bases);
+  void lightCluster(int c, const HugePageVector<B>& bases);
   template <typename T>
-  void shadeBand(int band, const std::vector<T>& coefficients, const Output& out) const;
+  void shadeBand(int band, const HugePageVector<T>& coefficients, const Output& out) const;
   template <typename B, typename T>
-  void shadeAll(const std::vector<B>& bases, const std::vector<T>& coefficients, const Output& out);
+  void shadeAll(const HugePageVector<B>& bases, const HugePageVector<T>& coefficients,
+                const Output& out);
   void shadeAll(const Output& out);
 
   TransportHeader geometry_;
@@ -81,13 +83,13 @@ class ModelRelighter {
   std::vector<int> seenTexels_;  ///< row elements (texel, or channel x texel) V_g sees
   /// With R, G and B rows: where each channel's elements start in seenTexels_.
   std::array<int, 4> partStart_{};
-  std::vector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
+  HugePageVector<float> globalBasis_;  ///< N columns of |seen| values (V_g^T, row by row)
   CoeffPrecision basisPrecision_;
   /// W_i^T in tiles of 16 bases: per tile N x 16 values, global index major.
-  std::vector<float> bases_;
-  std::vector<std::uint16_t> basesF16_;  ///< the same in half, for f16-basis models
-  std::vector<long long> basisOffset_;   ///< per cluster
-  std::vector<float> means_;             ///< C x N when the model has means
+  HugePageVector<float> bases_;
+  HugePageVector<std::uint16_t> basesF16_;  ///< the same in half, for f16-basis models
+  std::vector<long long> basisOffset_;      ///< per cluster
+  std::vector<float> means_;                ///< C x N when the model has means
   std::vector<int> ranks_, activeRanks_;
   std::vector<long long> lightingOffset_;  ///< per cluster, into clusterLighting_ (x3)
   std::vector<float> scale_;               ///< per cluster basis: i8 step, else 1
@@ -95,16 +97,16 @@ class ModelRelighter {
   /// Chunks in the order a frame shades them (and their coefficients are
   /// stored): by image band of their first row, then cluster.
   std::vector<Chunk> chunks_;
-  std::vector<long long> bandChunks_;      ///< per band, its first chunk (+ end)
-  std::vector<std::int32_t> chunkRows_;    ///< 16 per chunk, -1 for padding
-  std::vector<std::int32_t> chunkPixels_;  ///< the same rows' pixel indices
-  std::vector<float> chunkCoverage_;       ///< 16 per chunk: the rows' coverage
+  std::vector<long long> bandChunks_;         ///< per band, its first chunk (+ end)
+  HugePageVector<std::int32_t> chunkRows_;    ///< 16 per chunk, -1 for padding
+  HugePageVector<std::int32_t> chunkPixels_;  ///< the same rows' pixel indices
+  HugePageVector<float> chunkCoverage_;       ///< 16 per chunk: the rows' coverage
   std::vector<std::uint8_t>
-      chunkConsecutive_;            ///< per chunk: kRowsConsecutive | kPixelsConsecutive
-  std::vector<float> chunkAlbedo_;  ///< 48 per chunk: R x16, G x16, B x16
-  std::vector<float> coeffF32_;
-  std::vector<std::uint16_t> coeffF16_;
-  std::vector<std::int8_t> coeffI8_;
+      chunkConsecutive_;               ///< per chunk: kRowsConsecutive | kPixelsConsecutive
+  HugePageVector<float> chunkAlbedo_;  ///< 48 per chunk: R x16, G x16, B x16
+  HugePageVector<float> coeffF32_;
+  HugePageVector<std::uint16_t> coeffF16_;
+  HugePageVector<std::int8_t> coeffI8_;
 
   // Per-frame scratch, sized once.
   std::vector<float> light_;              ///< 3 x |seen|, channel-major

@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/enum_names.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "core/ordered_pipeline.h"
 #include "core/statistics.h"
 #include "core/table.h"
@@ -91,6 +92,23 @@ TEST(OrderedPipeline, ConsumesInOrderForAnyThreadCount) {
     ASSERT_EQ(seen.size(), 100u);
     for (int i = 0; i < 100; ++i) EXPECT_EQ(seen[i], i);
   }
+}
+
+TEST(HugePages, LargeVectorsAreAlignedToHugePagesAndHoldTheirValues) {
+  // Below the threshold: the ordinary heap; above it: 2 MiB-aligned storage.
+  // Either way a vector behaves as any other (growth copies, values kept).
+  HugePageVector<float> small(1000, 1.5f);
+  EXPECT_EQ(small.size(), 1000u);
+  HugePageVector<std::int8_t> large;
+  for (int i = 0; i < (9 << 20); ++i) large.push_back(static_cast<std::int8_t>(i % 251 - 125));
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(large.data()) % (std::uintptr_t(2) << 20), 0u);
+  for (int i = 0; i < (9 << 20); i += 4099)
+    ASSERT_EQ(large[i], static_cast<std::int8_t>(i % 251 - 125)) << i;
+  HugePageVector<std::int8_t> copy = large;
+  EXPECT_EQ(copy, large);
+  large.clear();
+  large.shrink_to_fit();
+  EXPECT_EQ(copy.size(), std::size_t(9) << 20);
 }
 
 TEST(Statistics, MedianAndRelativeL2) {
