@@ -148,6 +148,9 @@ void writeImage(const Image& image, const std::string& path, ImageFormat format,
     OIIO::ImageSpec spec(image.width, image.height, image.channels,
                          exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
     spec.attribute("compression", "zips");
+    // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
+    // the same inputs must give the same bytes (datasets are compared by hash).
+    spec.attribute("DateTime", "");
     std::vector<float> scaled(values);
     for (size_t i = 0; i < values; ++i)
       scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;

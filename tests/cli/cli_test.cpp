@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
@@ -161,6 +162,21 @@ TEST_F(Cli, CompressInfoAndRelightAModel) {
       runCli("relight " + out.file("m.h5") + " --env sky --quiet --out " + out.file("m.png"));
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(test::fs::exists(out.file("m.png")));
+  // The same inputs give the same bytes, EXR included (no time stamp).
+  for (const char* name : {"a.exr", "b.exr"})
+    ASSERT_EQ(
+        runCli("relight " + out.file("m.h5") + " --env sky --quiet --out " + out.file(name)).status,
+        0);
+  const auto bytes = [](const std::string& path) {
+    std::ostringstream s;
+    s << std::ifstream(path, std::ios::binary).rdbuf();
+    return s.str();
+  };
+  EXPECT_GT(bytes(out.file("a.exr")).size(), 100u);
+  EXPECT_EQ(bytes(out.file("a.exr")), bytes(out.file("b.exr")));
+  auto exr = OIIO::ImageInput::open(out.file("a.exr"));
+  ASSERT_TRUE(exr);
+  EXPECT_EQ(exr->spec().find_attribute("DateTime"), nullptr);
   expectFailure("compress " + transport_ + " --method kmeans --out " + out.file("x.h5"), "kmeans");
   expectFailure("compress " + transport_ + " --method cpca --tolerance 2 --out " + out.file("x.h5"),
                 "--tolerance");
