@@ -19,6 +19,35 @@ Table methodsTable(const std::vector<SweepResult>& rows) {
   return table;
 }
 
+namespace {
+
+/// A method's cost at a target error: interpolated between two bracketing
+/// settings, or a bound ("<= x": every setting reaching it is more accurate),
+/// or unknown (value < 0: no setting reaches the target).
+struct CostAt {
+  double value = -1;
+  bool bound = false;
+};
+
+CostAt costAt(const std::vector<ErrorCostPoint>& points, double target) {
+  if (const double c = costAtError(points, target); c > 0) return {c, false};
+  if (const double b = costBoundAtError(points, target); b > 0) return {b, true};
+  return {};
+}
+
+std::string text(const CostAt& c, const char* format) {
+  if (c.value <= 0) return "-";
+  return (c.bound ? "<= " : "") + formatted(format, c.value);
+}
+
+/// a / b: exact when both are, a bound when only a is one (b exact), else "-".
+std::string ratioText(const CostAt& a, const CostAt& b) {
+  if (a.value <= 0 || b.value <= 0 || b.bound) return "-";
+  return text({a.value / b.value, a.bound}, "%.3f");
+}
+
+}  // namespace
+
 std::string methodComparisonText(const std::vector<SweepResult>& rows,
                                  const std::vector<int>& cpcaClusters) {
   std::map<std::string, std::vector<ErrorCostPoint>> curves;
@@ -26,25 +55,30 @@ std::string methodComparisonText(const std::vector<SweepResult>& rows,
   for (const auto& r : rows)
     if (r.method == "cpca") curves["cpca " + r.setting].push_back({r.imageError, r.costPerPixel});
   std::string out = formatted("\n%-26s %14s %14s\n", "method", "cost @ 1%", "cost @ 3%");
-  std::map<std::string, std::pair<double, double>> atError;
+  std::map<std::string, std::pair<CostAt, CostAt>> atError;
   for (const auto& [method, points] : curves) {
-    atError[method] = {costAtError(points, 0.01), costAtError(points, 0.03)};
-    out += formatted("%-26s %14.1f %14.1f\n", method.c_str(), atError[method].first,
-                     atError[method].second);
+    atError[method] = {costAt(points, 0.01), costAt(points, 0.03)};
+    out +=
+        formatted("%-26s %14s %14s\n", method.c_str(), text(atError[method].first, "%.1f").c_str(),
+                  text(atError[method].second, "%.1f").c_str());
   }
   const auto ratio = [&](const std::string& a, const std::string& b, bool onePercent) {
-    const double x = onePercent ? atError[a].first : atError[a].second;
-    const double y = onePercent ? atError[b].first : atError[b].second;
-    return (x > 0 && y > 0) ? x / y : NAN;
+    const auto& x = onePercent ? atError[a].first : atError[a].second;
+    const auto& y = onePercent ? atError[b].first : atError[b].second;
+    return ratioText(x, y);
   };
-  out += "\nratios at equal image error (negative or nan: target outside the sweep)\n";
+  out +=
+      "\nratios at equal image error (\"<=\": a bound, every setting reaching the target being "
+      "more accurate; \"-\": no setting of one of them reaches it)\n";
   for (const char* adaptive : {"adaptive-quad", "adaptive-quad-exact", "adaptive-binary"})
-    out += formatted("%-22s / global  : %.3f @1%%  %.3f @3%%\n", adaptive,
-                     ratio(adaptive, "global", true), ratio(adaptive, "global", false));
+    out += formatted("%-22s / global  : %s @1%%  %s @3%%\n", adaptive,
+                     ratio(adaptive, "global", true).c_str(),
+                     ratio(adaptive, "global", false).c_str());
   for (int k : cpcaClusters) {
     const std::string c = concat("cpca K=", k);
-    out += formatted("%-22s / adaptive-binary: %.3f @1%%  %.3f @3%%\n", c.c_str(),
-                     ratio(c, "adaptive-binary", true), ratio(c, "adaptive-binary", false));
+    out += formatted("%-22s / adaptive-binary: %s @1%%  %s @3%%\n", c.c_str(),
+                     ratio(c, "adaptive-binary", true).c_str(),
+                     ratio(c, "adaptive-binary", false).c_str());
   }
   // adaptive-binary against CPCA with the same number of clusters, setting by setting.
   for (size_t i = 0; i < rows.size(); ++i)

@@ -2,9 +2,11 @@
 // would: the sweep, the equal-error comparison, the report and the studies.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "core/text.h"
 #include "eval/analyze_study.h"
 #include "eval/error_measures.h"
 #include "eval/eval_study.h"
@@ -46,6 +48,35 @@ TEST_F(EvalLibrary, SweepMeasuresEverySettingAgainstTheDenseRelight) {
   EXPECT_EQ(table.rows(), rows.size());
   EXPECT_EQ(table.columns().front(), "method");
   EXPECT_NE(methodComparisonText(rows, {}).find("cost @ 1%"), std::string::npos);
+}
+
+TEST(MethodComparison, TargetsOutsideASweepAreBoundsOrDashesNeverNan) {
+  const auto row = [](const char* method, double error, double cost) {
+    SweepResult r;
+    r.method = method;
+    r.imageError = error;
+    r.costPerPixel = cost;
+    return r;
+  };
+  // global and adaptive binary bracket 1%; both only overshoot 3% (bounds);
+  // adaptive-quad reaches neither.
+  const std::vector<SweepResult> rows{
+      row("global", 0.02, 400), row("global", 0.005, 1600), row("adaptive-binary", 0.012, 100),
+      row("adaptive-binary", 0.008, 300), row("adaptive-quad", 0.05, 50)};
+  const std::string text = methodComparisonText(rows, {});
+  EXPECT_EQ(text.find("nan"), std::string::npos) << text;
+  EXPECT_NE(text.find("<= 400.0"), std::string::npos) << text;  // global at 3%
+  EXPECT_NE(text.find("<= 100.0"), std::string::npos) << text;  // adaptive binary at 3%
+  // 1%: log-log between the bracketing settings of each method.
+  const double global =
+      400 * std::pow(1600.0 / 400, std::log(0.01 / 0.02) / std::log(0.005 / 0.02));
+  const double binary = 100 * std::pow(3.0, std::log(0.01 / 0.012) / std::log(0.008 / 0.012));
+  EXPECT_NE(
+      text.find(formatted("adaptive-binary        / global  : %.3f @1%%  - @3%%", binary / global)),
+      std::string::npos)
+      << text;
+  EXPECT_NE(text.find("adaptive-quad          / global  : - @1%  - @3%"), std::string::npos)
+      << text;
 }
 
 TEST_F(EvalLibrary, UnknownMethodsAndBadCountsAreParameterErrors) {
