@@ -104,11 +104,24 @@ bool built() {
 #ifdef ACPCA_WITH_MPI
 namespace {
 
-/// A length, then the values in chunks MPI's int counts can hold.
+/// The receiver's "ready for your values" token. Message tags of the callers
+/// stay below it (MPI guarantees tags up to 32767).
+constexpr int kReadyTag = 32767;
+
+/// A length (small: it goes at once), then, once the receiver says it is
+/// ready, the values in chunks MPI's int counts can hold. A large blocking
+/// send waits for the receiver by polling, a whole core for as long as the
+/// receiver computes (rank 0 between its own bands or frames); the sender
+/// waits for the token sleeping instead, and the transfer then finds both
+/// sides in MPI.
 template <typename T>
 void sendValues(int to, int tag, const std::vector<T>& values, MPI_Datatype type) {
   long long size = static_cast<long long>(values.size());
   MPI_Send(&size, 1, MPI_LONG_LONG, to, tag, MPI_COMM_WORLD);
+  if (size == 0) return;
+  probeSleeping(to, kReadyTag);
+  char token = 0;
+  MPI_Recv(&token, 1, MPI_CHAR, to, kReadyTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   for (long long first = 0; first < size; first += kChunk)
     MPI_Send(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), type, to, tag,
              MPI_COMM_WORLD);
@@ -116,10 +129,14 @@ void sendValues(int to, int tag, const std::vector<T>& values, MPI_Datatype type
 
 template <typename T>
 std::vector<T> receiveValues(int from, int tag, MPI_Datatype type) {
-  probeSleeping(from, tag);
+  ACPCA_CHECK(tag >= 0 && tag < kReadyTag, "message tag ", tag, " is reserved or out of range");
+  from = probeSleeping(from, tag);
   long long size = 0;
   MPI_Recv(&size, 1, MPI_LONG_LONG, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   std::vector<T> values(static_cast<size_t>(size));
+  if (size == 0) return values;
+  const char token = 1;
+  MPI_Send(&token, 1, MPI_CHAR, from, kReadyTag, MPI_COMM_WORLD);
   for (long long first = 0; first < size; first += kChunk)
     MPI_Recv(values.data() + first, static_cast<int>(std::min(kChunk, size - first)), type, from,
              tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);

@@ -28,8 +28,9 @@ inline bool distributed() {
 /// Whether this build can run distributed at all.
 bool built();
 
-/// Sends floats to rank `to` under `tag` (blocks until the receiver has
-/// them when they are large: the receiver's pace bounds the memory in flight).
+/// Sends floats to rank `to` under `tag` (0 <= tag < 32767; 32767 is the
+/// receiver's ready token). Blocks until the receiver takes them, so the
+/// receiver's pace bounds the memory in flight; waits sleeping, not polling.
 void send(int to, int tag, const std::vector<float>& values);
 /// Receives what `send` sent from rank `from` under `tag`, whatever its length.
 std::vector<float> receive(int from, int tag);
