@@ -38,6 +38,23 @@ double maxRelativeDifference(const std::vector<float>& a, const std::vector<floa
   return scale > 0 ? diff / scale : diff;
 }
 
+/// Appends one cluster's coefficients (rows x rank, row-major) in the model's
+/// precision (i8 in steps of 1/40), with their per-basis scales and offset.
+void appendCoefficients(Model& m, const std::vector<float>& u, int rank) {
+  const long long count = static_cast<long long>(u.size());
+  if (m.precision == CoeffPrecision::F32) m.coeffF32.insert(m.coeffF32.end(), u.begin(), u.end());
+  if (m.precision == CoeffPrecision::F16) {
+    std::vector<std::uint16_t> h(count);
+    floatToHalf(u.data(), h.data(), count);
+    m.coeffF16.insert(m.coeffF16.end(), h.begin(), h.end());
+  }
+  if (m.precision == CoeffPrecision::I8)
+    for (float v : u)
+      m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
+  m.coeffScale.insert(m.coeffScale.end(), rank, m.precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
+  m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
+}
+
 /// A model with every awkward shape, filled with random numbers: clusters of
 /// 1, 15, 16, 17 and 40 rows, a rank-0 cluster, a cluster richer than its rows,
 /// means, and a lattice with directions no basis touches.
@@ -77,18 +94,7 @@ Model randomModel(CoeffPrecision precision, bool mean, unsigned seed, int global
     const long long count = static_cast<long long>(sizes[c]) * ranks[c];
     std::vector<float> u(count);
     for (auto& v : u) v = gauss(rng);
-    if (precision == CoeffPrecision::F32) m.coeffF32.insert(m.coeffF32.end(), u.begin(), u.end());
-    if (precision == CoeffPrecision::F16) {
-      std::vector<std::uint16_t> h(count);
-      floatToHalf(u.data(), h.data(), count);
-      m.coeffF16.insert(m.coeffF16.end(), h.begin(), h.end());
-    }
-    for (float v : u)
-      if (precision == CoeffPrecision::I8)
-        m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
-    m.coeffScale.insert(m.coeffScale.end(), ranks[c],
-                        precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
-    m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
+    appendCoefficients(m, u, ranks[c]);
   }
   return m;
 }
@@ -214,21 +220,9 @@ Model bandedModel(CoeffPrecision precision, unsigned seed) {
     for (int i = 0; i < n * ranks[c]; ++i) m.bases.push_back(gauss(rng));
     m.basisOffsets.push_back(m.bases.size());
     for (int i = 0; i < n; ++i) m.means.push_back(gauss(rng));
-    const long long count = static_cast<long long>(sizes[c]) * ranks[c];
-    for (long long i = 0; i < count; ++i) {
-      const float v = gauss(rng);
-      if (precision == CoeffPrecision::F32) m.coeffF32.push_back(v);
-      if (precision == CoeffPrecision::F16) {
-        std::uint16_t h;
-        floatToHalf(&v, &h, 1);
-        m.coeffF16.push_back(h);
-      }
-      if (precision == CoeffPrecision::I8)
-        m.coeffI8.push_back(static_cast<std::int8_t>(std::clamp(v * 40.0f, -127.0f, 127.0f)));
-    }
-    m.coeffScale.insert(m.coeffScale.end(), ranks[c],
-                        precision == CoeffPrecision::I8 ? 0.025f : 1.0f);
-    m.coefficientOffsets.push_back(m.coefficientOffsets.back() + count);
+    std::vector<float> u(static_cast<size_t>(sizes[c]) * ranks[c]);
+    for (auto& v : u) v = gauss(rng);
+    appendCoefficients(m, u, ranks[c]);
   }
   return m;
 }
