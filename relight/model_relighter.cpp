@@ -52,17 +52,6 @@ void packCluster(const T* rowMajor, long long rows, int rank, T* chunks) {
           rowMajor[r * rank + k];
 }
 
-template <typename T>
-std::vector<T> packCoefficients(const Model& m, const std::vector<T>& source,
-                                const std::vector<long long>& chunkedOffsets) {
-  std::vector<T> packed(chunkedOffsets.back(), T(0));
-  tbb::parallel_for(0, m.clusters(), [&](int c) {
-    packCluster(source.data() + m.coefficientOffsets[c], m.rowOffsets[c + 1] - m.rowOffsets[c],
-                m.ranks[c], packed.data() + chunkedOffsets[c]);
-  });
-  return packed;
-}
-
 }  // namespace
 
 ModelRelighter::ModelRelighter(const Model& m)
@@ -111,27 +100,27 @@ ModelRelighter::ModelRelighter(const Model& m)
   if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
 
   // Chunks: each cluster's rows in groups of 16, coefficients k-major within.
+  // Until the shading order is known, a chunk's offset is the position of its
+  // first row in the model's cluster-ordered row list.
   const int clusters = m.clusters();
-  std::vector<long long> chunkedOffsets{0};
   lightingOffset_.push_back(0);
   for (int c = 0; c < clusters; ++c) {
     const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
     const long long chunkCount = (p + kChunkRows - 1) / kChunkRows;
     for (long long j = 0; j < chunkCount; ++j) {
-      chunks_.push_back({c, chunkedOffsets.back() + j * ranks_[c] * kChunkRows});
+      chunks_.push_back({c, m.rowOffsets[c] + j * kChunkRows});
       for (int lane = 0; lane < kChunkRows; ++lane) {
         const long long r = j * kChunkRows + lane;
         chunkRows_.push_back(r < p ? m.clusterRows[m.rowOffsets[c] + r] : -1);
       }
     }
-    chunkedOffsets.push_back(chunkedOffsets.back() + chunkCount * ranks_[c] * kChunkRows);
     lightingOffset_.push_back(lightingOffset_.back() + ranks_[c]);
   }
   const long long totalRank = lightingOffset_.back();
   lightingOffset_.pop_back();
 
   // Shading order: by band of the first row (rows run in image order), then
-  // cluster, as chunks were made. Coefficients are repacked in that order.
+  // cluster, as chunks were made. Coefficients are packed in that order.
   const long long bands = std::max(1LL, (rows() + kBandRows - 1) / kBandRows);
   const auto bandOf = [&](size_t j) { return chunkRows_[j * kChunkRows] / kBandRows; };
   std::vector<size_t> order(chunks_.size());
@@ -167,14 +156,17 @@ ModelRelighter::ModelRelighter(const Model& m)
     }
     chunkConsecutive_[j] = (rowRun ? kRowsConsecutive : 0) | (pixelRun ? kPixelsConsecutive : 0);
   }
+  // Each chunk's coefficients straight from the model's row-major ones into
+  // their place in the shading order (padding lanes stay zero).
   const auto inShadingOrder = [&](const auto& source) {
     using T = typename std::decay_t<decltype(source)>::value_type;
-    const std::vector<T> byCluster = packCoefficients(m, source, chunkedOffsets);
     HugePageVector<T> packed(static_cast<size_t>(offset));
     tbb::parallel_for(size_t(0), order.size(), [&](size_t i) {
-      const Chunk& from = clusterOrder[order[i]];
-      std::copy_n(byCluster.begin() + from.coefficientOffset, ranks_[from.cluster] * kChunkRows,
-                  packed.begin() + chunks_[i].coefficientOffset);
+      const int c = chunks_[i].cluster, rank = ranks_[c];
+      const long long first = clusterOrder[order[i]].coefficientOffset;  // first row's position
+      const long long count = std::min<long long>(kChunkRows, m.rowOffsets[c + 1] - first);
+      packCluster(source.data() + m.coefficientOffsets[c] + (first - m.rowOffsets[c]) * rank, count,
+                  rank, packed.data() + chunks_[i].coefficientOffset);
     });
     return packed;
   };
