@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <mutex>
 #include <random>
 
 #include "cluster/symmetric_eigen.h"
@@ -56,9 +55,7 @@ double projectedEnergy(const Eigen::MatrixXd& rows, const std::vector<int>& acti
   std::vector<double> energy(static_cast<size_t>(blocks), 0.0);
   tbb::parallel_for(Eigen::Index(0), blocks, [&](Eigen::Index b) {
     const Eigen::Index first = b * kBlock, count = std::min(kBlock, rows.rows() - first);
-    Eigen::MatrixXd compact(count, static_cast<Eigen::Index>(active.size()));
-    for (size_t k = 0; k < active.size(); ++k)
-      compact.col(static_cast<Eigen::Index>(k)) = rows.col(active[k]).segment(first, count);
+    const Eigen::MatrixXd compact = rows.middleRows(first, count)(Eigen::all, active);
     energy[static_cast<size_t>(b)] = (compact * vectors).squaredNorm();
   });
   double sum = 0;
@@ -92,8 +89,7 @@ GlobalBasis basisFromSample(const Eigen::MatrixXd& sample, const Eigen::MatrixXd
   const std::vector<int>& active = result.active;
   result.activeDirections = static_cast<int>(active.size());
   if (active.empty()) return result;
-  Eigen::MatrixXd compact(sample.rows(), active.size());
-  for (size_t k = 0; k < active.size(); ++k) compact.col(k) = sample.col(active[k]);
+  const Eigen::MatrixXd compact = sample(Eigen::all, active);
 
   const Eigen::MatrixXd gram = gramMatrix(compact);
   const double energy = compact.squaredNorm();

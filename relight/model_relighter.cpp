@@ -15,6 +15,8 @@ namespace acpca {
 
 using kernels::kChunkRows;
 
+namespace {
+
 /// Rows per band of the shading order: 96 KB of RGB output, so a thread's
 /// writes stay in its L2 cache; enough bands to share between threads.
 constexpr long long kBandRows = 8192;
@@ -39,8 +41,6 @@ void addPixels(const float (*shaded)[kChunkRows], const float* albedo, const flo
       out[stride * lane + ch] +=
           coverage[lane] * (albedo[ch * kChunkRows + lane] * shaded[ch][lane]);
 }
-
-namespace {
 
 /// Copies `rows` rows of `rank` values (row-major) into k-major chunks of 16
 /// rows (padding lanes stay zero): a cluster's coefficients, or its bases.
@@ -81,7 +81,7 @@ ModelRelighter::ModelRelighter(const Model& m)
   // product W_i^T L_g is then the chunk loop of phase 3 with 16 bases as lanes.
   // W_i (column-major N x n_i) read as n_i rows of N values packs like a
   // cluster's coefficients, 16 bases to a tile.
-  std::vector<float> tiles;
+  HugePageVector<float> tiles;
   for (int c = 0; c < m.clusters(); ++c) {
     basisOffset_.push_back(static_cast<long long>(tiles.size()));
     const size_t start = tiles.size();
@@ -94,7 +94,7 @@ ModelRelighter::ModelRelighter(const Model& m)
     basesF16_.resize(tiles.size());
     floatToHalf(tiles.data(), basesF16_.data(), tiles.size());  // exact: half values
   } else {
-    bases_.assign(tiles.begin(), tiles.end());
+    bases_ = std::move(tiles);
   }
   if (hasMean_) means_ = m.means;
   if (precision_ != CoeffPrecision::I8) std::fill(scale_.begin(), scale_.end(), 1.0f);
@@ -349,13 +349,10 @@ void ModelRelighter::shadeBand(int band, const HugePageVector<T>& coefficients,
     } else {
       const std::int32_t* pixels = chunkPixels_.data() + j * kChunkRows;
       const float* coverage = chunkCoverage_.data() + j * kChunkRows;
-      float* first = out.values + static_cast<size_t>(out.stride) * pixels[0];
-      if (consecutive && out.stride == 4) {
-        addPixels<4>(shaded, albedo, coverage, first);
-        continue;
-      }
-      if (consecutive && out.stride == 3) {
-        addPixels<3>(shaded, albedo, coverage, first);
+      if (consecutive) {  // relightInto allows 3 or 4 channels
+        float* first = out.values + static_cast<size_t>(out.stride) * pixels[0];
+        out.stride == 4 ? addPixels<4>(shaded, albedo, coverage, first)
+                        : addPixels<3>(shaded, albedo, coverage, first);
         continue;
       }
       for (int lane = 0; lane < kChunkRows; ++lane)
