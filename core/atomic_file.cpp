@@ -10,6 +10,8 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/interrupt_cleanup.h"
+#include "core/warning.h"
 
 namespace acpca {
 
@@ -33,8 +35,10 @@ void removeStalePartials(const fs::path& dir, const fs::path& target) {
     if (dash == std::string::npos || dash == 0 || rest.find_first_not_of("0123456789") != dash)
       continue;
     const long pid = std::stol(rest.substr(0, dash));
-    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)
-      fs::remove(entry.path(), ec);
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH &&
+        fs::remove(entry.path(), ec))
+      warn(concat("removed ", entry.path().string(), ", an unfinished ", target.filename().string(),
+                  " left by process ", pid, " (killed or powered off)"));
   }
 }
 
@@ -55,6 +59,7 @@ AtomicOutput::AtomicOutput(std::string finalPath) : finalPath_(std::move(finalPa
   tempPath_ = (dir / concat(".", target.stem().string(), ".partial-", ::getpid(), "-", counter++,
                             target.extension().string()))
                   .string();
+  interruptSlot_ = interrupt::registerTemporary(tempPath_);
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -62,6 +67,7 @@ AtomicOutput::~AtomicOutput() {
     std::error_code ec;
     fs::remove(tempPath_, ec);
   }
+  interrupt::releaseTemporary(interruptSlot_);
 }
 
 void AtomicOutput::commit() {
@@ -71,6 +77,8 @@ void AtomicOutput::commit() {
     throw UserError(
         concat(finalPath_, ": cannot move the finished file into place: ", ec.message()));
   committed_ = true;
+  interrupt::releaseTemporary(interruptSlot_);
+  interruptSlot_ = -1;
 }
 
 void createOutputDirectory(const std::string& path) {

@@ -23,6 +23,7 @@ class AtomicOutput {
  private:
   std::string finalPath_;
   std::string tempPath_;
+  int interruptSlot_ = -1;  // where SIGINT/SIGTERM find the temporary
   bool committed_ = false;
 };
 

@@ -18,6 +18,8 @@
 #include "cluster/model_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_guard.h"
+#include "core/interrupt_cleanup.h"
 #include "core/ordered_pipeline.h"
 #include "core/ranks.h"
 #include "core/stopwatch.h"
@@ -98,6 +100,14 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));
   };
   BuildStats stats;
+  // Nothing written may replace what the build reads.
+  std::vector<std::string> inputs = scene.files;
+  inputs.insert(inputs.end(), o.groundTruth.begin(), o.groundTruth.end());
+  refuseOutputOverInputs(outPath, inputs);
+  refuseOutputOverInputs(o.keepTransport, inputs);
+  refuseDirectoryOverInputs(o.groundTruthDir, inputs);
+  if (!o.keepTransport.empty() && !outPath.empty())
+    refuseOutputOverInputs(o.keepTransport, {outPath});
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
   if (!o.keepTransport.empty()) AtomicOutput check(o.keepTransport);
   if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);
@@ -148,6 +158,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   std::vector<char> done(tiles.size(), 0);
   if (lead) {
     prepareWorkDirectory(dir, head.settings + "\n" + std::to_string(hash) + "\n", o.resume, o.log);
+    interrupt::setInterruptNote(
+        concat("finished tiles are kept in ", dir, ": the same build with --resume continues"));
     for (size_t t = 0; t < tiles.size(); ++t) {
       std::error_code ec;
       done[t] = o.resume && fs::exists(tilePath(dir, t), ec);
@@ -358,6 +370,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   }
   std::error_code ec;
   fs::remove_all(dir, ec);  // the model is in place: the tiles are no longer needed
+  interrupt::setInterruptNote("");
   stats.assembleSeconds = watch.seconds() - assembleStart;
   stats.seconds = watch.seconds();
   log(concat("assembled ", stats.clusters, " clusters in ", stats.assembleSeconds, " s"));

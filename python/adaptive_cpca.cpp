@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/warning.h"
 #include "python/long_calls.h"
+#include "python/opening_file.h"
 #include "relight/batch_relight.h"
 #include "relight/environment.h"
 #include "relight/file_info.h"
@@ -23,6 +24,7 @@
 #include "relight/lighting.h"
 #include "relight/relight_source.h"
 #include "relight/rotation.h"
+#include "relight/spec_parsing.h"
 
 namespace py = pybind11;
 
@@ -32,6 +34,9 @@ namespace {
 
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using OutArray = py::array_t<float, py::array::c_style>;
+/// What a caller passes as out=: taken as it is (never converted to a copy),
+/// then checked.
+using OutArgument = std::optional<py::array>;
 /// A rank limit as Python gives it: None, a rank (int), a fraction (float) or
 /// the CLI's text ("50%").
 using RankLimit = std::optional<std::variant<int, double, std::string>>;
@@ -47,8 +52,12 @@ struct PyEnvironment {
 
 PyEnvironment environmentFromSpec(const std::string& spec) {
   // Without the GIL: a large map takes a while, and its warnings take the GIL.
-  py::gil_scoped_release release;
-  return {std::shared_ptr<const Environment>(loadEnvironment(spec))};
+  const bool analytic =
+      spec == "sky" || spec.rfind("constant:", 0) == 0 || spec.rfind("sun:", 0) == 0;
+  return openingFile(analytic ? std::string() : spec, [&] {
+    py::gil_scoped_release release;
+    return PyEnvironment{std::shared_ptr<const Environment>(loadEnvironment(spec))};
+  });
 }
 
 PyEnvironment environmentFromArray(const FloatArray& array, const std::string& name) {
@@ -84,8 +93,12 @@ std::string rankText(const RankLimit& limit) {
 class Relighter {
  public:
   explicit Relighter(const std::string& path) : path_(path) {
+    openingFile(path, [&] {
+      py::gil_scoped_release release;
+      source_ = openRelightSource(path);
+      return 0;
+    });
     py::gil_scoped_release release;
-    source_ = openRelightSource(path);
     lattice_ = std::make_unique<CubeLattice>(source_.header.cubemapResolution);
     composer_ = std::make_unique<ImageComposer>(source_.header);
   }
@@ -111,6 +124,7 @@ class Relighter {
   PyLighting lighting(const PyEnvironment& env, double yaw, double pitch, double roll,
                       bool fastRotation) const {
     PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, lattice_->resolution()};
+    validateRotation(l.rotation);
     py::gil_scoped_release release;
     l.values = computeLighting(*env.env, *lattice_, l.rotation,
                                fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
@@ -119,15 +133,15 @@ class Relighter {
 
   py::array_t<float> relight(const PyEnvironment& env, double yaw, double pitch, double roll,
                              const RankLimit& maxRank, double exposure,
-                             const std::string& background, bool fastRotation,
-                             std::optional<OutArray> out) {
+                             const std::string& background, bool fastRotation, OutArgument out) {
     return relightLighting(lighting(env, yaw, pitch, roll, fastRotation), maxRank, exposure,
                            background, std::move(out));
   }
 
   py::array_t<float> relightLighting(const PyLighting& lighting, const RankLimit& maxRank,
                                      double exposure, const std::string& background,
-                                     std::optional<OutArray> out) {
+                                     OutArgument out) {
+    requireFinite(exposure, "exposure");
     const Background bg = kBackgroundNames.parse(background);
     if (lighting.cubemap != lattice_->resolution())
       throw ParameterError("lighting", concat("6x", lighting.cubemap, "x", lighting.cubemap),
@@ -155,7 +169,9 @@ class Relighter {
                                   const std::vector<std::tuple<double, double, double>>& rotations,
                                   const RankLimit& maxRank, double exposure,
                                   const std::string& background, bool fastRotation,
-                                  std::optional<OutArray> out) {
+                                  OutArgument out) {
+    requireFinite(exposure, "exposure");
+    for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
     const Background bg = kBackgroundNames.parse(background);
     if (envs.empty() || rotations.empty())
       throw ParameterError("batch", "", "give at least one environment and one rotation");
@@ -212,22 +228,31 @@ class Relighter {
     applyRankLimit(rankText(maxRank), *source_.model);
   }
 
-  /// The caller's array when it has the right shape, else a new one.
-  OutArray outputArray(std::optional<OutArray>& out, std::vector<py::ssize_t> shape,
-                       Background bg) const {
+  /// The caller's array, written in place, or a new one. Anything the
+  /// results could not be written into directly is refused: a copy would
+  /// leave the caller's array untouched.
+  OutArray outputArray(OutArgument& out, std::vector<py::ssize_t> shape, Background bg) const {
     shape.insert(shape.end(), {height(), width(), bg == Background::Alpha ? 4 : 3});
     if (!out) return OutArray(shape);
+    std::string wanted;
+    for (auto v : shape) wanted += (wanted.empty() ? "" : ", ") + concat(v);
+    const std::string expected =
+        concat("out must be a writeable C-contiguous float32 array of shape (", wanted, ")");
+    if (!out->dtype().is(py::dtype::of<float>()))
+      throw py::type_error(
+          concat(expected, "; it has dtype ", py::str(out->dtype()).cast<std::string>()));
     const std::vector<py::ssize_t> given(out->shape(), out->shape() + out->ndim());
-    if (given != shape || !out->writeable())
-      throw py::value_error(concat(
-          "out must be a writeable C-contiguous float32 array of shape (",
-          [&] {
-            std::string s;
-            for (auto v : shape) s += (s.empty() ? "" : ", ") + concat(v);
-            return s;
-          }(),
-          ")"));
-    return *out;
+    if (given != shape) {
+      std::string has;
+      for (auto v : given) has += (has.empty() ? "" : ", ") + concat(v);
+      throw py::value_error(concat(expected, "; it has shape (", has, ")"));
+    }
+    if (!out->writeable()) throw py::value_error(concat(expected, "; it is read-only"));
+    if (!(out->flags() & py::array::c_style))
+      throw py::value_error(concat(expected,
+                                   "; it is not C-contiguous (a strided view?): "
+                                   "pass a contiguous array, or np.ascontiguousarray"));
+    return py::reinterpret_borrow<OutArray>(*out);
   }
 
   /// One frame of a model, relit straight into its image.
@@ -264,8 +289,11 @@ class Relighter {
 };
 
 py::array_t<float> readImage(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
+  auto in = openingFile(path, [&] {
+    auto opened = OIIO::ImageInput::open(path);
+    if (!opened) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
+    return opened;
+  });
   const OIIO::ImageSpec spec = in->spec();
   py::array_t<float> out({spec.height, spec.width, spec.nchannels});
   bool ok;
@@ -288,6 +316,13 @@ PYBIND11_MODULE(adaptive_cpca, m) {
       "Relight fixed-view images from adaptive-cpca transport and model files, into numpy "
       "arrays (H x W x 3 float32, linear).";
   static py::exception<UserError> error(m, "Error", PyExc_ValueError);
+  {
+    py::tuple bases = py::make_tuple(error, py::handle(PyExc_FileNotFoundError));
+    PyObject* missing = PyErr_NewException("adaptive_cpca.MissingFileError", bases.ptr(), nullptr);
+    if (!missing) throw py::error_already_set();
+    m.add_object("MissingFileError", py::handle(missing));
+    missingFileErrorType() = missing;
+  }
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -304,8 +339,11 @@ PYBIND11_MODULE(adaptive_cpca, m) {
   });
 
   m.def(
-      "info", [](const std::string& path) { return toPython(describeFile(path)); }, py::arg("path"),
-      "What a transport or model file holds (as `info --json`).");
+      "info",
+      [](const std::string& path) {
+        return openingFile(path, [&] { return toPython(describeFile(path)); });
+      },
+      py::arg("path"), "What a transport or model file holds (as `info --json`).");
   m.def("read_image", &readImage, py::arg("path"),
         "An image file (EXR, HDR, PNG, ...) as an H x W x C float32 array.");
 

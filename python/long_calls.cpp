@@ -10,10 +10,12 @@
 #include "cluster/compress.h"
 #include "cluster/model_file.h"
 #include "core/error.h"
+#include "core/input_guard.h"
 #include "precompute/render/scene.h"
 #include "precompute/render/transport_renderer.h"
 #include "python/interruptible.h"
 #include "python/long_calls.h"
+#include "python/opening_file.h"
 
 namespace acpca::python {
 
@@ -35,19 +37,23 @@ py::dict precompute(const std::string& scene, const std::string& out,
   o.precision = parsePrecision(precision);
   o.threads = threads;
   PrecomputeStats stats;
-  runInterruptible([&](WorkContext& context) {
-    Scene s = loadScene(scene);
-    if (size) s.camera.size = {size->first, size->second};
-    applyCameraSpec(s, camera);
-    s.validate();
-    // Called from one thread between bands of rows: where a cancel lands.
-    o.progress = [&](long long done, long long total) {
-      context.check();
-      if (!progress.is_none()) context.callPython([&] { progress(done, total); });
-    };
-    // The indirect cache's stages are cancel points too.
-    o.cacheProgress = o.cacheFillProgress = [&](long long, long long) { context.check(); };
-    stats = precomputeTransport(s, out, o);
+  // A missing scene file is raised (with the GIL) as FileNotFoundError.
+  openingFile(isBuiltinScene(scene) ? std::string() : scene, [&] {
+    runInterruptible([&](WorkContext& context) {
+      Scene s = loadScene(scene);
+      if (size) s.camera.size = {size->first, size->second};
+      applyCameraSpec(s, camera);
+      s.validate();
+      // Called from one thread between bands of rows: where a cancel lands.
+      o.progress = [&](long long done, long long total) {
+        context.check();
+        if (!progress.is_none()) context.callPython([&] { progress(done, total); });
+      };
+      // The indirect cache's stages are cancel points too.
+      o.cacheProgress = o.cacheFillProgress = [&](long long, long long) { context.check(); };
+      stats = precomputeTransport(s, out, o);
+    });
+    return 0;
   });
   py::dict d;
   d["occupied_pixels"] = stats.occupiedPixels;
@@ -82,16 +88,20 @@ py::dict compress(const std::string& transport, const std::string& out, const st
   o.sampleRows = sampleRows;
   o.seed = seed;
   Model model;
-  runInterruptible([&](WorkContext& context) {
-    // Stage messages are where a cancel lands: compress checks between stages.
-    o.log = [&](const std::string& message) {
+  openingFile(transport, [&] {
+    refuseOutputOverInputs(out, {transport});
+    runInterruptible([&](WorkContext& context) {
+      // Stage messages are where a cancel lands: compress checks between stages.
+      o.log = [&](const std::string& message) {
+        context.check();
+        if (!progress.is_none()) context.callPython([&] { progress(message); });
+      };
+      const TransportReader reader(transport);
+      model = compressTransport(reader, o);
       context.check();
-      if (!progress.is_none()) context.callPython([&] { progress(message); });
-    };
-    const TransportReader reader(transport);
-    model = compressTransport(reader, o);
-    context.check();
-    writeModel(model, out);
+      writeModel(model, out);
+    });
+    return 0;
   });
   py::dict d;
   d["method"] = model.method;

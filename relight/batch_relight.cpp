@@ -8,6 +8,7 @@
 #include "cluster/model_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_guard.h"
 #include "core/ranks.h"
 #include "core/statistics.h"
 #include "core/stopwatch.h"
@@ -76,7 +77,22 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.timingRepeats < 0) throw ParameterError("timing frames", a.timingRepeats, "must be >= 0");
   if (a.envs.empty()) throw ParameterError("environment", "", "give at least one lighting");
   if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
-  imageFormatsFor(a.format, a.out, a.batch());
+  requireFinite(a.exposure, "exposure");
+  const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, a.batch());
+  // No frame may replace the model, the transport or a lighting it reads.
+  std::vector<std::string> inputs = a.envs;
+  inputs.push_back(a.input);
+  if (a.batch()) {
+    refuseDirectoryOverInputs(a.out, inputs);
+    return;
+  }
+  const fs::path out(a.out);
+  for (ImageFormat format : formats)
+    refuseOutputOverInputs(
+        formats.size() > 1
+            ? (out.parent_path() / (out.stem().string() + extensionOf(format))).string()
+            : a.out,
+        inputs);
 }
 
 BatchRelightResult relightBatch(const BatchRelightOptions& a) {

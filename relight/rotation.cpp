@@ -50,6 +50,12 @@ Eigen::Matrix3d rotationMatrix(const EnvRotation& r) {
       .toRotationMatrix();
 }
 
+void validateRotation(const EnvRotation& r) {
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"yaw", r.yaw}, {"pitch", r.pitch}, {"roll", r.roll}})
+    requireFinite(value, name);
+}
+
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   if (spec.find(':') != std::string::npos) {
     const auto parts = split(spec, ':');

@@ -17,6 +17,10 @@ struct EnvRotation {
 
 Eigen::Matrix3d rotationMatrix(const EnvRotation& r);
 
+/// Throws ParameterError ("yaw", "pitch" or "roll") for an angle that is not a
+/// finite number, as the text specs are refused.
+void validateRotation(const EnvRotation& r);
+
 /// Parses one --rotate SPEC: "YAW[,PITCH,ROLL]" or "A:B:S" (yaw from A inclusive
 /// to B exclusive in steps of S). Throws UserError naming the spec.
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec);

@@ -20,4 +20,9 @@ double parseFiniteNumber(const std::string& text, const std::string& parameter,
   return value;
 }
 
+void requireFinite(double value, const std::string& parameter) {
+  if (!std::isfinite(value))
+    throw ParameterError(parameter, concat(value), concat("'", value, "' is not a finite number"));
+}
+
 }  // namespace acpca

@@ -9,4 +9,8 @@ namespace acpca {
 double parseFiniteNumber(const std::string& text, const std::string& parameter,
                          const std::string& spec);
 
+/// A value given as a number (Python, a CLI flag) refused as its text would
+/// be: ParameterError "parameter 'nan': 'nan' is not a finite number".
+void requireFinite(double value, const std::string& parameter);
+
 }  // namespace acpca

@@ -37,6 +37,11 @@ inline std::string readFile(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// Writes `text` as the whole file.
+inline void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
 /// Index of the row of pixel (x, y), or -1 for background.
 inline long long rowOfPixel(const TransportHeader& h, int x, int y) {
   const int p = y * h.camera.size.width + x;

@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_guard.h"
 #include "relight/environment.h"
 
 namespace acpca::cli {
@@ -81,6 +82,14 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
     return;
   }
   writeTextFile(path, value.dump(2) + "\n");
+}
+
+void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
+                             const std::vector<std::string>& outFiles,
+                             const std::vector<std::string>& outDirs) {
+  for (const auto& file : outFiles)
+    if (file != "-") refuseOutputOverInputs(file, inputs);
+  for (const auto& dir : outDirs) refuseDirectoryOverInputs(dir, inputs);
 }
 
 ImageSize parseSize(const std::string& text, const std::string& option) {

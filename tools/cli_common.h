@@ -56,6 +56,13 @@ class Progress {
 /// Writes JSON to a file (atomically) or to stdout for "-"; nothing when empty.
 void writeJson(const std::string& path, const nlohmann::json& value);
 
+/// Refuses, before any work, an output that would replace one of `inputs`
+/// (core/input_guard.h): the files `outFiles` (--json's "-" is none) and the
+/// directories `outDirs`.
+void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
+                             const std::vector<std::string>& outFiles,
+                             const std::vector<std::string>& outDirs = {});
+
 /// Parses "WxH" (e.g. 256x256); throws UserError naming the option.
 ImageSize parseSize(const std::string& text, const std::string& option);
 

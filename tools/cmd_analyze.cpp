@@ -19,6 +19,7 @@ struct AnalyzeArgs {
 void run(AnalyzeArgs& a) {
   a.options.centres = parseCentres(a.centres);
   validateAnalyzeOptions(a.options);
+  refuseOutputsOverInputs({a.input}, {a.common.jsonPath}, {a.out});
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   a.options.log = stderrLog("analyze", a.common.quiet);

@@ -20,6 +20,11 @@ struct MethodsArgs {
 void run(MethodsArgs& a) {
   if (a.settings.methods.empty()) a.settings.methods = sweepMethodNames();
   checkSweepMethods(a.settings.methods);
+  {
+    std::vector<std::string> inputs = a.envs;
+    inputs.push_back(a.input);
+    refuseOutputsOverInputs(inputs, {a.common.jsonPath}, {a.out});
+  }
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   a.settings.log = stderrLog("bench methods", a.common.quiet);

@@ -16,6 +16,13 @@ struct RelightBenchArgs {
 
 void run(RelightBenchArgs& a) {
   validateRelightBenchmarkOptions(a.options);
+  {
+    std::vector<std::string> inputs = a.options.envs;
+    inputs.insert(inputs.end(), a.options.baselines.begin(), a.options.baselines.end());
+    inputs.push_back(a.options.model);
+    inputs.push_back(a.options.transport);
+    refuseOutputsOverInputs(inputs, {a.common.jsonPath});
+  }
   if (!isModelFile(a.options.model))
     throw UserError(concat(a.options.model, ": not an adaptive-cpca model file"));
   ThreadLimit limit(a.common.threads);

@@ -21,6 +21,7 @@ struct ScalingArgs {
 
 void run(ScalingArgs& a) {
   const Scene scene = loadScene(a.scene);
+  refuseOutputsOverInputs(scene.files, {a.common.jsonPath}, {a.out});
   ScalingOptions& o = a.options;
   o.sceneName = scene.name;
   o.log = stderrLog("bench scaling", a.common.quiet);

@@ -39,6 +39,7 @@ void run(const BuildArgs& a) {
   o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
                                                            : expandEnvironments(a.envs);
   const Scene scene = a.render.loadScene();
+  refuseOutputsOverInputs(scene.files, {a.common.jsonPath});
   if (ranks::rank() == 0)
     for (const auto& w : samplingWarnings(scene, o.render)) std::cerr << "warning: " << w << "\n";
 

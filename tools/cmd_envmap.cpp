@@ -25,6 +25,7 @@ void run(const EnvmapArgs& a) {
     if (parsed.size() != 1) throw UserError("--rotate: envmap takes one rotation, not a sweep");
     rotation = parsed.front();
   }
+  refuseOutputsOverInputs({a.env}, {a.out, a.cross, a.common.jsonPath});
   const CubeLattice lattice(a.cubemap);
   const auto env = loadEnvironment(a.env);
   const LatticeLighting lighting = computeLighting(

@@ -40,6 +40,11 @@ void run(EvalArgs& a) {
   o.shFits.clear();
   for (const auto& f : a.shFits) o.shFits.push_back(parseShFit(f));
   validateEvalOptions(o);
+  {
+    std::vector<std::string> inputs = o.envs;
+    inputs.push_back(a.input);
+    refuseOutputsOverInputs(inputs, {a.common.jsonPath}, {a.out});
+  }
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   o.log = stderrLog("eval", a.common.quiet);

@@ -42,6 +42,7 @@ void runModel(const InfoArgs& a) {
 }
 
 void run(const InfoArgs& a) {
+  refuseOutputsOverInputs({a.file}, {a.jsonPath});
   if (isModelFile(a.file)) return runModel(a);
   const TransportReader t(a.file);
   const auto& h = t.header();

@@ -23,6 +23,7 @@ void run(const PrecomputeArgs& a) {
   // Reject bad options before any work.
   PrecomputeOptions options = a.render.options(a.common.threads);
   const Scene scene = a.render.loadScene();
+  refuseOutputsOverInputs(scene.files, {a.out, a.common.jsonPath});
 
   if (ranks::rank() == 0)
     for (const auto& w : samplingWarnings(scene, options)) std::cerr << "warning: " << w << "\n";

@@ -32,6 +32,11 @@ void run(RelightArgs& a) {
   o.envs = expandEnvironments(a.envs);
   o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
   validateBatchRelight(o);
+  {
+    std::vector<std::string> inputs = o.envs;
+    inputs.push_back(o.input);
+    refuseOutputsOverInputs(inputs, {a.common.jsonPath});
+  }
 
   ThreadLimit limit(a.common.threads);
   // Under mpirun the ranks share the frames; rank 0 writes and reports.

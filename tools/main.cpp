@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/interrupt_cleanup.h"
 #include "core/ranks.h"
 #include "core/warning.h"
 #include "tools/cli_common.h"
@@ -74,6 +75,8 @@ void refuseUndistributedCommand(int argc, char** argv) {
 int main(int argc, char** argv) {
   // mpirun -np K: MPI starts here and ends when main returns.
   acpca::ranks::Session mpi(argc, argv);
+  // Ctrl-C and SIGTERM remove the unfinished outputs and exit 130 / 143.
+  acpca::interrupt::installHandlers();
   // A failing rank ends the whole job: the others may be waiting on it.
   const auto fail = [](int code) { return acpca::ranks::abortAll(code); };
   const std::string rank = acpca::ranks::prefix();

@@ -115,7 +115,8 @@ void addPot(Scene& scene) {
 }  // namespace
 
 Scene makePlantScene() {
-  Scene scene{"plant", {}, {}, {}};
+  Scene scene;
+  scene.name = "plant";
   scene.camera.eye = {0, 2.3, 4.6};
   scene.camera.target = {0, 0.95, 0};
   scene.camera.fovDegrees = 38;

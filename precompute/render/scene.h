@@ -65,6 +65,9 @@ struct Scene {
   Camera camera;
   std::vector<TriangleMesh> meshes;
   std::vector<Sphere> spheres;
+  /// The files it was read from (scene file, meshes, textures): what no
+  /// output may replace. Empty for a built-in scene.
+  std::vector<std::string> files;
 
   long long triangleCount() const;
   /// The bounding box of all geometry (empty for an empty scene).

@@ -219,6 +219,7 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
     const double crease =
         r.has("crease_angle") ? r.numberIn("crease_angle", 0, 180) : kDefaultCreaseDegrees;
     std::vector<TriangleMesh> parts;
+    scene.files.push_back(file.string());
     try {
       parts = loadMeshFile(file.string(), normals, crease);
     } catch (const UserError& e) {
@@ -288,6 +289,10 @@ Scene loadSceneJson(const std::string& path) {
   const fs::path baseDir = fs::path(path).parent_path();
   for (size_t i = 0; i < objects.size(); ++i)
     readObject(Reader(objects[i], concat(path, ": objects[", i, "]")), baseDir, scene);
+  scene.files.push_back(path);
+  for (const auto& mesh : scene.meshes)  // names of embedded textures are no files
+    if (mesh.albedoTexture && fs::is_regular_file(mesh.albedoTexture->name()))
+      scene.files.push_back(mesh.albedoTexture->name());
   scene.validate();
   return scene;
 }

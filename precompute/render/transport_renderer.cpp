@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "core/half.h"
+#include "core/input_guard.h"
 #include "core/ordered_pipeline.h"
 #include "core/ranks.h"
 #include "core/stopwatch.h"
@@ -385,6 +386,7 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
                                     const PrecomputeOptions& options) {
   validateOptions(options);
+  refuseOutputOverInputs(outPath, scene.files);
   const Stopwatch watch;
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);

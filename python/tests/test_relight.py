@@ -19,6 +19,9 @@ import adaptive_cpca as ac
 CLI = os.environ["ACPCA_CLI"]
 TRANSPORT = os.path.join(os.environ["ACPCA_FIXTURE_DIR"], "small-plant.h5")
 WORLD = "/usr/share/blender/datafiles/studiolights/world"
+MESH = os.path.join(os.path.dirname(__file__), "..", "..", "data", "meshes", "icosahedron.obj")
+SCENE_WITH_MESH = """{"camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40, "width": 16, "height": 16},
+ "objects": [{"mesh": "ico.obj"}]}"""
 
 
 def cli(*args):
@@ -109,8 +112,10 @@ def test_coverage_and_info_describe_the_file(model):
 
 
 def test_bad_input_raises_with_the_librarys_words(tmp_path, model):
-    with pytest.raises(ac.Error, match="nowhere.h5"):
+    with pytest.raises(FileNotFoundError, match="nowhere.h5"):
         ac.Relighter(str(tmp_path / "nowhere.h5"))
+    with pytest.raises(ac.Error, match="nowhere.h5"):  # MissingFileError is both
+        ac.info(str(tmp_path / "nowhere.h5"))
     with pytest.raises(ac.Error, match="radiance must be finite"):
         ac.Environment.from_array(np.full((8, 16, 3), np.nan, np.float32))
     with pytest.raises(ValueError):
@@ -127,6 +132,90 @@ def test_bad_input_raises_with_the_librarys_words(tmp_path, model):
     with pytest.raises(ac.Error):
         ac.Environment("sun:1,2")
     assert issubclass(ac.Error, ValueError)
+
+
+def cli_error(*args):
+    """The CLI's error message for args (it must fail as a user error)."""
+    r = subprocess.run([CLI, *args], capture_output=True, text=True)
+    assert r.returncode == 1, r.stderr
+    return r.stderr.strip().split("error: ", 1)[1]
+
+
+def test_numbers_are_refused_as_the_cli_refuses_them(model):
+    r = ac.Relighter(model)
+    sky = ac.Environment("sky")
+    for kwargs in ({"yaw": float("nan")}, {"pitch": float("inf")}, {"roll": float("-inf")}):
+        with pytest.raises(ac.Error, match="is not a finite number") as e:
+            r.relight(sky, **kwargs)
+        assert "internal" not in str(e.value)
+    with pytest.raises(ac.Error, match="'nan' is not a finite number"):
+        r.lighting(sky, yaw=float("nan"))
+    with pytest.raises(ac.Error, match="'nan' is not a finite number"):
+        r.relight_batch([sky], rotations=[(0, float("nan"), 0)])
+    with pytest.raises(ac.Error, match="'inf' is not a finite number"):
+        r.relight(sky, exposure=float("inf"))
+    # The CLI's words for the same value, the flag in place of the parameter.
+    assert "'nan' is not a finite number" in cli_error("relight", model, "--env", "sky", "--rotate",
+                                                       "nan", "--out", "x.exr")
+
+
+def test_out_is_written_in_place_or_refused(model):
+    r = ac.Relighter(model)
+    sky = ac.Environment("sky")
+    big = np.zeros((40, 80, 3), np.float32)
+    view = big[:, ::2, :]  # strided: results written to a copy would be lost
+    with pytest.raises(ValueError, match="not C-contiguous"):
+        r.relight(sky, out=view)
+    assert not big.any()
+    with pytest.raises(TypeError, match="float32"):
+        r.relight(sky, out=np.zeros((40, 40, 3), np.float64))
+    frozen = np.zeros((40, 40, 3), np.float32)
+    frozen.flags.writeable = False
+    with pytest.raises(ValueError, match="read-only"):
+        r.relight(sky, out=frozen)
+    with pytest.raises(ValueError, match="not C-contiguous"):
+        r.relight_batch([sky], out=np.zeros((1, 40, 40, 3), np.float32, order="F"))
+    exact = np.zeros((40, 40, 3), np.float32)
+    assert np.shares_memory(r.relight(sky, out=exact), exact) and exact.any()
+
+
+def test_missing_files_raise_file_not_found_in_the_clis_words(tmp_path):
+    missing = str(tmp_path / "absent.h5")
+    words = cli_error("info", missing)
+    for call in (lambda: ac.Relighter(missing), lambda: ac.info(missing),
+                 lambda: ac.compress(missing, str(tmp_path / "m.h5")),
+                 lambda: ac.Environment(str(tmp_path / "absent.exr")),
+                 lambda: ac.read_image(str(tmp_path / "absent.exr")),
+                 lambda: ac.precompute(str(tmp_path / "absent.json"), str(tmp_path / "t.h5"))):
+        with pytest.raises(FileNotFoundError):
+            call()
+    with pytest.raises(FileNotFoundError) as e:
+        ac.Relighter(missing)
+    assert str(e.value) == words
+
+
+def test_an_output_that_is_the_input_is_refused(tmp_path):
+    transport = tmp_path / "t.h5"
+    transport.write_bytes(open(TRANSPORT, "rb").read())
+    before = transport.read_bytes()
+    link = tmp_path / "hard.h5"
+    os.link(transport, link)
+    symlink = tmp_path / "soft.h5"
+    symlink.symlink_to(transport)
+    for out in (transport, link, symlink):
+        with pytest.raises(ac.Error, match="destroy the input"):
+            ac.compress(str(transport), str(out), method="global")
+    assert transport.read_bytes() == before
+    # A scene file and the mesh it names are inputs of precompute.
+    mesh = tmp_path / "ico.obj"
+    mesh.write_bytes(open(MESH, "rb").read())
+    scene = tmp_path / "scene.json"
+    scene.write_text(SCENE_WITH_MESH)
+    for out in (scene, mesh):
+        kept = out.read_bytes()
+        with pytest.raises(ac.Error, match="destroy the input"):
+            ac.precompute(str(scene), str(out), size=(16, 16), cubemap=4)
+        assert out.read_bytes() == kept
 
 
 def test_the_gil_is_released_while_relighting():

@@ -88,7 +88,7 @@ TEST(Ggx, ThePrecomputeIntegratesItAsAFineQuadratureDoes) {
   // A white GGX floor (ks = 1) seen from straight above under constant:1:
   // each pixel is the specular directional albedo at its view angle.
   for (double alpha : {0.3, 0.8}) {
-    Scene s{"ggx-floor", {}, {}, {}};
+    Scene s{"ggx-floor", {}, {}, {}, {}};
     s.camera.eye = {0, 5, 0};
     s.camera.target = {0, 0, 0};
     s.camera.up = {0, 0, -1};

@@ -45,7 +45,7 @@ Material grey(float a) {
 
 /// A diffuse floor seen from straight above, filling the image.
 Scene floorScene(int size) {
-  Scene s{"floor", {}, {}, {}};
+  Scene s{"floor", {}, {}, {}, {}};
   s.camera.eye = {0, 5, 0};
   s.camera.target = {0, 0, 0};
   s.camera.up = {0, 0, -1};
@@ -85,7 +85,7 @@ TEST(Precompute, CosineLawOnAnUnoccludedFloor) {
 
 /// Floor point right below a sphere of radius r at height h, seen from the side.
 Scene sphereOverFloor(double r, double h) {
-  Scene s{"occluded-floor", {}, {}, {}};
+  Scene s{"occluded-floor", {}, {}, {}, {}};
   s.camera.eye = {4, 0.4, 0};
   s.camera.target = {0, 0, 0};
   s.camera.fovDegrees = 20;
@@ -143,7 +143,7 @@ TEST(Precompute, StepCastsItsShadowWhereGeometrySaysUnderALowSun) {
 
 /// A sphere seen from above: its visible normals point every way horizontally.
 Scene sphereFromAbove() {
-  Scene s{"sphere-above", {}, {}, {}};
+  Scene s{"sphere-above", {}, {}, {}, {}};
   s.camera.eye = {0, 6, 0};
   s.camera.target = {0, 0, 0};
   s.camera.up = {0, 0, -1};

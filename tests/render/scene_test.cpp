@@ -127,7 +127,7 @@ TEST(SceneJson, MeshNormalsComeFromTheFileOrAreMadeSmoothOrFlat) {
 
 TEST(CameraFraming, TheSceneFillsTheViewFromAnyDirectionAndFloorsAreLeftOut) {
   // A sphere of radius 50 far from the origin, on a floor 1000 wide.
-  Scene scene{"framed", {}, {}, {}};
+  Scene scene{"framed", {}, {}, {}, {}};
   scene.spheres.push_back({{300, 50, -200}, 50, Material{}});
   scene.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 1000, Material{}, "floor"));
   scene.camera.size = {96, 64};

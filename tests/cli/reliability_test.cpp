@@ -1,0 +1,302 @@
+// What a user has is never lost: an output that is an input is refused
+// before any work (same path, hard link, symbolic link, a directory holding
+// it), and Ctrl-C (SIGINT) or SIGTERM ends every writing command within
+// moments, removing its unfinished files, exit 130 / 143.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/cli/run_cli.h"
+#include "tests/test_support.h"
+
+extern char** environ;
+
+namespace acpca {
+namespace {
+
+using test::TempDir;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const std::string kSmall = "--scene plant --size 40x40 --cubemap 8 --spp 1 --quiet";
+
+/// Every file under `dir` (any depth) whose name marks it unfinished.
+std::vector<std::string> partialFiles(const fs::path& dir) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec);
+       it != fs::recursive_directory_iterator(); it.increment(ec))
+    if (it->path().filename().string().find(".partial-") != std::string::npos)
+      found.push_back(it->path().string());
+  return found;
+}
+
+bool hasPartial(const fs::path& dir, long long bytes) {
+  std::error_code ec;
+  for (const auto& p : partialFiles(dir))
+    if (static_cast<long long>(fs::file_size(p, ec)) >= bytes) return true;
+  return false;
+}
+
+struct Stopped {
+  bool signalled = false;  ///< the signal was sent while it ran
+  int exitCode = -1;       ///< -1: it did not exit normally
+  double secondsToExit = 0;
+  std::string output;
+};
+
+/// Runs the CLI with `args` (stderr to a file), sends `signal` once `ready()`
+/// says so (or after 60 s), and waits for it. With `ignoredByParent` it starts
+/// with SIGINT and SIGTERM ignored, as a script's background job does.
+Stopped stopWhen(const std::vector<std::string>& args, const std::function<bool()>& ready,
+                 int signal, const std::string& log, bool ignoredByParent = false) {
+  std::vector<std::string> argv{ACPCA_CLI_PATH};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> raw;
+  for (auto& a : argv) raw.push_back(a.data());
+  raw.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  struct sigaction ignore {
+  }, oldInt{}, oldTerm{};
+  ignore.sa_handler = SIG_IGN;
+  if (ignoredByParent) sigaction(SIGINT, &ignore, &oldInt), sigaction(SIGTERM, &ignore, &oldTerm);
+  pid_t pid;
+  const int spawned = posix_spawn(&pid, raw[0], &files, nullptr, raw.data(), environ);
+  if (ignoredByParent) sigaction(SIGINT, &oldInt, nullptr), sigaction(SIGTERM, &oldTerm, nullptr);
+  posix_spawn_file_actions_destroy(&files);
+  Stopped s;
+  if (spawned != 0) return s;
+  const auto start = Clock::now();
+  int status = 0;
+  for (;;) {
+    if (waitpid(pid, &status, WNOHANG) == pid) break;  // finished first
+    if (ready() || Clock::now() - start > std::chrono::seconds(60)) {
+      kill(pid, signal);
+      s.signalled = true;
+      const auto sent = Clock::now();
+      waitpid(pid, &status, 0);
+      s.secondsToExit = std::chrono::duration<double>(Clock::now() - sent).count();
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  s.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  s.output = test::readFile(log);
+  return s;
+}
+
+std::function<bool()> after(double seconds) {
+  const auto start = Clock::now();
+  return [=] { return Clock::now() - start > std::chrono::duration<double>(seconds); };
+}
+
+void expectCleanStop(const Stopped& s, int signal, const fs::path& outputs) {
+  ASSERT_TRUE(s.signalled) << "the command finished before the signal:\n" << s.output;
+  EXPECT_EQ(s.exitCode, 128 + signal) << s.output;
+  EXPECT_LT(s.secondsToExit, 1.5) << "a signal should end it within about a second";
+  EXPECT_EQ(partialFiles(outputs), std::vector<std::string>{}) << s.output;
+  EXPECT_NE(s.output.find(signal == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)"),
+            std::string::npos)
+      << s.output;
+}
+
+TEST(OutputOverInput, EveryWayOfNamingTheInputIsRefusedAndTheInputKept) {
+  TempDir dir;
+  const std::string t = dir.file("t.h5");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + t).status, 0);
+  const std::string before = test::readFile(t);
+  fs::create_hard_link(t, dir.file("hard.h5"));
+  fs::create_symlink(t, dir.file("soft.h5"));
+  fs::create_directory(dir.file("sub"));
+  for (const std::string& out :
+       {t, dir.file("sub/../t.h5"), dir.file("hard.h5"), dir.file("soft.h5")}) {
+    expectFailure("compress " + t + " --method global --quiet --out " + out, "destroy the input");
+    const RunResult r = runCli("compress " + t + " --method global --quiet --out " + out);
+    EXPECT_NE(r.output.find(out), std::string::npos) << "names the output: " << r.output;
+    EXPECT_NE(r.output.find(t), std::string::npos) << "names the input: " << r.output;
+  }
+  // An input reached through a link: the output is what the link points to.
+  expectFailure("compress " + dir.file("soft.h5") + " --method global --quiet --out " + t,
+                "destroy the input");
+  // The other commands that write files.
+  expectFailure("info " + t + " --json " + t, "destroy the input");
+  expectFailure("compress " + t + " --method global --quiet --out " + dir.file("m.h5") +
+                    " --json " + dir.file("hard.h5"),
+                "destroy the input");
+  expectFailure("relight " + t + " --env sky --format exr --quiet --out " + dir.file("soft.h5"),
+                "destroy the input");
+  expectFailure("eval " + t + " --quick --quiet --out " + dir.path().string(), "holds the input");
+  expectFailure("analyze " + t + " --quiet --out " + dir.path().string(), "holds the input");
+  expectFailure("bench methods " + t + " --quiet --out " + dir.path().string(), "holds the input");
+  EXPECT_EQ(test::readFile(t), before) << "the input is byte for byte what it was";
+  EXPECT_FALSE(fs::exists(dir.file("m.h5"))) << "refused before any work";
+}
+
+TEST(OutputOverInput, ABatchDirectoryHoldingAnInputIsRefused) {
+  TempDir dir;
+  fs::create_directories(dir.file("maps"));
+  const std::string t = dir.file("maps/t.h5");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + t).status, 0);
+  const std::string map = dir.file("maps/city.exr");
+  ASSERT_EQ(runCli("envmap sky --size 64x32 --quiet --out " + map).status, 0);
+  const std::string mapBytes = test::readFile(map);
+  // The model's directory, the maps' directory, and a directory above both.
+  expectFailure("relight " + t + " --env sky --rotate 0:90:45 --quiet --out " + dir.file("maps"),
+                "holds the input");
+  expectFailure("relight " + dir.file("x.h5") + " --env " + dir.file("maps") +
+                    " --rotate 0:90:45 --quiet --out " + dir.file("maps"),
+                "holds the input");
+  expectFailure(
+      "relight " + t + " --env " + map + " --rotate 0:90:45 --quiet --out " + dir.path().string(),
+      "holds the input");
+  // A single image over a lighting it reads.
+  expectFailure("relight " + t + " --env " + map + " --quiet --out " + map, "destroy the input");
+  expectFailure("envmap " + map + " --quiet --out " + map, "destroy the input");
+  EXPECT_EQ(test::readFile(map), mapBytes);
+  // Elsewhere it writes.
+  ASSERT_EQ(runCli("relight " + t + " --env " + map + " --rotate 0:90:45 --quiet --out " +
+                   dir.file("frames"))
+                .status,
+            0);
+}
+
+TEST(OutputOverInput, ASceneAndTheMeshItNamesAreInputsOfPrecomputeAndBuild) {
+  TempDir dir;
+  fs::copy_file(std::string(ACPCA_DATA_DIR) + "/meshes/icosahedron.obj", dir.file("ico.obj"));
+  const std::string scene = dir.file("scene.json");
+  test::writeFile(scene,
+                  R"({"camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40,
+                      "width": 24, "height": 24}, "objects": [{"mesh": "ico.obj"}]})");
+  const std::string mesh = test::readFile(dir.file("ico.obj"));
+  for (const std::string& out : {scene, dir.file("ico.obj")}) {
+    expectFailure("precompute --scene " + scene + " --cubemap 4 --quiet --out " + out,
+                  "destroy the input");
+    expectFailure("build --scene " + scene + " --cubemap 4 --quiet --out " + out,
+                  "destroy the input");
+  }
+  expectFailure("build --scene " + scene + " --cubemap 4 --quiet --out " + dir.file("m.h5") +
+                    " --keep-transport " + dir.file("ico.obj"),
+                "destroy the input");
+  EXPECT_EQ(test::readFile(dir.file("ico.obj")), mesh);
+  EXPECT_FALSE(fs::exists(dir.file("m.h5")));
+}
+
+TEST(Signals, PrecomputeRemovesItsPartialFileOnSigintAndSigterm) {
+  TempDir dir;
+  const std::string out = dir.file("t.h5");
+  const std::vector<std::string> args{"precompute", "--scene", "plant", "--size",
+                                      "256x256",    "--quiet", "--out", out};
+  const Stopped interrupted = stopWhen(
+      args, [&] { return hasPartial(dir.path(), 1 << 20); }, SIGINT, dir.file("log"));
+  expectCleanStop(interrupted, SIGINT, dir.path());
+  EXPECT_NE(interrupted.output.find("removed 1 unfinished file"), std::string::npos)
+      << interrupted.output;
+  EXPECT_FALSE(fs::exists(out));
+  // Started as a script's background job (the signals ignored), it still stops.
+  const Stopped terminated = stopWhen(
+      args, [&] { return hasPartial(dir.path(), 1 << 20); }, SIGTERM, dir.file("log"), true);
+  expectCleanStop(terminated, SIGTERM, dir.path());
+  const Stopped backgroundInt = stopWhen(
+      args, [&] { return hasPartial(dir.path(), 1 << 20); }, SIGINT, dir.file("log"), true);
+  expectCleanStop(backgroundInt, SIGINT, dir.path());
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Signals, CompressRelightAndTheStudiesStopCleanly) {
+  TempDir dir;
+  const std::string t = dir.file("t.h5");
+  ASSERT_EQ(runCli("precompute --scene plant --size 96x96 --cubemap 16 --spp 1 --quiet --out " + t)
+                .status,
+            0);
+  const std::string model = dir.file("m.h5");
+  expectCleanStop(
+      stopWhen({"compress", t, "--method", "adaptive-binary", "--quiet", "--out", model},
+               after(0.5), SIGINT, dir.file("log")),
+      SIGINT, dir.path());
+  EXPECT_FALSE(fs::exists(model));
+  // A dense batch of 720 frames, stopped once frames are being written.
+  const fs::path frames = dir.file("frames");
+  const Stopped batch = stopWhen(
+      {"relight", t, "--env", "sky", "--rotate", "0:360:0.5", "--quiet", "--out", frames.string()},
+      [&] {
+        std::error_code ec;
+        size_t n = 0;
+        for (auto it = fs::directory_iterator(frames, ec); !ec && it != fs::directory_iterator();
+             it.increment(ec))
+          ++n;
+        return n >= 3;
+      },
+      SIGTERM, dir.file("log"));
+  expectCleanStop(batch, SIGTERM, frames);
+  for (const std::string study : {"eval", "analyze"}) {
+    const fs::path report = dir.file(study + "-report");
+    expectCleanStop(stopWhen({study, t, "--quiet", "--out", report.string()}, after(1.0), SIGINT,
+                             dir.file("log")),
+                    SIGINT, dir.path());
+  }
+  expectCleanStop(stopWhen({"bench", "methods", t, "--quiet", "--out", dir.file("bench")},
+                           after(1.0), SIGINT, dir.file("log")),
+                  SIGINT, dir.path());
+}
+
+TEST(Signals, AnInterruptedBuildKeepsItsTilesSaysSoAndResumes) {
+  TempDir dir;
+  const std::string out = dir.file("m.h5");
+  const std::vector<std::string> args{"build", "--scene", "plant",  "--size", "160x160",
+                                      "--spp", "1",       "--tile", "32",     "--tiles-in-flight",
+                                      "1",     "--quiet", "--out",  out};
+  const fs::path tiles = out + ".tiles";
+  const Stopped s = stopWhen(
+      args,
+      [&] {
+        std::error_code ec;
+        return fs::exists(tiles / "tile-0000002.h5", ec);
+      },
+      SIGINT, dir.file("log"));
+  expectCleanStop(s, SIGINT, dir.path());
+  EXPECT_NE(s.output.find("finished tiles are kept in " + tiles.string()), std::string::npos)
+      << s.output;
+  EXPECT_NE(s.output.find("--resume"), std::string::npos) << s.output;
+  EXPECT_FALSE(fs::exists(out));
+  ASSERT_TRUE(fs::exists(tiles / "tile-0000000.h5"));
+  std::vector<std::string> resume = args;
+  resume.insert(resume.end(), {"--resume", "--json", dir.file("r.json")});
+  std::string line;
+  for (const auto& a : resume) line += " " + a;
+  ASSERT_EQ(runCli(line).status, 0);
+  const auto report = nlohmann::json::parse(test::readFile(dir.file("r.json")));
+  EXPECT_GE(report["tiles_resumed"].get<int>(), 3) << "the tiles kept are used";
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(Signals, AKilledRunsLeftoverIsRemovedAndReported) {
+  TempDir dir;
+  // A process that has exited: its pid names no live process.
+  pid_t gone = fork();
+  if (gone == 0) _exit(0);
+  waitpid(gone, nullptr, 0);
+  const std::string stale = dir.file(".t.partial-" + std::to_string(gone) + "-0.h5");
+  test::writeFile(stale, "half a transport");
+  // A live writer's temporary (this test's own pid) is left alone.
+  const std::string live = dir.file(".t.partial-" + std::to_string(getpid()) + "-0.h5");
+  test::writeFile(live, "being written");
+  const RunResult r = runCli("precompute " + kSmall + " --out " + dir.file("t.h5"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_NE(r.output.find("removed " + stale), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(live));
+}
+
+}  // namespace
+}  // namespace acpca
