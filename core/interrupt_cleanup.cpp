@@ -83,6 +83,9 @@ void installHandlers() {
   // starts with SIGINT ignored) still stops and cleans up.
   ::sigaction(SIGINT, &action, nullptr);
   ::sigaction(SIGTERM, &action, nullptr);
+  // Past ulimit -f a write fails with EFBIG, which the writers report naming
+  // the file (and their temporaries go), instead of SIGXFSZ ending the process.
+  ::signal(SIGXFSZ, SIG_IGN);
   // Unblock them in this thread; threads started later inherit the mask.
   sigset_t both;
   sigemptyset(&both);

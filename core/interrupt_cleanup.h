@@ -10,7 +10,8 @@
 namespace acpca::interrupt {
 
 /// Installs the SIGINT and SIGTERM handlers, also where the parent started the
-/// process with the signal ignored (a script's background job).
+/// process with the signal ignored (a script's background job); SIGXFSZ is
+/// ignored, so that a write past ulimit -f fails as an error.
 void installHandlers();
 
 /// Registers a temporary file the handler removes; returns its slot (-1 when

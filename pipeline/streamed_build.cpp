@@ -92,6 +92,26 @@ std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile) {
 
 }  // namespace
 
+ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
+  // What precompute holds, and the rows of the basis sample and of the tiles
+  // in flight, in float, instead of a transport on disk.
+  ResourceNeed need = precomputeNeed(scene, outPath, o.render);
+  const long long rowBytes = 6LL * o.render.cubemapResolution * o.render.cubemapResolution * 4 *
+                             (o.render.bounces > 0 ? 3 : 1);
+  const long long side = tileSide(o);
+  const long long pixels =
+      static_cast<long long>(scene.camera.size.width) * scene.camera.size.height;
+  need.what = concat("a streamed build of ", scene.camera.size.width, "x", scene.camera.size.height,
+                     " pixels");
+  need.diskBytes = need.largestFile = 0;  // the model's size is known only once it is fitted
+  need.memoryAdvice =
+      "render a smaller image, or hold fewer or smaller tiles at once, or fewer sample rows";
+  need.memoryBytes += (std::min<long long>(o.compress.sampleRows, pixels) +
+                       std::min(pixels, o.tilesInFlight * side * side)) *
+                      rowBytes;
+  return need;
+}
+
 BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
   validate(o);
   const Stopwatch watch;
@@ -108,6 +128,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   refuseDirectoryOverInputs(o.groundTruthDir, inputs);
   if (!o.keepTransport.empty() && !outPath.empty())
     refuseOutputOverInputs(o.keepTransport, {outPath});
+  requireResources(buildNeed(scene, outPath, o), o.render.force);
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
   if (!o.keepTransport.empty()) AtomicOutput check(o.keepTransport);
   if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);

@@ -73,6 +73,10 @@ struct BuildStats {
 /// and writes the model atomically: no file at outPath unless complete. The
 /// finished tiles wait in `<outPath>.tiles/` (removed once the model is in
 /// place), which `resume` continues from.
+/// What a build needs at most in memory (it writes tiles and the model, whose
+/// size is known only as they are fitted).
+ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o);
+
 BuildStats buildStreamed(const Scene& scene, const std::string& outPath,
                          const BuildOptions& options);
 

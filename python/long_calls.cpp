@@ -25,7 +25,7 @@ py::dict precompute(const std::string& scene, const std::string& out,
                     const std::optional<std::pair<int, int>>& size, const std::string& camera,
                     int cubemap, int spp, const std::string& aa, int texelRays,
                     const std::string& precision, int bounces, int indirectSamples,
-                    double indirectCache, int threads, const py::object& progress) {
+                    double indirectCache, int threads, bool force, const py::object& progress) {
   PrecomputeOptions o;
   o.bounces = bounces;
   o.indirectSamples = indirectSamples;
@@ -36,6 +36,7 @@ py::dict precompute(const std::string& scene, const std::string& out,
   o.texelRays = texelRays;
   o.precision = parsePrecision(precision);
   o.threads = threads;
+  o.force = force;
   PrecomputeStats stats;
   // A missing scene file is raised (with the GIL) as FileNotFoundError.
   openingFile(isBuiltinScene(scene) ? std::string() : scene, [&] {
@@ -123,11 +124,12 @@ void registerLongCalls(py::module_& m) {
         py::arg("texel_rays") = 1, py::arg("precision") = "f16", py::arg("bounces") = 0,
         py::arg("indirect_samples") = kDefaultIndirectSamples,
         py::arg("indirect_cache") = kDefaultIndirectCacheCell, py::arg("threads") = 0,
-        py::arg("progress") = py::none(),
+        py::arg("force") = false, py::arg("progress") = py::none(),
         "Ray-trace a scene (built-in name or JSON file) into the transport file `out`, as "
         "`adaptive-cpca precompute`; size is (width, height); bounces > 0 adds interreflections. "
         "progress(done, total) is called between bands of rows. Ctrl-C stops it and leaves no "
-        "file.");
+        "file. An image whose transport would not fit the disk or memory is refused before "
+        "any work unless force=True.");
   m.def("compress", &compress, py::arg("transport"), py::arg("out"), py::kw_only(),
         py::arg("method") = "adaptive-quad", py::arg("tolerance") = 0.999,
         py::arg("global_energy") = 0.999, py::arg("clusters") = 10, py::arg("block") = 0,

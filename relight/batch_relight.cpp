@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/input_guard.h"
 #include "core/ranks.h"
+#include "core/resources.h"
 #include "core/statistics.h"
 #include "core/stopwatch.h"
 #include "core/table.h"
@@ -103,6 +104,24 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const std::vector<EnvRotation>& rotations = a.rotations;
   const RelightSource source = openRelightSource(a.input, a.maxRank);
   const CubeLattice lattice(source.header.cubemapResolution);
+  {
+    // Uncompressed, every format: an upper bound on what the frames take.
+    const long long pixels =
+        static_cast<long long>(source.header.camera.size.width) * source.header.camera.size.height;
+    const int channels = a.background == Background::Alpha ? 4 : 3;
+    long long frameBytes = 0;
+    for (ImageFormat f : formats)
+      frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
+    ResourceNeed need;
+    need.what = concat(a.envs.size() * a.rotations.size(), " frame(s) of ",
+                       source.header.camera.size.width, "x", source.header.camera.size.height);
+    need.diskBytes = frameBytes * static_cast<long long>(a.envs.size() * a.rotations.size());
+    need.largestFile = frameBytes;
+    need.diskDirectory = batch ? a.out : (out.has_parent_path() ? out.parent_path().string() : ".");
+    if (batch && !fs::exists(a.out)) need.diskDirectory = fs::path(a.out).parent_path().string();
+    need.diskAdvice = "write fewer frames at once, or to another disk";
+    requireResources(need, a.force);
+  }
   if (batch) createOutputDirectory(a.out);
 
   std::vector<EnvInput> inputs;

@@ -36,6 +36,7 @@ struct BatchRelightOptions {
   bool exrFloat = false;
   std::string maxRank;    ///< see applyRankLimit; models only
   int timingRepeats = 0;  ///< > 0: after a warm-up, time that many repeats
+  bool force = false;     ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
   std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
   bool batch() const { return envs.size() > 1 || rotations.size() > 1; }

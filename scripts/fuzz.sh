@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes every reader of outside input (fuzz/: transport and model files, their
-# HDF5 headers edited field by field, scene JSON, environment images) with
+# HDF5 headers edited field by field, scene JSON, environment images, model
+# files through the isolated importer) with
 # libFuzzer under ASan + UBSan, for SECONDS each (default 60). Files kept in
 # fuzz/regressions/<target>/ (inputs that once crashed) run first. Any crash,
 # leak, timeout or out-of-memory fails the run and leaves the input in
@@ -14,7 +15,8 @@ seed="${ACPCA_FUZZ_SEED:-1}"
 bash scripts/setup.sh
 [ -x build/tools/adaptive-cpca ] || bash scripts/build.sh >/dev/null
 
-targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment)
+targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment
+  fuzz_mesh_file)
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF >/dev/null
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
@@ -23,7 +25,7 @@ cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 cli=build/tools/adaptive-cpca
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment}
+mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment,fuzz_mesh_file}
 "$cli" precompute --scene sphere --size 4x4 --cubemap 2 --quiet --out "$seeds/fuzz_transport_file/f16.h5"
 "$cli" precompute --scene step --size 3x3 --cubemap 1 --precision f32 --quiet \
   --out "$seeds/fuzz_transport_file/f32.h5"
@@ -36,6 +38,22 @@ cp data/scenes/*.json "$seeds/fuzz_scene_json/"
 # The environment target's first byte picks the format: 1 is EXR.
 { printf '\001'; cat "$seeds/sky.exr"; } >"$seeds/fuzz_environment/sky"
 rm "$seeds/sky.exr"
+# The mesh target's first byte picks the format (fuzz_mesh_file.cpp): small
+# real files of each, ours and Debian's assimp-testmodels.
+mesh_seed() {  # FORMAT_BYTE FILE
+  [ -f "$2" ] || return 0
+  { printf "\\$(printf '%03o' "$1")"; cat "$2"; } >"$seeds/fuzz_mesh_file/$(basename "$2")"
+}
+models=/usr/share/assimp/models
+mesh_seed 0 data/meshes/icosahedron.obj
+mesh_seed 0 "$models/OBJ/box.obj"
+mesh_seed 1 "$models/glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf"
+mesh_seed 2 "$models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"
+mesh_seed 3 "$models/PLY/cube.ply"
+mesh_seed 3 "$models/PLY/cube_binary.ply"
+mesh_seed 4 "$models/OFF/Cube.off"
+mesh_seed 5 "$models/Collada/cube_tristrips.dae"
+mesh_seed 6 "$models/STL/triangle.stl"
 
 status=0
 for t in "${targets[@]}"; do

@@ -85,6 +85,8 @@ void registerRelight(CLI::App& app) {
   sub->add_flag("--fast-rotation", args->fastRotation,
                 "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
+  sub->add_flag("--force", args->options.force,
+                "Write even when the frames look too large for the disk");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <new>
 
 #include "core/error.h"
 #include "core/interrupt_cleanup.h"
@@ -109,6 +110,11 @@ int main(int argc, char** argv) {
     return fail(1);
   } catch (const acpca::UserError& e) {
     std::cerr << "adaptive-cpca: " << rank << "error: " << e.what() << "\n";
+    return fail(1);
+  } catch (const std::bad_alloc&) {
+    // Past the estimates (--force, or memory taken by others meanwhile).
+    std::cerr << "adaptive-cpca: " << rank
+              << "error: out of memory; a smaller image or fewer threads needs less\n";
     return fail(1);
   } catch (const std::exception& e) {
     std::cerr << "adaptive-cpca: " << rank << "internal error: " << e.what() << "\n";

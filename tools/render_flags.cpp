@@ -16,6 +16,8 @@ void RenderFlags::add(CLI::App& app) {
   app.add_option("--aa", antialiasing,
                  "adaptive: trace every sample only where they see different surfaces "
                  "(default); full: everywhere, shadow edges too, at spp times the cost");
+  app.add_flag("--force", force,
+               "Start even when the disk or memory looks too small for the whole image");
   app.add_option("--texel-rays", texelRays, "Occlusion rays per texel (fractional visibility)");
   app.add_option("--precision", precision,
                  "Stored precision: f16 or f32 (build rounds its rows the same way)");
@@ -42,6 +44,7 @@ PrecomputeOptions RenderFlags::options(int threads) const {
   o.bounces = bounces;
   o.indirectSamples = indirectSamples;
   o.indirectCacheCell = indirectCache;
+  o.force = force;
   return o;
 }
 

@@ -15,6 +15,7 @@ struct RenderFlags {
   int cubemap = 32, spp = kDefaultSamplesPerPixel, texelRays = 1;
   int bounces = 0, indirectSamples = kDefaultIndirectSamples;
   double indirectCache = kDefaultIndirectCacheCell;
+  bool force = false;
 
   void add(CLI::App& app);
   /// Parsed (UserError on bad names); threads as given.

@@ -1,17 +1,14 @@
-// Model files through assimp: OBJ, glTF, Collada, PLY and the other formats it
-// reads. Parts are gathered per material, in the file's coordinates (node
+// Model files through assimp (mesh_import.h): OBJ, glTF, Collada, PLY and the
+// other formats it reads. Parts are gathered per material, in the file's coordinates (node
 // transforms applied), with the file's vertex normals as shading normals or
 // smooth ones of our own, and the material's base colour and texture.
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
-#include <assimp/Importer.hpp>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include "core/error.h"
 #include "core/warning.h"
+#include "precompute/render/mesh_import.h"
 #include "precompute/render/scene.h"
 
 namespace acpca {
@@ -26,84 +23,64 @@ struct FileMaterial {
   std::string name;
   Eigen::Vector3f color{1, 1, 1};
   std::shared_ptr<const Texture> texture;
-  unsigned uvSet = 0;
 };
 
+/// The materials' textures, each image read once however many materials use it.
 class MaterialReader {
  public:
-  MaterialReader(const aiScene* ai, const std::string& path) : ai_(ai), path_(path) {}
+  explicit MaterialReader(const std::string& path) : path_(path) {}
 
-  FileMaterial read(unsigned index) {
-    const aiMaterial* m = ai_->mMaterials[index];
+  FileMaterial read(const ImportedMaterial& m, unsigned index) {
     FileMaterial out;
-    out.name = m->GetName().C_Str();
-    if (out.name.empty()) out.name = concat("material ", index);
-    // glTF's baseColorFactor, else the diffuse colour (OBJ Kd, Collada diffuse).
-    aiColor4D color;
-    if (m->Get(AI_MATKEY_BASE_COLOR, color) == AI_SUCCESS ||
-        m->Get(AI_MATKEY_COLOR_DIFFUSE, color) == AI_SUCCESS)
-      out.color = {color.r, color.g, color.b};
-    for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
-      if (m->GetTextureCount(type) == 0) continue;
-      aiString file;
-      unsigned uvSet = 0;
-      if (m->GetTexture(type, 0, &file, nullptr, &uvSet) != AI_SUCCESS) continue;
-      try {
-        out.texture = texture(file.C_Str());
-      } catch (const UserError& e) {
-        // A missing or broken image is common in downloaded models.
-        warn(concat(e.what(), "; material '", out.name, "' keeps its base colour"));
-        break;
-      }
-      out.uvSet = uvSet;
-      aiUVTransform transform;
-      if (m->Get(AI_MATKEY_UVTRANSFORM(type, 0), transform) == AI_SUCCESS &&
-          (transform.mTranslation != aiVector2D(0, 0) || transform.mScaling != aiVector2D(1, 1) ||
-           transform.mRotation != 0))
-        warn(concat(path_, ": material '", out.name,
-                    "': its texture transform (KHR_texture_transform) is ignored"));
-      break;
+    out.name = m.name.empty() ? concat("material ", index) : m.name;
+    if (m.hasColor) out.color = {m.color[0], m.color[1], m.color[2]};
+    if (m.textureReference.empty()) return out;
+    try {
+      auto& cached = cache_[m.textureReference];
+      if (!cached) cached = load(m);
+      out.texture = cached;
+    } catch (const UserError& e) {
+      // A missing or broken image is common in downloaded models.
+      warn(concat(e.what(), "; material '", out.name, "' keeps its base colour"));
+      return out;
     }
+    if (m.textureTransformed)
+      warn(concat(path_, ": material '", out.name,
+                  "': its texture transform (KHR_texture_transform) is ignored"));
     return out;
   }
 
  private:
-  /// Each image once, however many materials use it.
-  std::shared_ptr<const Texture> texture(const std::string& reference) {
-    auto& cached = cache_[reference];
-    if (!cached) cached = load(reference);
-    return cached;
-  }
-
-  std::shared_ptr<const Texture> load(const std::string& reference) {
-    if (const aiTexture* embedded = ai_->GetEmbeddedTexture(reference.c_str())) {
-      const std::string name = concat(path_, ": embedded texture '", reference, "'");
-      if (embedded->mHeight == 0)  // compressed: the image file's bytes
-        return loadTextureFromMemory(name, embedded->achFormatHint, embedded->pcData,
-                                     embedded->mWidth);
+  std::shared_ptr<const Texture> load(const ImportedMaterial& m) {
+    if (m.embedded) {
+      const std::string name = concat(path_, ": embedded texture '", m.textureReference, "'");
+      if (m.embeddedHeight == 0)  // compressed: the image file's bytes
+        return loadTextureFromMemory(name, m.formatHint, m.embeddedBytes.data(),
+                                     m.embeddedBytes.size());
       // Raw 8-bit BGRA texels, top row first, sRGB-encoded like any 8-bit image.
+      const size_t texels = size_t(m.embeddedWidth) * m.embeddedHeight;
+      if (m.embeddedBytes.size() != 4 * texels)
+        throw UserError(concat(name, ": ", m.embeddedBytes.size(), " bytes for ", m.embeddedWidth,
+                               "x", m.embeddedHeight, " texels"));
       std::vector<float> rgb;
-      rgb.reserve(3 * size_t(embedded->mWidth) * embedded->mHeight);
-      for (size_t t = 0; t < size_t(embedded->mWidth) * embedded->mHeight; ++t)
-        for (unsigned char c :
-             {embedded->pcData[t].r, embedded->pcData[t].g, embedded->pcData[t].b})
-          rgb.push_back(srgbToLinear(c / 255.0f));
-      return std::make_shared<const Texture>(name, int(embedded->mWidth), int(embedded->mHeight),
+      rgb.reserve(3 * texels);
+      for (size_t t = 0; t < texels; ++t)
+        for (int c : {2, 1, 0}) rgb.push_back(srgbToLinear(m.embeddedBytes[4 * t + c] / 255.0f));
+      return std::make_shared<const Texture>(name, int(m.embeddedWidth), int(m.embeddedHeight),
                                              std::move(rgb));
     }
     // Paths are relative to the model file; exporters on Windows write '\'.
-    std::string relative = reference;
+    std::string relative = m.textureReference;
     for (char& c : relative)
       if (c == '\\') c = '/';
     return loadTexture((fs::path(path_).parent_path() / relative).string());
   }
 
-  const aiScene* ai_;
   std::string path_;
   std::map<std::string, std::shared_ptr<const Texture>> cache_;
 };
 
-/// What collect gathers: one mesh of every part, each triangle tagged with its
+/// What gather builds: one mesh of every part, each triangle tagged with its
 /// group (material, has texture coordinates); uvs for every corner, (0, 0)
 /// where the part has none (those are dropped when groups are split).
 struct Gathered {
@@ -114,51 +91,54 @@ struct Gathered {
   int texturedPartsWithoutUvs = 0;
 };
 
-/// Adds every mesh under `node`, in the file's coordinates. With `normals`, each
-/// corner also gets the file's vertex normal (transformed by the inverse
-/// transpose).
-void collect(const aiScene* ai, const aiNode* node, const aiMatrix4x4& parent, bool normals,
-             Gathered& out) {
-  const aiMatrix4x4 transform = parent * node->mTransformation;
-  aiMatrix3x3 normalTransform(transform);
-  normalTransform.Inverse().Transpose();
+/// Adds every part the importer returned, checking what it could not: a
+/// material and vertices for every index, and the arrays' lengths. With
+/// `normals`, each corner also gets the file's vertex normal.
+void gather(const ImportedModel& model, bool normals, Gathered& out) {
   TriangleMesh& mesh = out.all;
-  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
-    const aiMesh* part = ai->mMeshes[node->mMeshes[i]];
-    if (part->mMaterialIndex >= out.materials.size())
-      throw UserError(concat("part '", part->mName.C_Str(), "' names material ",
-                             part->mMaterialIndex, " of ", out.materials.size()));
-    const FileMaterial& material = out.materials[part->mMaterialIndex];
+  for (const ImportedPart& part : model.parts) {
+    const std::string what = concat("part '", part.name, "'");
+    if (part.material >= out.materials.size())
+      throw UserError(
+          concat(what, " names material ", part.material, " of ", out.materials.size()));
+    const size_t vertices = part.positions.size() / 3;
+    if (part.positions.size() % 3 != 0 ||
+        (!part.normals.empty() && part.normals.size() != 3 * vertices) ||
+        (!part.uvs.empty() && part.uvs.size() != 2 * vertices) || part.corners.size() % 3 != 0)
+      throw UserError(concat(what, ": its vertex arrays do not match in length"));
+    if (mesh.vertices.size() + vertices > size_t(std::numeric_limits<int>::max()))
+      throw UserError(concat(what, ": more vertices than the renderer indexes"));
+    for (const std::uint32_t c : part.corners)
+      if (c >= vertices)
+        throw UserError(concat(what, ": a triangle indexes vertex ", c, " of ", vertices));
+    const FileMaterial& material = out.materials[part.material];
     // Coordinates are kept wherever the part has them (a scene file may give
     // its own texture); the file's texture needs them.
-    const bool textured = part->HasTextureCoords(material.uvSet);
+    const bool textured = !part.uvs.empty();
     if (material.texture && !textured) ++out.texturedPartsWithoutUvs;
     const int offset = static_cast<int>(mesh.vertices.size());
-    for (unsigned v = 0; v < part->mNumVertices; ++v) {
-      const aiVector3D p = transform * part->mVertices[v];
-      mesh.vertices.emplace_back(p.x, p.y, p.z);
-    }
-    const bool hasNormals = normals && part->HasNormals();
+    for (size_t v = 0; v < vertices; ++v)
+      mesh.vertices.emplace_back(part.positions[3 * v], part.positions[3 * v + 1],
+                                 part.positions[3 * v + 2]);
+    const bool hasNormals = normals && !part.normals.empty();
     if (normals && !hasNormals) ++out.partsWithoutNormals;
-    for (unsigned t = 0; t < part->mNumFaces; ++t) {
-      const aiFace& face = part->mFaces[t];
-      if (face.mNumIndices != 3) continue;  // points and lines left by triangulation
-      const unsigned* corner = face.mIndices;
-      mesh.triangles.emplace_back(offset + corner[0], offset + corner[1], offset + corner[2]);
-      out.groupOfTriangle.emplace_back(part->mMaterialIndex, textured);
+    for (size_t t = 0; t < part.corners.size(); t += 3) {
+      const std::uint32_t* corner = &part.corners[t];
+      mesh.triangles.emplace_back(offset + int(corner[0]), offset + int(corner[1]),
+                                  offset + int(corner[2]));
+      out.groupOfTriangle.emplace_back(part.material, textured);
       for (int k = 0; k < 3; ++k) {
-        const aiVector3D uv =
-            textured ? part->mTextureCoords[material.uvSet][corner[k]] : aiVector3D(0, 0, 0);
-        mesh.uvs.emplace_back(uv.x, uv.y);
+        const size_t v = corner[k];
+        mesh.uvs.emplace_back(textured ? part.uvs[2 * v] : 0.0f,
+                              textured ? part.uvs[2 * v + 1] : 0.0f);
         if (!normals) continue;
-        const aiVector3D n =
-            hasNormals ? normalTransform * part->mNormals[corner[k]] : aiVector3D(0, 0, 0);
-        mesh.normals.emplace_back(n.x, n.y, n.z);
+        mesh.normals.push_back(hasNormals
+                                   ? Eigen::Vector3f(part.normals[3 * v], part.normals[3 * v + 1],
+                                                     part.normals[3 * v + 2])
+                                   : Eigen::Vector3f::Zero());
       }
     }
   }
-  for (unsigned c = 0; c < node->mNumChildren; ++c)
-    collect(ai, node->mChildren[c], transform, normals, out);
 }
 
 /// Zero or non-finite normals in the file (degenerate faces) take the smooth
@@ -208,17 +188,14 @@ TriangleMesh groupMesh(const Gathered& g, std::pair<unsigned, bool> group) {
 std::vector<TriangleMesh> loadMeshFile(const std::string& path, NormalMode normals,
                                        double creaseDegrees) {
   if (!fs::is_regular_file(path)) throw UserError(concat(path, ": mesh file not found"));
-  Assimp::Importer importer;
-  // No vertex joining or normal generation: the file's normals or our own.
-  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType);
-  if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
-    throw UserError(concat(path, ": cannot read the mesh: ", importer.GetErrorString()));
+  const ImportedModel model = importModelIsolated(path);
   Gathered gathered;
-  MaterialReader reader(ai, path);
-  for (unsigned m = 0; m < ai->mNumMaterials; ++m) gathered.materials.push_back(reader.read(m));
+  MaterialReader reader(path);
+  for (unsigned m = 0; m < model.materials.size(); ++m)
+    gathered.materials.push_back(reader.read(model.materials[m], m));
   if (gathered.materials.empty()) gathered.materials.emplace_back();  // formats without any
   try {
-    collect(ai, ai->mRootNode, aiMatrix4x4(), normals == NormalMode::File, gathered);
+    gather(model, normals == NormalMode::File, gathered);
   } catch (const UserError& e) {
     throw UserError(concat(path, ": ", e.what()));
   }

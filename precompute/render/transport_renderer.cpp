@@ -11,6 +11,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -383,10 +384,37 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
 
 }  // namespace
 
+ResourceNeed precomputeNeed(const Scene& scene, const std::string& outPath,
+                            const PrecomputeOptions& o) {
+  const long long pixels =
+      static_cast<long long>(scene.camera.size.width) * scene.camera.size.height;
+  const long long directions = 6LL * o.cubemapResolution * o.cubemapResolution;
+  const int rowsPerPixel = o.bounces > 0 ? 3 : 1;  // coloured bounced light: R, G and B rows
+  ResourceNeed need;
+  need.what =
+      concat("a ", scene.camera.size.width, "x", scene.camera.size.height, " transport of 6x",
+             o.cubemapResolution, "x", o.cubemapResolution, " directions");
+  need.diskBytes = pixels * rowsPerPixel * directions * (o.precision == Precision::F16 ? 2 : 4);
+  need.largestFile = need.diskBytes;
+  const std::filesystem::path out(outPath);
+  need.diskDirectory = out.has_parent_path() ? out.parent_path().string() : ".";
+  need.diskAdvice =
+      "the streamed build (adaptive-cpca build) renders and compresses tile by tile with no "
+      "transport on disk; or render a smaller image, fewer bounces or f16 values";
+  need.memoryAdvice = "render a smaller image or fewer samples per pixel";
+  // The G-buffer's samples, each row's pixel, albedo and coverage, and the
+  // scene with its BVH (about 100 bytes a triangle).
+  need.memoryBytes =
+      pixels * (o.samplesPerPixel * static_cast<long long>(sizeof(PixelSample)) + 32) +
+      scene.triangleCount() * 100;
+  return need;
+}
+
 PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPath,
                                     const PrecomputeOptions& options) {
   validateOptions(options);
   refuseOutputOverInputs(outPath, scene.files);
+  requireResources(precomputeNeed(scene, outPath, options), options.force);
   const Stopwatch watch;
   const int threads = arenaThreads(options.threads);
   tbb::task_arena arena(threads);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/resources.h"
 #include "precompute/render/scene.h"
 #include "precompute/transport/transport_file.h"
 
@@ -54,6 +55,8 @@ struct PrecomputeOptions {
   /// The same for the indirect cache: its pre-pass (image rows done, in total),
   /// then its visibility (points done, in total).
   std::function<void(long long, long long)> cacheProgress, cacheFillProgress;
+  /// Start even when the disk or memory looks too small (precomputeNeed).
+  bool force = false;
 };
 
 struct PrecomputeStats {
@@ -75,6 +78,11 @@ struct PrecomputeStats {
     return transportSeconds > 0 ? occlusionRays / transportSeconds : 0;
   }
 };
+
+/// What precompute needs at most: every pixel a row (three with bounced
+/// light) on disk, and its camera samples, row headers and scene in memory.
+ResourceNeed precomputeNeed(const Scene& scene, const std::string& outPath,
+                            const PrecomputeOptions& options);
 
 /// Validates the options (UserError on bad values) and writes the transport file
 /// atomically: on any failure no file appears at outPath.

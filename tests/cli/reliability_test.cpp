@@ -253,9 +253,9 @@ TEST(Signals, CompressRelightAndTheStudiesStopCleanly) {
 TEST(Signals, AnInterruptedBuildKeepsItsTilesSaysSoAndResumes) {
   TempDir dir;
   const std::string out = dir.file("m.h5");
-  const std::vector<std::string> args{"build", "--scene", "plant",  "--size", "160x160",
-                                      "--spp", "1",       "--tile", "32",     "--tiles-in-flight",
-                                      "1",     "--quiet", "--out",  out};
+  const std::vector<std::string> args{
+      "build", "--scene", "plant", "--size", "128x128", "--spp", "1", "--cubemap", "16",
+      "--sample-rows", "2000", "--block", "32", "--tiles-in-flight", "1", "--quiet", "--out", out};
   const fs::path tiles = out + ".tiles";
   const Stopped s = stopWhen(
       args,
@@ -296,6 +296,81 @@ TEST(Signals, AKilledRunsLeftoverIsRemovedAndReported) {
   EXPECT_FALSE(fs::exists(stale));
   EXPECT_NE(r.output.find("removed " + stale), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(live));
+}
+
+TEST(Resources, AnImpossibleSizeIsRefusedBeforeAnyWorkWithBothFigures) {
+  TempDir dir;
+  const std::string out = dir.file("t.h5");
+  const auto start = Clock::now();
+  const RunResult r = runCli("precompute --scene plant --size 16384x16384 --out " + out);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 10.0);
+  EXPECT_NE(r.output.find("needs up to 3.00 TiB on disk"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" free"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("adaptive-cpca build"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("internal"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(dir.path())) << "nothing written";
+  // build keeps no transport, but holds the image's camera samples.
+  const RunResult b = runCli("build --scene plant --size 16384x16384 --out " + out);
+  EXPECT_EQ(b.status, 1) << b.output;
+  EXPECT_NE(b.output.find("of memory"), std::string::npos) << b.output;
+  EXPECT_TRUE(fs::is_empty(dir.path())) << "nothing written";
+}
+
+TEST(Resources, FileSizeAndMemoryLimitsAreHonouredAndForceGoesPastThem) {
+  TempDir dir;
+  const std::string out = dir.file("t.h5");
+  // ulimit -f counts blocks (512 bytes in dash, 1 KiB in bash): 1-2 MiB for
+  // a transport of up to 192 MiB.
+  const RunResult small =
+      runCli("precompute --scene plant --size 128x128 --cubemap 32 --spp 1 --quiet --out " + out,
+             "ulimit -f 2048;");
+  EXPECT_EQ(small.status, 1) << small.output;
+  EXPECT_NE(small.output.find("MiB (ulimit -f)"), std::string::npos) << small.output;
+  // Forced, the write fails at the limit (EFBIG, not SIGXFSZ): an error
+  // naming the output, and no partial file.
+  const RunResult forced = runCli(
+      "precompute --scene plant --size 128x128 --cubemap 32 --spp 1 --quiet --force --out " + out,
+      "ulimit -f 2048;");
+  EXPECT_EQ(forced.status, 1) << forced.output;
+  EXPECT_NE(forced.output.find(out), std::string::npos) << forced.output;
+  EXPECT_TRUE(fs::is_empty(dir.path())) << "nothing half-written";
+  // ulimit -v: the camera samples of 2048x2048 pixels need about 1.1 GiB.
+  const RunResult memory =
+      runCli("precompute --scene plant --size 2048x2048 --cubemap 4 --quiet --out " + out,
+             "ulimit -v 1200000;");
+  EXPECT_EQ(memory.status, 1) << memory.output;
+  EXPECT_NE(memory.output.find("of memory, and"), std::string::npos) << memory.output;
+  // Frames larger than a file may be: refused before the first.
+  const std::string t = dir.file("small.h5");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + t).status, 0);
+  const RunResult frames =
+      runCli("relight " + t + " --env sky --rotate 0:90:45 --exr-float --quiet --out " +
+                 dir.file("frames"),
+             "ulimit -f 8;");
+  EXPECT_EQ(frames.status, 1) << frames.output;
+  EXPECT_NE(frames.output.find("ulimit -f"), std::string::npos) << frames.output;
+  EXPECT_FALSE(fs::exists(dir.file("frames")));
+}
+
+TEST(ConcurrentWriters, AReaderSeesTheOldFileOrTheNewOneWholeNeverAMix) {
+  TempDir dir;
+  const std::string out = dir.file("t.h5");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + out).status, 0);
+  // Two writers replace it at once while a reader keeps opening it.
+  const std::string writer =
+      std::string(ACPCA_CLI_PATH) +
+      " precompute --scene plant --size 96x64 --cubemap 8 --spp 1 --quiet --out " + out;
+  const RunResult writers =
+      runShell(writer + " & " + writer + " & " + "ok=0; for i in $(seq 1 40); do " +
+               ACPCA_CLI_PATH + " info " + out +
+               "  --json - | grep -E '\"width\": (40|96),?$' >/dev/null "
+               "|| { echo \"read failed at $i\"; ok=1; }; done; wait; exit $ok");
+  EXPECT_EQ(writers.status, 0) << writers.output;
+  const RunResult info = runCli("info " + out + " --json -");
+  ASSERT_EQ(info.status, 0) << info.output;
+  EXPECT_NE(info.output.find("\"width\": 96"), std::string::npos) << info.output;
+  EXPECT_EQ(partialFiles(dir.path()), std::vector<std::string>{});
 }
 
 }  // namespace
