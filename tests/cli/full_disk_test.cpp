@@ -38,11 +38,14 @@ TEST(FullDisk, EveryWriterFailsCleanlyAndLeavesNothing) {
       runCli("compress " + transport + " --method adaptive-quad --quiet --out " + in.file("m.h5"))
           .status,
       0);
+  // --force: past the estimate that refuses before any work (reliability_test),
+  // so that the writes themselves meet the full disk.
   const std::vector<std::string> commands{
-      "precompute --scene plant --size 48x48 --cubemap 8 --quiet --out " + out.file("t.h5"),
+      "precompute --scene plant --size 48x48 --cubemap 8 --quiet --force --out " + out.file("t.h5"),
       "compress " + transport + " --method global --quiet --out " + out.file("m.h5"),
       "relight " + in.file("m.h5") +
-          " --env sky --env constant:1 --rotate 0:360:30 --quiet --out " + out.file("frames"),
+          " --env sky --env constant:1 --rotate 0:360:30 --quiet --force --out " +
+          out.file("frames"),
   };
   for (const auto& command : commands) {
     const RunResult r = runCliOnFullDisk(command, 4);
