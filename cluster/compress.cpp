@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/resources.h"
 #include "core/stopwatch.h"
 
 namespace acpca {
@@ -80,6 +81,18 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
              " directions the sample sees, ", basis.sampleEnergyKept, " of the sample's energy (",
              basis.heldOutEnergyKept, " on held-out rows)"));
+  {
+    // Every row's N coefficients in float, the array everything after works
+    // on: the peak is this and the clustering's copies beside it.
+    ResourceNeed need;
+    need.what = concat("compressing ", transport.rows(), " rows onto N = ", basis.globalBases(),
+                       " global bases");
+    need.memoryBytes = transport.rows() * static_cast<long long>(basis.globalBases()) * 4;
+    need.memoryAdvice =
+        "keep less global energy (fewer bases), or render the image in tiles with the streamed "
+        "build, which holds a few tiles at a time";
+    requireResources(need, o.force);
+  }
   const GlobalProjection projection = projectOntoBasis(transport, basis);
   log("projected every row onto the global basis");
 

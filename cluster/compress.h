@@ -35,6 +35,8 @@ struct CompressOptions {
   std::uint64_t seed = 1;
   /// Stage messages ("global basis: N = 812") for progress output.
   std::function<void(const std::string&)> log;
+  /// Go on even when the projection looks too large for the memory available.
+  bool force = false;
 };
 
 /// The block side `options` means for its method (resolving block = 0).

@@ -74,7 +74,7 @@ py::dict precompute(const std::string& scene, const std::string& out,
 py::dict compress(const std::string& transport, const std::string& out, const std::string& method,
                   double tolerance, double globalEnergy, int clusters, int block,
                   bool exactQuadTree, bool allocateRanks, const std::string& coeffs,
-                  const std::string& bases, int sampleRows, std::uint64_t seed,
+                  const std::string& bases, int sampleRows, std::uint64_t seed, bool force,
                   const py::object& progress) {
   CompressOptions o;
   o.method = parseMethod(method);
@@ -88,6 +88,7 @@ py::dict compress(const std::string& transport, const std::string& out, const st
   o.bases = parseBasisPrecision(bases);
   o.sampleRows = sampleRows;
   o.seed = seed;
+  o.force = force;
   Model model;
   openingFile(transport, [&] {
     refuseOutputOverInputs(out, {transport});
@@ -135,7 +136,7 @@ void registerLongCalls(py::module_& m) {
         py::arg("global_energy") = 0.999, py::arg("clusters") = 10, py::arg("block") = 0,
         py::arg("exact_quad_tree") = false, py::arg("allocate_ranks") = false,
         py::arg("coeffs") = "f32", py::arg("bases") = "f32", py::arg("sample_rows") = 16384,
-        py::arg("seed") = 1, py::arg("progress") = py::none(),
+        py::arg("seed") = 1, py::arg("force") = false, py::arg("progress") = py::none(),
         "Compress a transport into a model file, as `adaptive-cpca compress`; progress(message) "
         "is called at each stage, where Ctrl-C stops it (nothing is written).");
 }

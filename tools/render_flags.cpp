@@ -73,9 +73,11 @@ void CompressFlags::add(CLI::App& app, bool streamed) {
   app.add_option("--block", block, "block: side (default 8); adaptive-quad: root side (64)");
   app.add_flag("--exact-tree", exactQuadTree,
                "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
-  if (!streamed)
+  if (!streamed) {
     app.add_flag("--allocate-ranks", allocateRanks,
                  "Spend one error budget, (1 - tolerance) of all energy, where it buys the most");
+    app.add_flag("--force", force, "Go on even when the projection looks too large for memory");
+  }
   app.add_option("--coeffs", coeffs, "Coefficient storage: f32, f16 or i8");
   app.add_option("--bases", bases,
                  "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
@@ -100,6 +102,7 @@ CompressOptions CompressFlags::options() const {
   o.sampleRows = sampleRows;
   o.clusteringDims = clusteringDims;
   o.seed = seed;
+  o.force = force;
   return o;
 }
 

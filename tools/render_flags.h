@@ -29,7 +29,7 @@ struct CompressFlags {
   double tolerance = 0.999, globalEnergy = 0.999;
   int clusters = 10, block = 0, sampleRows = 16384, clusteringDims = kDefaultClusteringDims;
   unsigned long long seed = 1;
-  bool exactQuadTree = false, allocateRanks = false;
+  bool exactQuadTree = false, allocateRanks = false, force = false;
 
   /// streamed: build's subset (adaptive-quad by default; no CPCA options).
   void add(CLI::App& app, bool streamed);

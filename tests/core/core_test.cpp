@@ -2,7 +2,10 @@
 // errors, the ordered pipeline, statistics and atomic text files.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 
@@ -12,7 +15,10 @@
 #include "core/enum_names.h"
 #include "core/error.h"
 #include "core/huge_pages.h"
+#include "core/input_guard.h"
+#include "core/interrupt_cleanup.h"
 #include "core/ordered_pipeline.h"
+#include "core/resources.h"
 #include "core/statistics.h"
 #include "core/table.h"
 #include "core/text.h"
@@ -20,6 +26,117 @@
 
 namespace acpca {
 namespace {
+
+/// Sets a soft resource limit while it lives.
+class SoftLimit {
+ public:
+  SoftLimit(int resource, rlim_t value) : resource_(resource) {
+    getrlimit(resource_, &saved_);
+    rlimit limit = saved_;
+    limit.rlim_cur = value;
+    setrlimit(resource_, &limit);
+  }
+  ~SoftLimit() { setrlimit(resource_, &saved_); }
+
+ private:
+  int resource_;
+  rlimit saved_{};
+};
+
+std::string refusal(const ResourceNeed& need) {
+  try {
+    requireResources(need, false);
+  } catch (const UserError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Resources, NeedsBeyondTheDiskTheFileLimitOrTheMemoryAreRefusedWithBothFigures) {
+  test::TempDir dir;
+  ResourceNeed need;
+  need.what = "the test's output";
+  need.diskDirectory = dir.path().string();
+  need.diskAdvice = "write less";
+  EXPECT_EQ(refusal(need), "") << "needing nothing always fits";
+  need.diskBytes = 1LL << 50;  // a pebibyte
+  const std::string disk = refusal(need);
+  EXPECT_NE(disk.find("needs up to 1024.00 TiB on disk"), std::string::npos) << disk;
+  EXPECT_NE(disk.find(" free; write less (--force skips this check)"), std::string::npos) << disk;
+  EXPECT_NO_THROW(requireResources(need, true)) << "force goes past";
+  need.diskBytes = 3 << 20;
+  {
+    const SoftLimit files(RLIMIT_FSIZE, 1 << 20);
+    EXPECT_EQ(fileSizeLimit(), 1 << 20);
+    const std::string file = refusal(need);
+    EXPECT_NE(file.find("files of up to 3.00 MiB"), std::string::npos) << file;
+    EXPECT_NE(file.find("at most 1.00 MiB (ulimit -f)"), std::string::npos) << file;
+  }
+  EXPECT_EQ(refusal(need), "") << "3 MiB fits once the limit is gone";
+  need.diskBytes = 0;
+  need.memoryBytes = 1LL << 60;
+  need.memoryAdvice = "hold less";
+  const std::string memory = refusal(need);
+  EXPECT_NE(memory.find("of memory, and"), std::string::npos) << memory;
+  EXPECT_NE(memory.find("are available; hold less"), std::string::npos) << memory;
+  EXPECT_GT(freeDiskBytes(dir.path().string()), 0);
+}
+
+TEST(Resources, AnAddressSpaceLimitBoundsTheMemoryAvailable) {
+  std::ifstream statm("/proc/self/statm");
+  long long pages = 0;
+  statm >> pages;
+  const long long mapped = pages * sysconf(_SC_PAGESIZE);
+  const long long before = availableMemoryBytes();
+  {
+    const SoftLimit addressSpace(RLIMIT_AS, static_cast<rlim_t>(mapped + (256LL << 20)));
+    const long long within = availableMemoryBytes();
+    EXPECT_LE(within, 256LL << 20);
+    EXPECT_GT(within, 128LL << 20) << "what is left under the limit, not zero";
+  }
+  EXPECT_EQ(availableMemoryBytes() > (256LL << 20), before > (256LL << 20));
+}
+
+TEST(InputGuard, TheSameFileByAnyNameIsRefusedAndADirectoryHoldingItToo) {
+  test::TempDir dir;
+  namespace fs = std::filesystem;
+  const std::string input = dir.file("in.h5");
+  std::ofstream(input) << "data";
+  fs::create_hard_link(input, dir.file("hard.h5"));
+  fs::create_symlink(input, dir.file("soft.h5"));
+  fs::create_directories(dir.file("sub/deeper"));
+  const auto refused = [&](const std::string& out) {
+    try {
+      refuseOutputOverInputs(out, {"sky", input});
+    } catch (const UserError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused(input).find("is the input"), std::string::npos);
+  EXPECT_NE(refused(dir.file("sub/../in.h5")).find("is the input"), std::string::npos);
+  EXPECT_NE(refused(dir.file("hard.h5")).find("is a hard link of the input"), std::string::npos);
+  EXPECT_NE(refused(dir.file("soft.h5")).find("is a symbolic link to the input"),
+            std::string::npos);
+  EXPECT_EQ(refused(dir.file("new.h5")), "") << "a file not there yet replaces nothing";
+  EXPECT_THROW(refuseDirectoryOverInputs(dir.path().string(), {input}), UserError);
+  EXPECT_THROW(refuseDirectoryOverInputs(dir.path().string(), {dir.file("sub/deeper")}), UserError);
+  EXPECT_NO_THROW(refuseDirectoryOverInputs(dir.file("sub"), {input}));
+  EXPECT_NO_THROW(refuseDirectoryOverInputs(dir.file("elsewhere"), {input}));
+}
+
+TEST(InterruptCleanup, AtomicOutputsAreRegisteredWhileTheyAreWritten) {
+  test::TempDir dir;
+  const int before = interrupt::registeredTemporaries();
+  {
+    AtomicOutput a(dir.file("a.txt")), b(dir.file("b.txt"));
+    EXPECT_EQ(interrupt::registeredTemporaries(), before + 2);
+    std::ofstream(a.tempPath()) << "a";
+    a.commit();
+    EXPECT_EQ(interrupt::registeredTemporaries(), before + 1) << "committed: no longer removed";
+  }
+  EXPECT_EQ(interrupt::registeredTemporaries(), before) << "abandoned: removed and released";
+}
 
 TEST(Table, CsvAndJsonHoldTheSameRows) {
   Table t({"name", "value", "count"});
