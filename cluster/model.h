@@ -55,8 +55,7 @@ struct Model {
   // Figures recorded when compressing.
   double transportError = 0;    ///< relative Frobenius error against T
   double globalEnergyKept = 0;  ///< fraction of T's energy in the global basis
-  double compressSeconds = 0;
-  long long peakMemoryBytes = 0;
+  double compressSeconds = 0;   ///< reported (--json, the log), never stored in the file
 
   int clusters() const { return static_cast<int>(ranks.size()); }
   int globalBases() const { return static_cast<int>(globalBasis.cols()); }

@@ -241,8 +241,6 @@ void ModelFileWriter::finish(const Model& summary, const std::map<std::string, d
   h5::writeAttribute(f, "cost_per_pixel", rows_ ? totalCost_ / rows_ : 0.0, ctx);
   h5::writeAttribute(f, "transport_error", summary.transportError, ctx);
   h5::writeAttribute(f, "global_energy_kept", summary.globalEnergyKept, ctx);
-  h5::writeAttribute(f, "compress_seconds", summary.compressSeconds, ctx);
-  h5::writeAttribute(f, "peak_memory_bytes", summary.peakMemoryBytes, ctx);
   for (const auto& [name, value] : extra) h5::writeAttribute(f, name, value, ctx);
   h5::writeAttribute(f, "complete", 1LL, ctx);  // last: marks the file whole
   for (auto* set : {&d.rows, &d.rowOffsets, &d.ranks, &d.basisOffsets, &d.bases, &d.means,
@@ -280,8 +278,12 @@ Model readModel(const std::string& path) {
   const hid_t f = file.get();
   if (!h5::hasAttribute(f, "format") || h5::readStringAttribute(f, "format", ctx) != kModelFormat)
     throw UserError(concat(ctx, ": not an adaptive-cpca model file"));
-  if (h5::readIntAttribute(f, "version", ctx) != kModelVersion)
-    throw UserError(concat(ctx, ": unsupported model version"));
+  const long long version = h5::readIntAttribute(f, "version", ctx);
+  if (version < kOldestModelVersion || version > kModelVersion)
+    throw UserError(concat(ctx, ": model format version ", version, "; this build reads ",
+                           kOldestModelVersion, " to ", kModelVersion,
+                           version < kOldestModelVersion ? ": compress (or build) it again"
+                                                         : ": written by a newer adaptive-cpca"));
   if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
     throw UserError(concat(ctx, ": the model file is incomplete"));
   Model m;
@@ -308,8 +310,6 @@ Model readModel(const std::string& path) {
   m.basisPrecision = h5::hasAttribute(f, "bases") ? storage("bases", false) : CoeffPrecision::F32;
   m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
   m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
-  m.compressSeconds = h5::readDoubleAttribute(f, "compress_seconds", ctx);
-  m.peakMemoryBytes = h5::readIntAttribute(f, "peak_memory_bytes", ctx);
 
   if (h5::datasetShape(f, "global_basis", ctx) != std::vector<hsize_t>{hsize_t(l), hsize_t(n)})
     throw UserError(concat(ctx, ": dataset 'global_basis' has the wrong shape"));

@@ -11,7 +11,11 @@
 namespace acpca {
 
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
-inline constexpr int kModelVersion = 2;  // 2: one i8 scale per cluster basis
+/// 2: one i8 scale per cluster basis; 3: no timing or memory figures (equal
+/// inputs give equal bytes). Version 2 files are read as well (their
+/// compress_seconds and peak_memory_bytes are ignored).
+inline constexpr int kModelVersion = 3;
+inline constexpr int kOldestModelVersion = 2;
 
 /// What a file written by ModelFileWriter holds: a whole model, or only
 /// clusters (a streamed build keeps each finished tile so until it assembles

@@ -375,7 +375,6 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       sum.energy > 0 ? std::sqrt(std::max(0.0, sum.errorEnergy) / sum.energy) : 0;
   summary.globalEnergyKept = sum.energy > 0 ? 1 - sum.globalResidual / sum.energy : 1;
   summary.compressSeconds = watch.seconds();
-  summary.peakMemoryBytes = o.peakMemory ? o.peakMemory() : 0;
   stats.clusters = writer.clustersWritten();
   stats.costPerPixel = writer.totalCost() / std::max(1LL, stats.rows);
   writer.finish(summary);

@@ -47,8 +47,6 @@ struct BuildOptions {
   std::function<void(long long, long long)> progress;
   /// Stage messages.
   std::function<void(const std::string&)> log;
-  /// The process's peak memory so far, recorded in the model (none: 0).
-  std::function<long long()> peakMemory;
 };
 
 struct BuildStats {

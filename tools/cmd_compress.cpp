@@ -26,15 +26,14 @@ void run(const CompressArgs& a) {
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   Model model = compressTransport(transport, o);
-  model.peakMemoryBytes = peakMemoryBytes();
   writeModel(model, a.out);
+  const long long peak = peakMemoryBytes();
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << ": " << model.method << ", " << model.clusters()
               << " clusters, N = " << model.globalBases() << ", cost " << model.totalCost() << " ("
               << model.costPerPixel() << " per pixel), transport error " << model.transportError
               << ", " << formatBytes(model.frameBytes()) << " read per frame, "
-              << model.compressSeconds << " s, peak memory " << formatBytes(model.peakMemoryBytes)
-              << "\n";
+              << model.compressSeconds << " s, peak memory " << formatBytes(peak) << "\n";
   writeJson(a.common.jsonPath, {{"out", a.out},
                                 {"method", model.method},
                                 {"clusters", model.clusters()},
@@ -46,7 +45,7 @@ void run(const CompressArgs& a) {
                                 {"bytes_per_frame", model.frameBytes()},
                                 {"rank_histogram", rankHistogramJson(model)},
                                 {"seconds", model.compressSeconds},
-                                {"peak_memory_bytes", model.peakMemoryBytes}});
+                                {"peak_memory_bytes", peak}});
 }
 
 }  // namespace
