@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/version.h"
 #include "core/warning.h"
 #include "python/long_calls.h"
 #include "python/opening_file.h"
@@ -312,6 +313,7 @@ py::array_t<float> readImage(const std::string& path) {
 PYBIND11_MODULE(adaptive_cpca, m) {
   using namespace acpca;
   using namespace acpca::python;
+  m.attr("__version__") = kVersion;
   m.doc() =
       "Relight fixed-view images from adaptive-cpca transport and model files, into numpy "
       "arrays (H x W x 3 float32, linear).";

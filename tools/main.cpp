@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/interrupt_cleanup.h"
 #include "core/ranks.h"
+#include "core/version.h"
 #include "core/warning.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
   const std::string rank = acpca::ranks::prefix();
   CLI::App app{"adaptive-cpca: relight fixed-view images under all-frequency environment lighting"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "adaptive-cpca 0.1.0");
+  app.set_version_flag("--version", std::string("adaptive-cpca ") + acpca::kVersion);
   acpca::cli::registerPrecompute(app);
   acpca::cli::registerCompress(app);
   acpca::cli::registerBuild(app);

@@ -218,6 +218,32 @@ def test_an_output_that_is_the_input_is_refused(tmp_path):
         assert out.read_bytes() == kept
 
 
+def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path, model):
+    h5py = pytest.importorskip("h5py")
+    current = ac.Relighter(model).relight(ac.Environment("sky"))
+    with h5py.File(model, "r") as f:
+        assert f.attrs["version"] == 3
+        assert "compress_seconds" not in f.attrs and "peak_memory_bytes" not in f.attrs
+    # Version 2 held the compress's time and peak memory: read, those ignored.
+    old = tmp_path / "v2.h5"
+    old.write_bytes(open(model, "rb").read())
+    with h5py.File(old, "r+") as f:
+        f.attrs["version"] = 2
+        f.attrs["compress_seconds"] = 12.5
+        f.attrs["peak_memory_bytes"] = 1 << 30
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    with h5py.File(old, "r+") as f:
+        f.attrs["version"] = 1
+    with pytest.raises(ac.Error, match="version 1.*compress"):
+        ac.Relighter(str(old))
+
+
+def test_the_version_is_the_clis():
+    r = subprocess.run([CLI, "--version"], capture_output=True, text=True, check=True)
+    assert r.stdout.split() == ["adaptive-cpca", ac.__version__]
+    assert ac.__version__.count(".") == 2
+
+
 def test_the_gil_is_released_while_relighting():
     # With a switch interval far longer than the test, this thread gives the
     # GIL up only where the module releases it (or it blocks); the counting
