@@ -1,4 +1,4 @@
-// Paper 003 sec. 5.2: adaptive binary CPCA.
+// [Mahajan07] sec. 5.2: adaptive binary CPCA.
 #include <tbb/parallel_invoke.h>
 
 #include <numeric>

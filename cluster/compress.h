@@ -1,5 +1,5 @@
 #pragma once
-// compress: transport file -> model, by one of the methods of design.md section 5.
+// compress: transport file -> model, by one of the methods of docs/design.md section 5.
 #include <functional>
 #include <string>
 

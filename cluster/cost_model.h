@@ -1,5 +1,5 @@
 #pragma once
-// The rendering-cost model of paper 003 (sec. 4): a cluster of p pixels with n
+// The rendering-cost model of [Mahajan07] (sec. 4): a cluster of p pixels with n
 // local bases over N global bases costs n (p + N) multiply-adds per frame
 // (eq. 17/19) and stores as many values. A per-cluster mean counts as one more
 // basis.

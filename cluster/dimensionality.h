@@ -1,5 +1,5 @@
 #pragma once
-// The paper's dimensionality analysis (paper 003 sec. 3, Fig. 5/7): how many
+// The paper's dimensionality analysis ([Mahajan07] sec. 3, Fig. 5/7): how many
 // eigenvectors a square patch of the image needs as the patch grows, and the
 // power law n ~ A^s fitted to it, from which mu = r^-s (sec. 5.1) and the
 // optimal patch size p* (eq. 27) follow.

@@ -1,5 +1,5 @@
 #pragma once
-// The global basis (paper 003 sec. 4.1, 5.1): PCA of a random sample of the
+// The global basis ([Mahajan07] sec. 4.1, 5.1): PCA of a random sample of the
 // transport rows, truncated to a target energy, and the projection of every row
 // onto it, G = T V_g, streamed from the file (the whole T never sits in memory).
 #include <Eigen/Core>

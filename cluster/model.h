@@ -1,5 +1,5 @@
 #pragma once
-// The compressed model every method produces (design.md section 5.6): the
+// The compressed model every method produces (docs/design.md section 5.6): the
 // global basis V_g, per cluster its bases W_i (N x n_i) and optional mean, per
 // pixel its cluster and n_i coefficients, plus the image geometry. Relit value
 // of a row p in cluster i: albedo_p * (u_p . (W_i^T V_g^T L) + mu_i . V_g^T L).

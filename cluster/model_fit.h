@@ -1,7 +1,7 @@
 #pragma once
 // Fitting a model to a partition: per cluster PCA on the global coefficients G
 // to a tolerance (or ranks from one error budget), the coefficients stored as
-// asked, and the exact transport error (design.md section 5.6).
+// asked, and the exact transport error (docs/design.md section 5.6).
 #include "cluster/global_basis.h"
 #include "cluster/model.h"
 #include "cluster/partition.h"

@@ -1,6 +1,6 @@
 #pragma once
-// Ways of grouping transport rows into clusters (design.md section 5): fixed
-// image blocks, Sloan's CPCA, and paper 003's adaptive quad-tree (r = 4) and
+// Ways of grouping transport rows into clusters (docs/design.md section 5): fixed
+// image blocks, Sloan's CPCA, and [Mahajan07]'s adaptive quad-tree (r = 4) and
 // binary CPCA (r = 2) subdivisions driven by the cost metric.
 #include <algorithm>
 #include <cstdint>
@@ -23,7 +23,7 @@ struct ClusterInput {
   double tolerance = 0.999;  ///< fraction of each cluster's energy its bases keep
   bool mean = false;         ///< clusters keep a mean (costs one more basis)
   /// CPCA assigns rows on the leading this many global coefficients (0: all).
-  /// Paper 003 sec. 5.2 clusters on a reduced representation, the transport's
+  /// [Mahajan07] sec. 5.2 clusters on a reduced representation, the transport's
   /// globally strongest coefficients; the global coefficients are ordered by
   /// energy, so their head is that representation. Bases and ranks always use
   /// every coefficient.
@@ -52,7 +52,7 @@ struct QuadTreeOptions {
   int minBlock = 2;    ///< blocks are not split below this side
   bool exact = false;  ///< bottom-up optimum instead of the paper's greedy test
 };
-/// Paper 003 sec. 5.3: each block splits in four while its children's exact
+/// [Mahajan07] sec. 5.3: each block splits in four while its children's exact
 /// costs sum to less than its own (the greedy form of d > 0, eq. 23). With
 /// exact, the whole tree is evaluated and each node keeps the cheaper of itself
 /// and its children's best.
@@ -80,7 +80,7 @@ struct BinaryOptions {
   /// 0: N, where the p x p problem becomes the smaller one.
   long long exactTestRows = 0;
 };
-/// Paper 003 sec. 5.2: a few CPCA clusters, each split in two by CPCA (started
+/// [Mahajan07] sec. 5.2: a few CPCA clusters, each split in two by CPCA (started
 /// from the sign of the first principal coefficient) while the halves' costs
 /// sum to less than the whole's; recursively, the two halves in parallel.
 /// Large clusters are split and judged on the reduced representation, as the

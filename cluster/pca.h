@@ -1,6 +1,6 @@
 #pragma once
 // PCA of a set of rows to an energy tolerance: the building block of every
-// compression method (design.md section 5). Double precision throughout.
+// compression method (docs/design.md section 5). Double precision throughout.
 #include <Eigen/Core>
 
 namespace acpca {

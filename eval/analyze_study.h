@@ -1,5 +1,5 @@
 #pragma once
-// `analyze`: the paper's analyses on a transport file (paper 003 sec. 3-5):
+// `analyze`: the paper's analyses on a transport file ([Mahajan07] sec. 3-5):
 // dimensionality against patch area with log-log slopes, cost against block
 // size with the global basis count N, mu and the optimal patch size p* of
 // eq. 27 beside the measured optimum.

@@ -1,5 +1,5 @@
 #pragma once
-// Dimensionality against patch area for a few patch centres (paper 003 Fig. 7),
+// Dimensionality against patch area for a few patch centres ([Mahajan07] Fig. 7),
 // shared by `analyze` and `bench scaling`.
 #include <functional>
 #include <string>

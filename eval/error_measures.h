@@ -1,5 +1,5 @@
 #pragma once
-// Error measures over an evaluation set and equal-error comparison (design.md
+// Error measures over an evaluation set and equal-error comparison (docs/design.md
 // section 7). relativeL2 and median live in core/statistics.h.
 #include <string>
 #include <vector>

@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Cost or time at a target error along a method's settings: log-log between
-/// the two settings that bracket it (design.md section 7), or, when every
+/// the two settings that bracket it (docs/design.md section 7), or, when every
 /// setting that reaches it is beyond the sweep's range, at most the cheapest
 /// of those (a bound); NAN when no setting reaches it.
 struct AtError {
@@ -201,7 +201,8 @@ void writeEvalReport(const EvalReport& report, const std::string& dir) {
       md << ".\n";
     }
   md << "\nThe 6x32x32 lattice itself differs from a full-resolution map by about 1-3% in the "
-        "relit image (design.md section 7), so compression error well below 1% buys little.\n";
+        "relit image (adaptive-cpca's docs/design.md, section 7), so compression error well below "
+        "1% buys little.\n";
   md << "\n## Plots\n\n";
   if (plotProblem.empty())
     md << "![error vs ms per frame](error_vs_ms.png)\n\n![error vs cost per "

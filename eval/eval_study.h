@@ -1,7 +1,7 @@
 #pragma once
-// `eval`: error against run time for every method (design.md section 7). The
+// `eval`: error against run time for every method (docs/design.md section 7). The
 // method sweep with timing, the dense relight, Ng 2003's Haar-wavelet baseline
-// and paper 004's spherical-harmonics fits, all judged against one dense
+// and [Lam06]'s spherical-harmonics fits, all judged against one dense
 // relight of the evaluation set; the report (CSV/JSON, images, plots and
 // summary.md) is written to a directory.
 #include <functional>

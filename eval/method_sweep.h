@@ -1,6 +1,6 @@
 #pragma once
 // Every compression method over a sweep of settings, each model relit under an
-// evaluation set and compared with the dense ground truth (design.md section
+// evaluation set and compared with the dense ground truth (docs/design.md section
 // 7). The global basis and projection are computed once per global energy and
 // shared by every method. `bench methods` compares costs at equal error from it
 // (method_comparison.h); `eval` adds timing, images, plots and the baselines.

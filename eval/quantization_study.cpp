@@ -215,7 +215,7 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   md << "); relative L2 aggregated as RMS over the maps. i8 quantizes each coefficient map "
         "(SH: the same coefficient of every pixel; models: each cluster's coefficients) "
         "uniformly to its largest magnitude / 127.\n\n"
-     << "## Spherical harmonics (paper 004, Table III)\n\n"
+     << "## Spherical harmonics (Lam, Leung and Wong 2006, Table III)\n\n"
      << "Rows grouped by normal on a 6x" << a.shGroups << "x" << a.shGroups
      << " cube; each group's Gram matrix over its support (hemisphere plus every lit texel). "
         "‖c‖/√E_c is the coefficient norm over the bound of eq. 17.\n\n"

@@ -170,7 +170,7 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
       dense.costPerPixel = sparse.keptFraction() * reader->latticeSize();  // in RGB triples
       out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n",
                        loadSeconds, 100 * sparse.keptFraction());
-      // Image error over the lightings as the evaluation defines it (design.md 7).
+      // Image error over the lightings as the evaluation defines it (docs/design.md 7).
       for (auto& m : models) {
         if (m.images.empty()) continue;  // another kernel level: same image, within rounding
         std::vector<double> errors;

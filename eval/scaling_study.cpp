@@ -175,7 +175,8 @@ StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) 
         "patch area (99.95% energy, five patch centres, areas "
      << kSlopeAreaMin << "-" << kSlopeAreaMax
      << "): doubling a patch's pixels splits it into two halves of mu n bases each, mu = 2^-s, "
-        "so 4x pixels should multiply the total cost by 4 mu^2 (paper 003 sec. 4.4, using the "
+        "so 4x pixels should multiply the total cost by 4 mu^2 (Mahajan et al. 2007 sec. 4.4, "
+        "using the "
         "coarser size's mu).\n\n"
      << "| size | occupied | N | clusters | total cost | cost/pixel | ms/frame | model MB | "
         "slope | mu | cost ratio / 4x | 4 mu^2 | same-patch n growth |\n"

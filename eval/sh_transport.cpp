@@ -87,7 +87,7 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
         }
       });
 
-  // Supports and Gram matrices A = Y_S^T W_S Y_S (paper 004 eq. 7-8).
+  // Supports and Gram matrices A = Y_S^T W_S Y_S ([Lam06] eq. 7-8).
   supports_.resize(groupCount);
   grams_.resize(groupCount);
   tbb::parallel_for(0, groupCount, [&](int g) {

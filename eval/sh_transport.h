@@ -80,7 +80,7 @@ class ShTransport {
   Eigen::MatrixXf lightingOnSupports_;  ///< per frame: maxCoefficients x (3 groups)
 };
 
-/// Stores SH coefficients as f16 or i8 and decodes them back, as paper 004
+/// Stores SH coefficients as f16 or i8 and decodes them back, as [Lam06]
 /// compresses them: the same coefficient of every row forms one map, and i8
 /// quantizes each map uniformly with its own scale (largest |value| / 127).
 void storeShCoefficients(ShCoefficients& c, CoeffPrecision storage);

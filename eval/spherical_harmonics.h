@@ -1,5 +1,5 @@
 #pragma once
-// Real spherical harmonics and the noise-resistant fits of paper 004 (Leung,
+// Real spherical harmonics and the noise-resistant fits of [Lam06] (Leung,
 // Wong et al.): a function known only on part of the sphere (a transport row
 // lives on its normal's hemisphere) fitted by least squares onto the first n
 // SH functions, plain (ULS), ridge-constrained (CLS) or truncated in the Gram

@@ -1,7 +1,7 @@
 #pragma once
 // Environment lighting: analytic maps (constant, sun, sky) and lat-long images,
 // integrated onto the cube lattice by area, never point-sampled, so that a small
-// sun keeps its energy at every resolution and rotation (design.md section 3).
+// sun keeps its energy at every resolution and rotation (docs/design.md section 3).
 #include <Eigen/Core>
 #include <functional>
 #include <memory>

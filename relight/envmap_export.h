@@ -6,7 +6,7 @@
 
 namespace acpca {
 
-/// Lat-long image (design.md section 3 mapping) of the lattice radiance,
+/// Lat-long image (docs/design.md section 3 mapping) of the lattice radiance,
 /// piecewise constant per texel: each texel's lighting spread over the pixels
 /// whose centres fall in it, so the image integrates to exactly the lattice's
 /// energy (what a renderer lit by it must see; a texel no pixel centre falls

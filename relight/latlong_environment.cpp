@@ -31,7 +31,7 @@ class LatLongEnvironment : public Environment {
 
   Rgb radiance(const Vec3& dir) const override {
     const Vec3 d = dir.normalized();
-    // design.md section 3: u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
+    // docs/design.md section 3: u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
     const double u = 0.5 + std::atan2(d.x(), -d.z()) / (2 * kPi);
     const double v = std::acos(std::clamp(d.y(), -1.0, 1.0)) / kPi;
     // Bilinear between pixel centres, wrapping in u and clamping in v.

@@ -9,7 +9,7 @@ namespace acpca {
 enum class RotationMode {
   /// Resample the source map under the rotation: energy kept at every angle.
   Exact,
-  /// Paper 000's fast path: rotate the lattice and look up the unrotated lattice
+  /// [Nowrouzezahrai07]'s fast path: rotate the lattice and look up the unrotated lattice
   /// bilinearly. Cheap, but loses or gains energy of small bright features.
   FastLattice,
 };

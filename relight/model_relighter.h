@@ -1,5 +1,5 @@
 #pragma once
-// The run-time hot path (design.md section 6, paper 003 eq. 17): per frame,
+// The run-time hot path (docs/design.md section 6, [Mahajan07] eq. 17): per frame,
 //   L_g = V_g^T L            (N x 3, over the directions some pixel sees)
 //   L_i = W_i^T L_g          (n_i x 3 per cluster, plus mu_i . L_g with a mean)
 //   b_p = albedo_p (u_p . L_i)
@@ -28,7 +28,7 @@ class ModelRelighter {
   /// rows per cluster); the model may be released afterwards.
   explicit ModelRelighter(const Model& model);
 
-  /// Uses only each cluster's first min(n_i, k) bases (paper 002's quality/speed
+  /// Uses only each cluster's first min(n_i, k) bases ([Lehtinen03]'s quality/speed
   /// trade: PCA bases come in order of importance). k < 0: all of them.
   void setMaxRank(int k);
   /// Uses the first ceil(fraction * n_i) bases of each cluster, fraction in [0, 1].

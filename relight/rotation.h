@@ -1,5 +1,5 @@
 #pragma once
-// Environment rotation of design.md section 3: R = Rz(roll) Rx(pitch) Ry(yaw),
+// Environment rotation of docs/design.md section 3: R = Rz(roll) Rx(pitch) Ry(yaw),
 // degrees, right-handed, about fixed world axes; a feature the map holds at d0
 // lights the scene from R d0, i.e. L_rotated(d) = L(R^T d).
 #include <Eigen/Core>

@@ -82,7 +82,7 @@ void registerEval(CLI::App& app) {
   sub->add_option("--sh-orders", o.shOrders,
                   "Spherical-harmonics coefficient counts (squares of 1..16)")
       ->delimiter(',');
-  sub->add_option("--sh-fits", args->shFits, "SH fits of paper 004: uls, cls, ceb")->delimiter(',');
+  sub->add_option("--sh-fits", args->shFits, "SH fits of [Lam06]: uls, cls, ceb")->delimiter(',');
   sub->add_option("--sh-groups", o.shGroups,
                   "Cube resolution the rows' normals are grouped on for the SH fits (1..64)")
       ->check(CLI::Range(1, 64));

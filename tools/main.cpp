@@ -1,4 +1,4 @@
-// adaptive-cpca: the batch command line (docs: ../shared/docs/cli.md, README).
+// adaptive-cpca: the batch command line (README.md).
 #include <sys/resource.h>
 
 #include <algorithm>

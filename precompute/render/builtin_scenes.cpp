@@ -1,4 +1,4 @@
-// The built-in scenes: the canonical cases of paper 003 (Fig. 7) and the plant of
+// The built-in scenes: the canonical cases of [Mahajan07] (Fig. 7) and the plant of
 // its Fig. 1, ready to precompute without any files.
 #include <cmath>
 #include <functional>

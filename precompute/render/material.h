@@ -1,5 +1,5 @@
 #pragma once
-// Materials separate into an RGB albedo times a scalar "shape" (design.md
+// Materials separate into an RGB albedo times a scalar "shape" (docs/design.md
 // section 3), so each occupied pixel has exactly one transport row.
 #include <Eigen/Core>
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The procedural potted plant (paper 003, Fig. 1): a terracotta pot and a bush of
+// The procedural potted plant ([Mahajan07], Fig. 1): a terracotta pot and a bush of
 // curved, tessellated leaves arranged by phyllotaxis on a central stem. Leaves are
 // large (tens of pixels at 256x256) so that neighbouring pixels see similar
 // shadows: sub-pixel detail would make transport incoherent between pixels.

@@ -1,6 +1,6 @@
 #pragma once
 // The precompute: fills the transport row of every occupied pixel with Embree
-// and streams it to a transport file (design.md section 4).
+// and streams it to a transport file (docs/design.md section 4).
 #include <functional>
 #include <memory>
 #include <string>
@@ -41,7 +41,7 @@ struct PrecomputeOptions {
   Precision precision = Precision::F16;
   int threads = 0;  ///< 0: all cores
   /// Light that bounces off scene surfaces before reaching a pixel: up to this
-  /// many bounces (0: direct light alone, the transport of design.md section 4).
+  /// many bounces (0: direct light alone, the transport of docs/design.md section 4).
   int bounces = 0;
   int indirectSamples = kDefaultIndirectSamples;  ///< paths per traced camera sample
   /// Path vertices look up the visibility of a point in the same cell of this

@@ -1,5 +1,5 @@
 #pragma once
-// Pinhole camera of design.md section 3: image row 0 is the top row, pixel
+// Pinhole camera of docs/design.md section 3: image row 0 is the top row, pixel
 // centres at (x + 0.5, y + 0.5), vertical field of view in degrees.
 #include "precompute/transport/cube_lattice.h"
 
@@ -17,7 +17,7 @@ constexpr int kMaxImageSide = 16384;
 /// Throws UserError naming `what` unless both sides are in 1..kMaxImageSide.
 void validateImageSize(const ImageSize& size, const std::string& what);
 
-/// Unit direction of lat-long angles (design.md section 3): theta from +Y, phi
+/// Unit direction of lat-long angles (docs/design.md section 3): theta from +Y, phi
 /// from -Z towards +X. Lighting, suns and framing cameras all use it.
 Vec3 directionFromAngles(double thetaRadians, double phiRadians);
 

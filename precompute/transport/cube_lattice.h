@@ -1,5 +1,5 @@
 #pragma once
-// The 6 x R x R cube-map lattice of lighting directions (design.md section 3).
+// The 6 x R x R cube-map lattice of lighting directions (docs/design.md section 3).
 // Face order +X, -X, +Y, -Y, +Z, -Z; within a face the OpenGL major-axis (s, t)
 // table, used literally; texel j = face*R*R + row*R + col.
 #include <Eigen/Core>

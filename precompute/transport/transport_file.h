@@ -1,6 +1,6 @@
 #pragma once
 // The transport file: an HDF5 file holding, for every occupied pixel, its row of
-// T over the cube lattice (design.md section 3), plus the image geometry, camera,
+// T over the cube lattice (docs/design.md section 3), plus the image geometry, camera,
 // per-pixel albedo, coverage and normal. Layout: docs/formats.md.
 #include <cstdint>
 #include <memory>

@@ -7,7 +7,7 @@ Run by scripts/cycles/compare.sh inside Blender:
       --scene S.json --width W --height H --env lattice.exr --ours ours.exr \
       --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV]
 
-The fairness rules of ../shared/docs/reference-renders.md: the same
+The fairness rules of the fair-comparison rules of docs/design.md section 7: the same
 geometry (our Y-up world is Blender's (x, -z, y)), a pinhole camera with our
 vertical field of view, the lattice's piecewise-constant radiance with
 Closest lookup, Diffuse and Glossy (GGX) BSDFs with our parameters instead of

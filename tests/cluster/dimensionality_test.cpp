@@ -39,7 +39,7 @@ TEST(PowerLawFit, MuAndOptimalPatchSizeFollowTheirDefinitions) {
   EXPECT_NEAR(muFromSlope(1.0, 4), 0.25, 1e-15);
   EXPECT_NEAR(muFromSlope(0.5, 4), 0.5, 1e-15);
   EXPECT_NEAR(muFromSlope(0.5, 2), std::sqrt(0.5), 1e-15);
-  // Paper 003 sec. 4.3: mu = 0.68, r = 2, N = 150 puts p* near N.
+  // [Mahajan07] sec. 4.3: mu = 0.68, r = 2, N = 150 puts p* near N.
   EXPECT_NEAR(optimalPatchSize(0.68, 2, 150), 150 * 0.36 / 0.32, 1e-9);
   // eq. 26 holds at p*: d = 0.
   const double p = optimalPatchSize(0.3, 4, 700);

@@ -1,4 +1,4 @@
-// Spherical harmonics and paper 004's fits: orthonormal functions with the
+// Spherical harmonics and [Lam06]'s fits: orthonormal functions with the
 // textbook closed forms; on a hemisphere the Gram matrix is ill-conditioned and
 // plain least squares blows the coefficients up, while CLS and CEB keep them
 // within the energy bound at a small cost in residual; the transport baseline
@@ -197,7 +197,7 @@ TEST_F(ShTransportTest, SupportsHoldEveryLitTexelAndOnlyUlsSuffersFromEightBits)
         ASSERT_LE(std::abs(c.values[p * c.n + i] - exact.values[p * c.n + i]),
                   0.5f * largest / 127 * 1.0001f);
     }
-    // Paper 004's result: 8-bit maps wreck ULS but cost CLS and CEB next to nothing.
+    // [Lam06]'s result: 8-bit maps wreck ULS but cost CLS and CEB next to nothing.
     sh.relight(c, sky, image.data());
     const double quantizedError = relativeL2(image, truth[0]);
     if (f == ShFit::Uls)

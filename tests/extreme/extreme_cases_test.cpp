@@ -1,4 +1,4 @@
-// The extreme-case suite (design.md section 8): lighting, data and geometry at
+// The extreme-case suite (docs/design.md section 8): lighting, data and geometry at
 // their limits. Every method must give finite output, and its error against
 // the dense relight must stay within the bound stated for the case:
 //  - compressed models: |B - B*| <= eps_T |T|_F |L_c| max albedo_c per channel

@@ -1,4 +1,4 @@
-// Physical checks of the precompute against closed forms (design.md section 3-4):
+// Physical checks of the precompute against closed forms (docs/design.md section 3-4):
 // furnace, cosine law, visibility of a sphere, shadows of the step, orientation,
 // and determinism across thread counts.
 #include <gtest/gtest.h>

@@ -92,7 +92,7 @@ TEST(Environment, LatLongDiscKeepsItsEnergyUnrotatedRotatedAndAfterAFullTurn) {
 }
 
 TEST(Environment, FastLatticeRotationIsMeasurablyWorseOnSmallSuns) {
-  // The fast mode of paper 000 is offered for interactive use only: it changes
+  // The fast mode of [Nowrouzezahrai07] is offered for interactive use only: it changes
   // the energy of a one-texel sun, where the exact mode keeps it.
   const CubeLattice lattice(32);
   const auto sun = makeSunEnvironment(60, 20, 2.5, Rgb::Constant(100));

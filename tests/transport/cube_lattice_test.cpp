@@ -16,7 +16,7 @@ struct WorkedVector {
   int face, row, col, texel;
 };
 
-// design.md section 3, at R = 32: pinned literally.
+// docs/design.md section 3, at R = 32: pinned literally.
 TEST(CubeLattice, WorkedVectorsOfTheDesignMapLiterally) {
   const CubeLattice lattice(32);
   const WorkedVector cases[] = {{{1, 0.5, -0.25}, 0, 8, 20, 276},
