@@ -124,7 +124,6 @@ ModelSizes& ModelSizes::operator+=(const ModelSizes& o) {
 ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head,
                                  const ModelSizes& sizes, ModelFileKind kind)
     : path_(path),
-      kind_(kind),
       globalBases_(head.globalBases()),
       hasMean_(head.hasMean),
       precision_(head.precision),

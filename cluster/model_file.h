@@ -56,7 +56,6 @@ class ModelFileWriter {
  private:
   struct Datasets;
   std::string path_;
-  ModelFileKind kind_;
   int globalBases_ = 0;
   bool hasMean_ = false;
   CoeffPrecision precision_, basisPrecision_;

@@ -18,7 +18,8 @@ bash scripts/setup.sh
 targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment
   fuzz_mesh_file)
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF >/dev/null
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF \
+  -DACPCA_WERROR="${ACPCA_WERROR:-0}" >/dev/null
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 
 # Seeds: small valid inputs of each kind, made by the normal build.

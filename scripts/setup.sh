@@ -10,7 +10,7 @@ packages=(
   libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev
   libopenblas-dev liblapacke-dev
   openmpi-bin libopenmpi-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev clang-format
   python3 python3-dev python3-venv python3-h5py python3-numpy python3-matplotlib python3-pytest pybind11-dev
   xvfb xauth
   clang libclang-rt-14-dev

@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_SANITIZE=ON \
-  -DACPCA_BUILD_TESTS=ON >/dev/null
+  -DACPCA_BUILD_TESTS=ON -DACPCA_WERROR="${ACPCA_WERROR:-0}" >/dev/null
 cmake --build build-asan -j "$(nproc)"
 cd build-asan
 # The h5py check runs Debian's Python, which is not instrumented.

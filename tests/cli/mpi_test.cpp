@@ -107,6 +107,9 @@ TEST(Mpi, BuildMakesTheSameModelForAnyRankCount) {
     const RunResult m = runCli(build + "--json - --out " + out, mpirun(ranks));
     ASSERT_EQ(m.status, 0) << m.output;
     expectSameModel(readModel(out), alone, std::to_string(ranks) + " ranks");
+    // No clock readings or memory figures in the file: the very same bytes.
+    EXPECT_TRUE(test::readFile(out) == test::readFile(dir.file("alone.h5")))
+        << ranks << " ranks: the model's bytes differ from one process's";
     EXPECT_NE(m.output.find("\"ranks\": " + std::to_string(ranks)), std::string::npos) << m.output;
   }
 
