@@ -15,7 +15,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   const std::string path = fuzz::writeInput(data + 1, size - 1, kExtensions[data[0] % 7]);
   return fuzz::runReader([&] {
     Scene scene;
-    scene.meshes = loadMeshFile(path);
+    // Well inside libFuzzer's -timeout: a file that makes assimp loop (a PLY
+    // header cut short did) is refused as "did not finish", not a finding.
+    scene.meshes = loadMeshFile(path, NormalMode::File, kDefaultCreaseDegrees, 5.0);
     scene.validate();
   });
 }

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -261,9 +262,13 @@ ImportedModel importModel(const std::string& path) {
 
 /// The child's whole life: read, send, exit without running the parent's
 /// destructors or exit handlers.
-[[noreturn]] void runChild(const std::string& path, int fd, rlim_t addressSpace) {
+[[noreturn]] void runChild(const std::string& path, int fd, rlim_t addressSpace, pid_t parent) {
   // A crash here ends this process alone, by the signal's default action.
   for (int s : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGINT, SIGTERM}) ::signal(s, SIG_DFL);
+  // An importer stuck in a loop must not outlive the process waiting for it
+  // (killed, or interrupted by a signal sent to it alone).
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(3);  // it died before the line above
   if (addressSpace > 0) {
     const rlimit limit{addressSpace, addressSpace};
     ::setrlimit(RLIMIT_AS, &limit);
@@ -347,12 +352,20 @@ std::string signalName(int s) {
 
 }  // namespace
 
+double defaultImportSeconds(const std::string& path) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  return 60.0 + (ec ? 0.0 : static_cast<double>(bytes) / (1 << 20));
+}
+
 ImportedModel importModelIsolated(const std::string& path, double seconds) {
+  if (seconds < 0) seconds = defaultImportSeconds(path);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw UserError(concat(path, ": cannot read the mesh: no pipe for the importer"));
   const ChildMemory memory = childMemory(path);
   const rlim_t addressSpace = addressSpaceLimit(memory);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fds[0]), ::close(fds[1]);
@@ -360,7 +373,7 @@ ImportedModel importModelIsolated(const std::string& path, double seconds) {
   }
   if (pid == 0) {
     ::close(fds[0]);
-    runChild(path, fds[1], addressSpace);
+    runChild(path, fds[1], addressSpace, parent);
   }
   ::close(fds[1]);
   // Read while it writes (a pipe holds only 64 KiB), up to the time limit.

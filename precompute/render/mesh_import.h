@@ -47,7 +47,12 @@ struct ImportedModel {
 
 /// Reads `path` with assimp in a child process (see above). Throws UserError
 /// naming the file when assimp refuses it or crashes, aborts or runs past
-/// `seconds` on it.
-ImportedModel importModelIsolated(const std::string& path, double seconds = 600);
+/// `seconds` on it (negative: defaultImportSeconds). The child dies with the
+/// process that waits for it.
+ImportedModel importModelIsolated(const std::string& path, double seconds = -1);
+
+/// A minute plus a second per MiB of file: assimp reads tens of MiB a second,
+/// and some malformed files make it loop for ever (a PLY header cut short).
+double defaultImportSeconds(const std::string& path);
 
 }  // namespace acpca

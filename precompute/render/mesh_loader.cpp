@@ -186,9 +186,9 @@ TriangleMesh groupMesh(const Gathered& g, std::pair<unsigned, bool> group) {
 }  // namespace
 
 std::vector<TriangleMesh> loadMeshFile(const std::string& path, NormalMode normals,
-                                       double creaseDegrees) {
+                                       double creaseDegrees, double importSeconds) {
   if (!fs::is_regular_file(path)) throw UserError(concat(path, ": mesh file not found"));
-  const ImportedModel model = importModelIsolated(path);
+  const ImportedModel model = importModelIsolated(path, importSeconds);
   Gathered gathered;
   MaterialReader reader(path);
   for (unsigned m = 0; m < model.materials.size(); ++m)

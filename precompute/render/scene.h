@@ -121,8 +121,11 @@ Scene loadSceneJson(const std::string& path);
 /// its base-colour or diffuse texture when it has one and texture coordinates.
 /// Shading normals: the file's with NormalMode::File (smooth ones, with a
 /// warning, when it has none), computed with Smooth, none with Flat.
+/// assimp reads the file in a child process given `importSeconds` (negative:
+/// a minute plus a second per MiB; precompute/render/mesh_import.h).
 std::vector<TriangleMesh> loadMeshFile(const std::string& path,
                                        NormalMode normals = NormalMode::File,
-                                       double creaseDegrees = kDefaultCreaseDegrees);
+                                       double creaseDegrees = kDefaultCreaseDegrees,
+                                       double importSeconds = -1);
 
 }  // namespace acpca

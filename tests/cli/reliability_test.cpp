@@ -281,6 +281,37 @@ TEST(Signals, AnInterruptedBuildKeepsItsTilesSaysSoAndResumes) {
   EXPECT_TRUE(fs::exists(out));
 }
 
+/// Processes whose command line holds `needle`.
+int processesWith(const std::string& needle) {
+  int n = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc", ec)) {
+    const std::string cmdline = test::readFile((e.path() / "cmdline").string());
+    n += cmdline.find(needle) != std::string::npos;
+  }
+  return n;
+}
+
+TEST(Signals, TheModelImporterDiesWithTheCommand) {
+  // A PLY header cut short makes assimp loop: its child process must not
+  // outlive a command stopped by a signal sent to the command alone.
+  TempDir dir;
+  test::writeFile(dir.file("loop.ply"),
+                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float32 x\n"
+                  "property float32 y\nproperty fheader\n0 0 0\n0 0 1\n0 1 1\n");
+  const std::string scene = dir.file("loop-scene.json");
+  test::writeFile(scene,
+                  R"({"camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40,
+                      "width": 16, "height": 16}, "objects": [{"mesh": "loop.ply"}]})");
+  const Stopped s = stopWhen(
+      {"precompute", "--scene", scene, "--cubemap", "4", "--quiet", "--out", dir.file("t.h5")},
+      after(1.5), SIGTERM, dir.file("log"));
+  if (!s.signalled) GTEST_SKIP() << "this assimp reads the file: " << s.output;
+  EXPECT_EQ(s.exitCode, 128 + SIGTERM) << s.output;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(processesWith(scene), 0) << "the importer's child outlived the command";
+}
+
 TEST(Signals, AKilledRunsLeftoverIsRemovedAndReported) {
   TempDir dir;
   // A process that has exited: its pid names no live process.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -261,6 +262,24 @@ TEST(MeshFiles, WhatTheImporterRefusesOrCannotFinishIsAMessageNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find("did not finish"), std::string::npos) << e.what();
   }
   EXPECT_EQ(importModelIsolated(good).parts.at(0).corners.size(), 3u);
+}
+
+TEST(MeshFiles, AFileThatMakesTheImporterLoopIsStoppedAtItsTimeLimit) {
+  // Found by fuzz_mesh_file: a PLY header cut short ("property fheader")
+  // sends assimp's reader into a loop that never ends.
+  TempDir dir;
+  const std::string ply = writeFile(dir, "loop.ply",
+                                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float32 x\n"
+                                    "property float32 y\nproperty fheader\n0 0 0\n0 0 1\n0 1 1\n");
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    loadMeshFile(ply, NormalMode::File, kDefaultCreaseDegrees, 1.0);
+    SUCCEED() << "this assimp reads it";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find(ply), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  EXPECT_NEAR(defaultImportSeconds(ply), 60.0, 0.01) << "a minute plus a second per MiB";
 }
 
 TEST(MeshFiles, TheRawFilesThatOnceCrashedTheCollectorLoad) {
