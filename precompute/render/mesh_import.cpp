@@ -21,6 +21,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "core/resources.h"
 #include "core/text.h"
 
 namespace acpca {
@@ -314,21 +315,11 @@ ChildMemory childMemory(const std::string& path) {
   ChildMemory m;
   m.mapped = pageCount("/proc/self/statm", 0);
   m.resident = pageCount("/proc/self/statm", 1);
-  long long available = 0;
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  long long kib = 0;
-  while (meminfo >> key >> kib) {
-    if (key == "MemAvailable:") {
-      available = kib * 1024;
-      break;
-    }
-    meminfo.ignore(256, '\n');
-  }
+  const long long available = availableMemoryBytes();
   std::error_code ec;
   const auto fileBytes = static_cast<long long>(std::filesystem::file_size(path, ec));
   m.budget = std::max(4LL << 30, 256 * (ec ? 0 : fileBytes));
-  if (available > 0) m.budget = std::min(m.budget, std::max(available * 3 / 4, 1LL << 30));
+  m.budget = std::min(m.budget, std::max(available / 4 * 3, 1LL << 30));
   return m;
 }
 

@@ -1,67 +1,30 @@
 // Work killed half-way (SIGKILL: no handler runs) leaves no file that reads as
 // valid, and running the same command again gives the result of a clean run.
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <OpenImageIO/imageio.h>
 
-#include <chrono>
-#include <filesystem>
 #include <nlohmann/json.hpp>
-#include <thread>
 
-#include "tests/cli/run_cli.h"
-#include "tests/test_support.h"
-
-extern char** environ;
+#include "tests/cli/stop_cli.h"
 
 namespace acpca {
 namespace {
 
 using test::TempDir;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using test::Clock;
 
-/// Starts the CLI with `args`, kills it with SIGKILL once `ready()` says so (or
-/// after 60 s), and returns whether it was killed before finishing.
-bool killWhen(const std::vector<std::string>& args, const std::function<bool()>& ready) {
-  std::vector<std::string> argv{ACPCA_CLI_PATH};
-  argv.insert(argv.end(), args.begin(), args.end());
-  std::vector<char*> raw;
-  for (auto& a : argv) raw.push_back(a.data());
-  raw.push_back(nullptr);
-  pid_t pid;
-  if (posix_spawn(&pid, raw[0], nullptr, nullptr, raw.data(), environ) != 0) return false;
-  const auto start = Clock::now();
-  for (;;) {
-    int status;
-    if (waitpid(pid, &status, WNOHANG) == pid) return false;  // finished first
-    if (ready() || Clock::now() - start > std::chrono::seconds(60)) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  kill(pid, SIGKILL);
-  int status;
-  waitpid(pid, &status, 0);
-  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
-}
-
-/// A partial file of the target in dir with at least `bytes` in it.
-bool partialWritten(const fs::path& dir, long long bytes) {
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().filename().string().find(".partial-") != std::string::npos &&
-        static_cast<long long>(e.file_size(ec)) >= bytes)
-      return true;
-  return false;
+/// Runs the CLI with `args` and SIGKILLs it (no handler runs) once `ready()`
+/// says so; whether it was killed before finishing.
+bool killWhen(const std::vector<std::string>& args, const std::function<bool()>& ready,
+              const TempDir& dir) {
+  const test::Stopped s = test::stopWhen(args, ready, SIGKILL, dir.file("kill.log"));
+  return s.signalled && s.exitCode == -1;
 }
 
 size_t partialFiles(const fs::path& dir) {
-  size_t n = 0;
-  for (const auto& e : fs::directory_iterator(dir))
-    n += e.path().filename().string().find(".partial-") != std::string::npos;
-  return n;
+  return test::partialFiles(dir).size();
 }
 
 std::vector<float> readPixels(const std::string& path) {
@@ -82,9 +45,9 @@ TEST(Interruption, AKilledPrecomputeLeavesNothingValidAndARerunIsExact) {
   TempDir dir;
   const std::string out = dir.file("t.h5");
   // Killed while rows are streaming into the partial file.
-  ASSERT_TRUE(
-      killWhen({"precompute", "--scene", "plant", "--size", "160x160", "--quiet", "--out", out},
-               [&] { return partialWritten(dir.path(), 1 << 20); }))
+  ASSERT_TRUE(killWhen(
+      {"precompute", "--scene", "plant", "--size", "160x160", "--quiet", "--out", out},
+      [&] { return test::hasPartial(dir.path(), 1 << 20); }, dir))
       << "the precompute should still have been running";
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(partialFiles(dir.path()), 1u) << "the killed run's partial file is left";
@@ -113,9 +76,9 @@ TEST(Interruption, AKilledCompressLeavesNothingValidAndARerunIsExact) {
             0);
   const std::string out = dir.file("m.h5");
   const auto start = Clock::now();
-  ASSERT_TRUE(
-      killWhen({"compress", transport, "--method", "adaptive-binary", "--quiet", "--out", out},
-               [&] { return Clock::now() - start > std::chrono::milliseconds(300); }))
+  ASSERT_TRUE(killWhen(
+      {"compress", transport, "--method", "adaptive-binary", "--quiet", "--out", out},
+      [&] { return Clock::now() - start > std::chrono::milliseconds(300); }, dir))
       << "the compress should still have been running";
   EXPECT_FALSE(fs::exists(out));
   const std::string args = " --method block --block 8 --global-energy 0.99 --quiet --out ";
