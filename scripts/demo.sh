@@ -5,7 +5,7 @@
 # Results go to out/demo/ (override: OUT=dir).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh build
 # The CLI alone (and the libraries it links): no test suites, no fixtures.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)" --target adaptive-cpca

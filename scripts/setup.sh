@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Installs what adaptive-cpca needs from Debian 12's packages, when missing.
+# Installs what adaptive-cpca needs from Debian 12's packages, when missing:
+# everything, or with `build` only what building the CLI needs (the demo).
 # Idempotent and non-interactive; needs root (or sudo) only if something is missing.
 set -euo pipefail
 
+# What building the CLI and its libraries needs (the demo's set; Debian's
+# OpenImageIO CMake config refers to the binaries of openimageio-tools)...
 packages=(
   build-essential cmake pkg-config
   libembree-dev libtbb-dev libeigen3-dev
@@ -10,12 +13,21 @@ packages=(
   libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev
   libopenblas-dev liblapacke-dev
   openmpi-bin libopenmpi-dev
-  libgtest-dev clang-format
-  python3 python3-dev python3-venv python3-h5py python3-numpy python3-matplotlib python3-pytest pybind11-dev
-  xvfb xauth
-  clang libclang-rt-14-dev
-  blender-data assimp-testmodels
+  libgtest-dev
+  python3 python3-dev python3-numpy pybind11-dev
 )
+# ...and what the test suites, the fuzzers and CI add: image tools, the
+# format check, Python's test tools, an X server for the viewer, clang for
+# the fuzzers, and the real assets the tests check against.
+if [ "${1:-}" != build ]; then
+  packages+=(
+    clang-format
+    python3-venv python3-h5py python3-matplotlib python3-pytest
+    xvfb xauth
+    clang libclang-rt-14-dev
+    blender-data assimp-testmodels
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
