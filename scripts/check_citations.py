@@ -2,7 +2,8 @@
 """Every citation in the repository resolves inside it.
 
 Checks code, tests, scripts and docs for: documents outside the repository
-(../shared/..., "paper 00N"); docs/NAME.md paths that do not exist; sections
+(the shared folder beside a developer's checkout, papers cited by file
+number instead of by key); docs/NAME.md paths that do not exist; sections
 of docs/design.md ("docs/design.md section N") and named sections
 ('docs/X.md, "Heading"') that the document does not have; paper keys
 ("[Mahajan07]") missing from docs/references.md. Prints each problem as
