@@ -5,7 +5,7 @@
 // optimal patch size p* (eq. 27) follow.
 #include <vector>
 
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -7,7 +7,7 @@
 
 #include "cluster/symmetric_eigen.h"
 #include "core/error.h"
-#include "precompute/transport/row_stream.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

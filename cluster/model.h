@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -7,8 +7,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/half.h"
-#include "precompute/transport/hdf5_handles.h"
-#include "precompute/transport/image_header.h"
+#include "transport/hdf5_handles.h"
+#include "transport/image_header.h"
 
 namespace acpca {
 

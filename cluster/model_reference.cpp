@@ -1,7 +1,7 @@
 #include "cluster/model_reference.h"
 
 #include "core/error.h"
-#include "precompute/transport/row_layout.h"
+#include "transport/row_layout.h"
 
 namespace acpca {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "cluster/global_basis.h"
-#include "precompute/transport/camera.h"
+#include "transport/camera.h"
 
 namespace acpca {
 

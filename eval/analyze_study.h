@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "eval/study_output.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -11,7 +11,7 @@
 #include "eval/eval_report.h"
 #include "eval/method_sweep.h"
 #include "eval/spherical_harmonics.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "core/half.h"
-#include "precompute/transport/row_stream.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

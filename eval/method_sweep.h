@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "precompute/transport/transport_file.h"
 #include "relight/environment.h"
 #include "relight/model_relighter.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -15,8 +15,8 @@
 #include "eval/eval_report.h"
 #include "eval/method_sweep.h"
 #include "eval/sh_transport.h"
-#include "precompute/transport/row_stream.h"
 #include "relight/model_relighter.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "precompute/transport/transport_file.h"
 #include "relight/image_output.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/half.h"
 #include "eval/error_measures.h"
-#include "precompute/transport/row_stream.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

@@ -13,8 +13,8 @@
 
 #include "cluster/model.h"
 #include "eval/spherical_harmonics.h"
-#include "precompute/transport/transport_file.h"
 #include "relight/environment.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -5,9 +5,9 @@
 
 #include "core/error.h"
 #include "core/half.h"
-#include "precompute/transport/row_layout.h"
-#include "precompute/transport/row_stream.h"
 #include "relight/relight_kernels.h"
+#include "transport/row_layout.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

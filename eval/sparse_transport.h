@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "precompute/transport/transport_file.h"
 #include "relight/environment.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

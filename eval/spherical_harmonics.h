@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/enum_names.h"
-#include "precompute/transport/cube_lattice.h"
+#include "transport/cube_lattice.h"
 
 namespace acpca {
 

@@ -12,12 +12,12 @@
 #include "cluster/model_file.h"
 #include "cluster/quantization.h"
 #include "fuzz/fuzz_support.h"
-#include "precompute/transport/hdf5_handles.h"
-#include "precompute/transport/transport_file.h"
 #include "relight/dense_relight.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
+#include "transport/hdf5_handles.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 namespace {

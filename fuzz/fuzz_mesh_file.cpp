@@ -5,7 +5,7 @@
 // and reported as a UserError, while the parent's checks and mesh building,
 // our own code, run here under the sanitizers.
 #include "fuzz/fuzz_support.h"
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;

@@ -1,6 +1,6 @@
 // Raw bytes as a scene file: refused with a UserError, or a scene that validates.
 #include "fuzz/fuzz_support.h"
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;

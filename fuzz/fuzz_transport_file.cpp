@@ -1,7 +1,7 @@
 // Raw bytes as a transport file: refused with a UserError, or opened and its
 // first rows read back finite.
 #include "fuzz/fuzz_support.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;

@@ -1,7 +1,7 @@
 #include "pipeline/ground_truth.h"
 
-#include "precompute/transport/cube_lattice.h"
-#include "precompute/transport/row_layout.h"
+#include "transport/cube_lattice.h"
+#include "transport/row_layout.h"
 
 namespace acpca {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "pipeline/tile_plan.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

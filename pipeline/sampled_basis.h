@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "cluster/global_basis.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/transport_renderer.h"
 
 namespace acpca {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "cluster/compress.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 
 namespace acpca {
 

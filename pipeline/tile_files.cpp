@@ -7,7 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "precompute/transport/hdf5_handles.h"
+#include "transport/hdf5_handles.h"
 
 namespace acpca {
 

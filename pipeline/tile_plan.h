@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "precompute/transport/camera.h"
+#include "transport/camera.h"
 
 namespace acpca {
 

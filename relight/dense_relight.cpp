@@ -3,8 +3,8 @@
 #include <Eigen/Core>
 
 #include "core/error.h"
-#include "precompute/transport/row_layout.h"
-#include "precompute/transport/row_stream.h"
+#include "transport/row_layout.h"
+#include "transport/row_stream.h"
 
 namespace acpca {
 

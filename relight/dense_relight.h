@@ -3,8 +3,8 @@
 // lightings share one pass over T (one matrix product per block of rows).
 #include <vector>
 
-#include "precompute/transport/transport_file.h"
 #include "relight/environment.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "precompute/transport/camera.h"
-#include "precompute/transport/cube_lattice.h"
+#include "transport/camera.h"
+#include "transport/cube_lattice.h"
 
 namespace acpca {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "cluster/model.h"
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 

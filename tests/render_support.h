@@ -1,8 +1,8 @@
 #pragma once
 // Helpers for the suites that render (render, extreme): a scene precomputed
 // and read back whole.
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 #include "tests/test_support.h"
 
 namespace acpca::test {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "precompute/transport/transport_file.h"
 #include "tests/temp_dir.h"
+#include "transport/transport_file.h"
 
 namespace acpca::test {
 

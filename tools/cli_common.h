@@ -14,7 +14,7 @@
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "eval/study_output.h"
-#include "precompute/transport/camera.h"
+#include "transport/camera.h"
 
 namespace acpca::cli {
 

@@ -2,8 +2,8 @@
 // Embree loops on the same scene points and directions, measured in one run.
 #include <cstdio>
 
-#include "precompute/render/ray_benchmark.h"
-#include "precompute/render/scene.h"
+#include "precompute/ray_benchmark.h"
+#include "precompute/scene.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "eval/scaling_study.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 

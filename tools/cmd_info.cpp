@@ -3,10 +3,10 @@
 #include <iostream>
 
 #include "cluster/model_file.h"
-#include "precompute/transport/transport_file.h"
 #include "relight/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
+#include "transport/transport_file.h"
 
 namespace acpca::cli {
 

@@ -3,8 +3,8 @@
 #include <optional>
 
 #include "core/ranks.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "tools/render_flags.h"

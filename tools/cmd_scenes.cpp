@@ -1,7 +1,7 @@
 #include <iomanip>
 #include <iostream>
 
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 #include "tools/commands.h"
 
 namespace acpca::cli {

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "cluster/compress.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 
 namespace acpca::cli {
 

@@ -162,7 +162,7 @@ def add_mesh_object(name, vertices, faces, uvs=None, smooth=False):
 
 
 def add_plane(o, index, base_dir):
-    # makeQuad of precompute/render/scene.cpp: the same corners and uv.
+    # makeQuad of precompute/scene.cpp: the same corners and uv.
     n = mathutils.Vector(o["normal"]).normalized()
     helper = mathutils.Vector((0, 1, 0)) if abs(n.y) < 0.9 else mathutils.Vector((1, 0, 0))
     a = n.cross(helper).normalized() * (0.5 * o["size"])

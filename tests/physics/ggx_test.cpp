@@ -8,9 +8,9 @@
 #include <numbers>
 #include <random>
 
-#include "precompute/render/material.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/material.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
 #include "tests/render_support.h"

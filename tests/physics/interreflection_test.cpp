@@ -10,7 +10,7 @@
 #include <numbers>
 
 #include "core/error.h"
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 #include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 #include "relight/dense_relight.h"
 #include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"

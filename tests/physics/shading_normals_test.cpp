@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 #include "relight/environment.h"
 #include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"

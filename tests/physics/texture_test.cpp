@@ -9,7 +9,7 @@
 #include <fstream>
 #include <memory>
 
-#include "precompute/render/scene.h"
+#include "precompute/scene.h"
 #include "relight/lighting.h"
 #include "tests/render_support.h"
 #include "tests/texture_support.h"

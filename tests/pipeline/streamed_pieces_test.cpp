@@ -8,8 +8,8 @@
 
 #include "pipeline/tile_files.h"
 #include "pipeline/tile_plan.h"
-#include "precompute/render/scene.h"
-#include "precompute/render/transport_renderer.h"
+#include "precompute/scene.h"
+#include "precompute/transport_renderer.h"
 #include "tests/test_support.h"
 
 namespace acpca {

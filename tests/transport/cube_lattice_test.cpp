@@ -1,4 +1,4 @@
-#include "precompute/transport/cube_lattice.h"
+#include "transport/cube_lattice.h"
 
 #include <gtest/gtest.h>
 

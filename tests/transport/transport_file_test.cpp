@@ -1,4 +1,4 @@
-#include "precompute/transport/transport_file.h"
+#include "transport/transport_file.h"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 
 #include "core/error.h"
 #include "core/half.h"
-#include "precompute/transport/hdf5_handles.h"
 #include "tests/test_support.h"
+#include "transport/hdf5_handles.h"
 
 namespace acpca {
 namespace {

@@ -1,0 +1,300 @@
+// Scene files: JSON with a camera and a list of objects (schema: docs/scenes.md).
+// Every key is checked: unknown, missing or mistyped keys are errors naming the
+// key and where it is.
+#include <Eigen/Geometry>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/error.h"
+#include "precompute/scene.h"
+
+namespace acpca {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+/// A JSON object being read, with its location for error messages.
+class Reader {
+ public:
+  Reader(const json& value, std::string where) : value_(value), where_(std::move(where)) {
+    if (!value_.is_object()) throw UserError(concat(where_, ": expected an object"));
+  }
+
+  /// Fails if the object has a key outside `allowed`.
+  void allowOnly(const std::set<std::string>& allowed) const {
+    for (const auto& item : value_.items())
+      if (!allowed.count(item.key()))
+        throw UserError(concat(where_, ": unknown key '", item.key(), "'"));
+  }
+  bool has(const std::string& key) const { return value_.contains(key); }
+  std::string path(const std::string& key) const { return concat(where_, ".", key); }
+  const json& at(const std::string& key) const {
+    if (!has(key)) throw UserError(concat(where_, ": missing key '", key, "'"));
+    return value_.at(key);
+  }
+
+  double number(const std::string& key) const {
+    const json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      throw UserError(concat(path(key), ": expected a finite number"));
+    return v.get<double>();
+  }
+  /// number(key), refused unless lo <= value <= hi.
+  double numberIn(const std::string& key, double lo, double hi) const {
+    const double v = number(key);
+    if (v < lo || v > hi)
+      throw UserError(concat(path(key), ": ", v, " is outside [", lo, ", ", hi, "]"));
+    return v;
+  }
+  std::string text(const std::string& key) const {
+    const json& v = at(key);
+    if (!v.is_string()) throw UserError(concat(path(key), ": expected a string"));
+    return v.get<std::string>();
+  }
+  std::vector<double> numbers(const std::string& key, size_t count) const {
+    const json& v = at(key);
+    if (!v.is_array() || v.size() != count)
+      throw UserError(concat(path(key), ": expected an array of ", count, " numbers"));
+    std::vector<double> out;
+    for (const auto& e : v) {
+      if (!e.is_number() || !std::isfinite(e.get<double>()))
+        throw UserError(concat(path(key), ": expected an array of ", count, " finite numbers"));
+      out.push_back(e.get<double>());
+    }
+    return out;
+  }
+  Vec3 vec3(const std::string& key) const {
+    const auto v = numbers(key, 3);
+    return {v[0], v[1], v[2]};
+  }
+  Reader child(const std::string& key) const { return Reader(at(key), path(key)); }
+  const std::string& where() const { return where_; }
+
+ private:
+  const json& value_;
+  std::string where_;
+};
+
+int positiveInt(const Reader& r, const std::string& key) {
+  const double v = r.number(key);
+  if (v != std::floor(v) || v < 1 || v > kMaxImageSide)
+    throw UserError(concat(r.path(key), ": expected an integer in 1..", kMaxImageSide));
+  return static_cast<int>(v);
+}
+
+Camera readCamera(const Reader& r) {
+  r.allowOnly({"eye", "target", "up", "fov", "width", "height"});
+  Camera c;
+  c.eye = r.vec3("eye");
+  c.target = r.vec3("target");
+  c.up = r.vec3("up");
+  c.fovDegrees = r.number("fov");
+  if (r.has("width")) c.size.width = positiveInt(r, "width");
+  if (r.has("height")) c.size.height = positiveInt(r, "height");
+  try {
+    c.validate();
+  } catch (const UserError& e) {
+    throw UserError(concat(r.where(), ": ", e.what()));
+  }
+  return c;
+}
+
+/// A material as the scene file gives it: the BRDF, and the albedo and texture
+/// when it gives them (a mesh object keeps its file's colours otherwise).
+struct MaterialSpec {
+  Material material;
+  bool colored = false;  ///< "albedo" or "texture" given
+  std::shared_ptr<const Texture> texture;
+};
+
+MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
+  const std::string type = r.text("type");
+  MaterialSpec spec;
+  Material& m = spec.material;
+  if (type == "diffuse") {
+    r.allowOnly({"type", "albedo", "texture"});
+    m.type = Material::Type::Diffuse;
+  } else if (type == "phong") {
+    r.allowOnly({"type", "albedo", "texture", "specular", "exponent"});
+    m.type = Material::Type::Phong;
+    m.specular = r.numberIn("specular", 0, 1);
+    m.exponent = r.numberIn("exponent", 0, 1e6);
+  } else if (type == "ggx") {
+    r.allowOnly({"type", "albedo", "texture", "specular", "roughness"});
+    m.type = Material::Type::Ggx;
+    m.specular = r.numberIn("specular", 0, 1);
+    m.roughness = r.numberIn("roughness", kMinRoughness, 1);
+  } else {
+    throw UserError(
+        concat(r.path("type"), ": unknown material type '", type, "' (diffuse, phong or ggx)"));
+  }
+  // A texture scales the albedo, which then defaults to white.
+  if (r.has("texture")) {
+    try {
+      spec.texture = loadTexture((baseDir / r.text("texture")).string());
+    } catch (const UserError& e) {
+      throw UserError(concat(r.path("texture"), ": ", e.what()));
+    }
+    m.albedo.setOnes();
+  }
+  if (r.has("albedo")) {
+    const Vec3 a = r.vec3("albedo");
+    if ((a.array() < 0).any()) throw UserError(concat(r.path("albedo"), ": must be >= 0"));
+    m.albedo = a.cast<float>();
+  }
+  spec.colored = r.has("albedo") || r.has("texture");
+  return spec;
+}
+
+/// A shape's material: albedo or texture required.
+MaterialSpec readShapeMaterial(const Reader& r, const fs::path& baseDir) {
+  const Reader material = r.child("material");
+  MaterialSpec spec = readMaterial(material, baseDir);
+  if (!spec.colored) throw UserError(concat(material.where(), ": missing key 'albedo'"));
+  return spec;
+}
+
+/// Gives a mesh loaded from a file the scene file's material: the BRDF always,
+/// the colours when the scene file names them.
+void overrideMaterial(TriangleMesh& mesh, const MaterialSpec& spec, const std::string& where) {
+  const Material file = mesh.material;
+  mesh.material = spec.material;
+  if (spec.colored) {
+    if (spec.texture && mesh.uvs.empty())
+      throw UserError(concat(where, ": texture '", spec.texture->name(), "' but part '", mesh.name,
+                             "' has no texture coordinates"));
+    mesh.albedoTexture = spec.texture;
+  } else {
+    mesh.material.albedo = file.albedo;
+  }
+}
+
+/// Row-major 4x4 affine transform of a mesh object.
+Eigen::Matrix4d readTransform(const Reader& r) {
+  r.allowOnly({"scale", "rotate_y_deg", "translate", "matrix"});
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  if (r.has("matrix")) {
+    if (r.has("scale") || r.has("rotate_y_deg") || r.has("translate"))
+      throw UserError(concat(r.where(), ": 'matrix' excludes scale, rotate_y_deg and translate"));
+    const auto v = r.numbers("matrix", 16);
+    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = v[i];
+    if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+      throw UserError(concat(r.path("matrix"), ": the last row must be 0 0 0 1 (affine)"));
+    return m;
+  }
+  Eigen::Vector3d scale(1, 1, 1);
+  if (r.has("scale")) {
+    if (r.at("scale").is_array())
+      scale = r.vec3("scale");
+    else
+      scale.setConstant(r.number("scale"));
+  }
+  const double angle = r.has("rotate_y_deg") ? r.number("rotate_y_deg") * M_PI / 180 : 0.0;
+  const Vec3 translate = r.has("translate") ? r.vec3("translate") : Vec3::Zero();
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vec3::UnitY()).toRotationMatrix();
+  m.topLeftCorner<3, 3>() = rotation * scale.asDiagonal();
+  m.topRightCorner<3, 1>() = translate;
+  return m;
+}
+
+void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
+  if (r.has("shape") == r.has("mesh"))
+    throw UserError(concat(r.where(), ": give exactly one of 'shape' or 'mesh'"));
+  if (r.has("mesh")) {
+    r.allowOnly({"mesh", "transform", "material", "normals", "crease_angle"});
+    const fs::path file = baseDir / r.text("mesh");
+    NormalMode normals = NormalMode::File;
+    if (r.has("normals")) {
+      try {
+        normals = kNormalModeNames.parse(r.text("normals"));
+      } catch (const ParameterError& e) {
+        throw UserError(concat(r.path("normals"), ": '", e.value(), "' ", e.problem()));
+      }
+    }
+    const double crease =
+        r.has("crease_angle") ? r.numberIn("crease_angle", 0, 180) : kDefaultCreaseDegrees;
+    std::vector<TriangleMesh> parts;
+    scene.files.push_back(file.string());
+    try {
+      parts = loadMeshFile(file.string(), normals, crease);
+    } catch (const UserError& e) {
+      throw UserError(concat(r.path("mesh"), ": ", e.what()));
+    }
+    if (r.has("material")) {
+      const MaterialSpec spec = readMaterial(r.child("material"), baseDir);
+      for (auto& mesh : parts) overrideMaterial(mesh, spec, r.path("material"));
+    }
+    if (r.has("transform")) {
+      const Eigen::Matrix4d t = readTransform(r.child("transform"));
+      // Normals follow the inverse transpose (non-uniform scale bends them).
+      const Eigen::Matrix3d normalMatrix = t.topLeftCorner<3, 3>().inverse().transpose();
+      for (auto& mesh : parts) {
+        for (auto& v : mesh.vertices)
+          v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
+        for (auto& n : mesh.normals)
+          n = (normalMatrix * n.cast<double>()).normalized().cast<float>();
+      }
+    }
+    for (auto& mesh : parts) scene.meshes.push_back(std::move(mesh));
+    return;
+  }
+  const MaterialSpec spec = readShapeMaterial(r, baseDir);
+  const Material& material = spec.material;
+  const std::string shape = r.text("shape");
+  if (shape == "sphere") {
+    r.allowOnly({"shape", "center", "radius", "material"});
+    if (spec.texture)
+      throw UserError(concat(r.path("material"), ": spheres have no texture coordinates"));
+    const double radius = r.number("radius");
+    if (radius <= 0) throw UserError(concat(r.path("radius"), ": must be > 0"));
+    scene.spheres.push_back({r.vec3("center"), radius, material});
+  } else if (shape == "plane") {
+    r.allowOnly({"shape", "center", "normal", "size", "material"});
+    const Vec3 normal = r.vec3("normal");
+    const double size = r.number("size");
+    if (normal.norm() == 0) throw UserError(concat(r.path("normal"), ": must not be zero"));
+    if (size <= 0) throw UserError(concat(r.path("size"), ": must be > 0"));
+    TriangleMesh quad = makeQuad(r.vec3("center"), normal, size, material, r.where());
+    quad.albedoTexture = spec.texture;
+    scene.meshes.push_back(std::move(quad));
+  } else {
+    throw UserError(concat(r.path("shape"), ": unknown shape '", shape, "' (sphere or plane)"));
+  }
+}
+
+}  // namespace
+
+Scene loadSceneJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UserError(concat(path, ": cannot open the scene file"));
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::exception& e) {
+    throw UserError(concat(path, ": not valid JSON: ", e.what()));
+  }
+  const Reader root(doc, path);
+  root.allowOnly({"camera", "objects", "name"});
+  Scene scene;
+  scene.name = root.has("name") ? root.text("name") : fs::path(path).stem().string();
+  scene.camera = readCamera(root.child("camera"));
+  const json& objects = root.at("objects");
+  if (!objects.is_array() || objects.empty())
+    throw UserError(concat(root.path("objects"), ": expected a non-empty array"));
+  const fs::path baseDir = fs::path(path).parent_path();
+  for (size_t i = 0; i < objects.size(); ++i)
+    readObject(Reader(objects[i], concat(path, ": objects[", i, "]")), baseDir, scene);
+  scene.files.push_back(path);
+  for (const auto& mesh : scene.meshes)  // names of embedded textures are no files
+    if (mesh.albedoTexture && fs::is_regular_file(mesh.albedoTexture->name()))
+      scene.files.push_back(mesh.albedoTexture->name());
+  scene.validate();
+  return scene;
+}
+
+}  // namespace acpca

@@ -1,0 +1,49 @@
+#include "transport/camera.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+
+namespace acpca {
+
+void validateImageSize(const ImageSize& size, const std::string& what) {
+  if (size.width < 1 || size.height < 1 || size.width > kMaxImageSide ||
+      size.height > kMaxImageSide)
+    throw UserError(concat(what, ": image size ", size.width, "x", size.height,
+                           " is out of range (each side 1..", kMaxImageSide, ")"));
+}
+
+void Camera::validate() const {
+  validateImageSize(size, "camera");
+  if (!eye.allFinite() || !target.allFinite() || !up.allFinite())
+    throw UserError("camera: eye, target and up must be finite");
+  const Vec3 forward = target - eye;
+  if (forward.norm() <= 0) throw UserError("camera: eye and target coincide");
+  if (up.cross(forward).norm() <= 1e-9 * up.norm() * forward.norm())
+    throw UserError("camera: up is zero or parallel to the view direction");
+  if (!(fovDegrees > 0 && fovDegrees < 180))
+    throw UserError(concat("camera: fov ", fovDegrees, " is outside (0, 180) degrees"));
+}
+
+Vec3 Camera::rayDirection(double px, double py) const {
+  const Vec3 forward = (target - eye).normalized();
+  const Vec3 right = forward.cross(up).normalized();
+  const Vec3 trueUp = right.cross(forward);
+  const double tanHalf = std::tan(0.5 * fovDegrees * std::numbers::pi / 180.0);
+  const double aspect = static_cast<double>(size.width) / size.height;
+  const double x = (2 * px / size.width - 1) * tanHalf * aspect;
+  const double y = (1 - 2 * py / size.height) * tanHalf;  // row 0 is the top
+  return (forward + x * right + y * trueUp).normalized();
+}
+
+Eigen::Vector2d pixelSampleOffset(int s) {
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  return {std::fmod(0.5 + s * a1, 1.0), std::fmod(0.5 + s * a2, 1.0)};
+}
+
+Vec3 directionFromAngles(double theta, double phi) {
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+}  // namespace acpca

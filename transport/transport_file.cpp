@@ -1,0 +1,230 @@
+#include "transport/transport_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/half.h"
+#include "transport/cube_lattice.h"
+#include "transport/image_header.h"
+
+namespace acpca {
+
+Precision parsePrecision(const std::string& text) {
+  return kPrecisionNames.parse(text);
+}
+
+const char* precisionName(Precision p) {
+  return kPrecisionNames.name(p);
+}
+
+void TransportHeader::validate(const std::string& context) const {
+  camera.validate();
+  if (cubemapResolution < 1 || cubemapResolution > CubeLattice::kMaxResolution)
+    throw UserError(concat(context, ": cube-map resolution ", cubemapResolution, " out of range"));
+  if (samplesPerPixel < 1 || texelRays < 1)
+    throw UserError(concat(context, ": samples per pixel and rays per texel must be >= 1"));
+  if (channels != 1 && channels != 3)
+    throw UserError(concat(context, ": ", channels, " channels per row, not 1 or 3"));
+  if (bounces < 0 || indirectSamples < 0 || !(indirectCacheCell >= 0) ||
+      (bounces > 0 && indirectSamples < 1))
+    throw UserError(concat(context, ": bounces ", bounces, " with ", indirectSamples,
+                           " indirect samples and cache cell ", indirectCacheCell));
+  const long long n = rows();
+  if (n > camera.size.pixels())
+    throw UserError(concat(context, ": ", n, " rows for a ", camera.size.width, "x",
+                           camera.size.height, " image"));
+  if (static_cast<long long>(albedo.size()) != 3 * n ||
+      static_cast<long long>(coverage.size()) != n ||
+      static_cast<long long>(normals.size()) != 3 * n)
+    throw UserError(concat(context, ": per-pixel arrays do not match the ", n, " rows"));
+  for (long long i = 0; i < n; ++i) {
+    if (pixels[i] < 0 || pixels[i] >= camera.size.pixels() || (i > 0 && pixels[i] <= pixels[i - 1]))
+      throw UserError(concat(context, ": pixel index of row ", i, " is out of order or range"));
+  }
+  for (float a : albedo)
+    if (!std::isfinite(a) || a < 0)
+      throw UserError(concat(context, ": albedo must be finite, >= 0"));
+  for (float c : coverage)
+    if (!(c >= 0 && c <= 1)) throw UserError(concat(context, ": coverage must be in [0, 1]"));
+}
+
+namespace {
+
+constexpr const char* kRowsDataset = "transport";
+
+// About 1 MiB chunks: large enough for fast streaming, small enough to cache.
+hsize_t rowsPerChunk(int rowLength, Precision p) {
+  const hsize_t rowBytes = static_cast<hsize_t>(rowLength) * (p == Precision::F16 ? 2 : 4);
+  return std::clamp<hsize_t>((1u << 20) / rowBytes, 1, 4096);
+}
+
+}  // namespace
+
+TransportWriter::TransportWriter(const std::string& path, const TransportHeader& header)
+    : output_(path), header_(header) {
+  header_.validate(path);
+  const std::string& ctx = path;
+  file_ = h5::createFile(output_.tempPath(), path);
+  const hid_t f = file_.get();
+  h5::writeAttribute(f, "format", std::string(kTransportFormat), ctx);
+  h5::writeAttribute(f, "version", static_cast<long long>(kTransportVersion), ctx);
+  h5::writeAttribute(f, "spp", static_cast<long long>(header.samplesPerPixel), ctx);
+  h5::writeAttribute(f, "texel_rays", static_cast<long long>(header.texelRays), ctx);
+  h5::writeAttribute(f, "precision", std::string(precisionName(header.precision)), ctx);
+  // Written only with indirect light, so a direct transport stays byte for byte
+  // what it was.
+  if (header.bounces > 0) {
+    h5::writeAttribute(f, "bounces", static_cast<long long>(header.bounces), ctx);
+    h5::writeAttribute(f, "indirect_samples", static_cast<long long>(header.indirectSamples), ctx);
+    h5::writeAttribute(f, "indirect_cache_cell", header.indirectCacheCell, ctx);
+  }
+  writeImageHeader(f, header, true, ctx);
+  const hsize_t n = header.rows();
+
+  // The lattice itself, so that readers (h5py) need not re-derive it:
+  // B = albedo * (T @ (radiance * solid_angle)).
+  const CubeLattice lattice(header.cubemapResolution);
+  std::vector<double> directions;
+  for (int j = 0; j < lattice.size(); ++j)
+    directions.insert(directions.end(), lattice.direction(j).data(),
+                      lattice.direction(j).data() + 3);
+  const hsize_t l = header.latticeSize();
+  h5::writeDataset(f, "lattice_solid_angle", {l}, lattice.solidAngles().data(), ctx);
+  h5::writeDataset(f, "lattice_direction", {l, 3}, directions.data(), ctx);
+  const hsize_t width = header.rowLength();
+  const hsize_t dims[2] = {n, width}, maxDims[2] = {H5S_UNLIMITED, width};
+  const hsize_t chunk[2] = {rowsPerChunk(header.rowLength(), header.precision), width};
+  h5::Handle space(H5Screate_simple(2, dims, maxDims), H5Sclose);
+  h5::Handle create = h5::datasetCreation();
+  h5::check(H5Pset_chunk(create.get(), 2, chunk), ctx, "chunk layout");
+  h5::Handle access(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose);
+  h5::check(H5Pset_chunk_cache(access.get(), 521, 32u << 20, 1.0), ctx, "chunk cache");
+  if (header.precision == Precision::F16) halfType_ = h5::halfType();
+  const hid_t type = header.precision == Precision::F16 ? halfType_.get() : H5T_IEEE_F32LE;
+  rows_ = h5::Handle(h5::checkId(H5Dcreate2(f, kRowsDataset, type, space.get(), H5P_DEFAULT,
+                                            create.get(), access.get()),
+                                 ctx, "cannot create the transport dataset"),
+                     H5Dclose);
+}
+
+TransportWriter::~TransportWriter() = default;
+
+void TransportWriter::writeRows(long long firstRow, long long count, const float* rows) {
+  ACPCA_CHECK(firstRow == nextRow_ && count >= 0 && firstRow + count <= header_.rows(), "rows ",
+              firstRow, "+", count, " after ", nextRow_);
+  if (count == 0) return;
+  const hsize_t l = header_.rowLength();
+  const hsize_t start[2] = {static_cast<hsize_t>(firstRow), 0}, size[2] = {(hsize_t)count, l};
+  h5::Handle fileSpace(H5Dget_space(rows_.get()), H5Sclose);
+  h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+            output_.finalPath(), "row selection");
+  h5::Handle memSpace(H5Screate_simple(2, size, nullptr), H5Sclose);
+  const size_t values = static_cast<size_t>(count) * l;
+  herr_t status;
+  if (header_.precision == Precision::F16) {
+    halfBuffer_.resize(values);
+    floatToHalf(rows, halfBuffer_.data(), values);
+    status = H5Dwrite(rows_.get(), halfType_.get(), memSpace.get(), fileSpace.get(), H5P_DEFAULT,
+                      halfBuffer_.data());
+    bytesWritten_ += values * 2;
+  } else {
+    status =
+        H5Dwrite(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT, rows);
+    bytesWritten_ += values * 4;
+  }
+  if (status < 0)
+    throw WriteError(
+        concat(output_.finalPath(),
+               ": cannot write transport rows (disk full, or its directory removed?)"));
+  nextRow_ += count;
+}
+
+void TransportWriter::finish() {
+  ACPCA_CHECK(nextRow_ == header_.rows(), "wrote ", nextRow_, " of ", header_.rows(), " rows");
+  rows_.reset();
+  // The completion marker is written last: a file without it is never read.
+  h5::writeAttribute(file_.get(), "complete", 1LL, output_.finalPath());
+  h5::closeWrittenFile(file_, output_.finalPath());
+  output_.commit();
+}
+
+TransportReader::TransportReader(const std::string& path) : path_(path) {
+  const std::string& ctx = path;
+  file_ = h5::openFileReadOnly(path);
+  const hid_t f = file_.get();
+  if (!h5::hasAttribute(f, "format") ||
+      h5::readStringAttribute(f, "format", ctx) != kTransportFormat)
+    throw UserError(concat(ctx, ": not an adaptive-cpca transport file"));
+  const long long version = h5::readIntAttribute(f, "version", ctx);
+  if (version != kTransportVersion)
+    throw UserError(concat(ctx, ": transport format version ", version, ", this build reads ",
+                           kTransportVersion));
+  if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
+    throw UserError(concat(ctx, ": the file is incomplete (its precompute did not finish)"));
+
+  header_ = readImageHeader(f, true, ctx);
+  auto& h = header_;
+  h.samplesPerPixel = static_cast<int>(h5::readIntAttribute(f, "spp", ctx));
+  h.texelRays = static_cast<int>(h5::readIntAttribute(f, "texel_rays", ctx));
+  const std::string precision = h5::readStringAttribute(f, "precision", ctx);
+  if (precision != "f16" && precision != "f32")
+    throw UserError(concat(ctx, ": attribute 'precision' is '", precision, "', not f16 or f32"));
+  h.precision = parsePrecision(precision);
+  if (h5::hasAttribute(f, "bounces")) {
+    h.bounces =
+        static_cast<int>(std::clamp(h5::readIntAttribute(f, "bounces", ctx), -1LL, 1LL << 20));
+    h.indirectSamples = static_cast<int>(
+        std::clamp(h5::readIntAttribute(f, "indirect_samples", ctx), -1LL, 1LL << 30));
+    h.indirectCacheCell = h5::readDoubleAttribute(f, "indirect_cache_cell", ctx);
+  }
+  if (h5::datasetShape(f, kRowsDataset, ctx) !=
+      std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.rowLength())})
+    throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));
+  h.validate(ctx);
+
+  rows_ = h5::Handle(h5::checkId(H5Dopen2(f, kRowsDataset, H5P_DEFAULT), ctx, "transport rows"),
+                     H5Dclose);
+  h5::Handle type(H5Dget_type(rows_.get()), H5Tclose);
+  const size_t size = H5Tget_size(type.get());
+  if (H5Tget_class(type.get()) != H5T_FLOAT || size != (h.precision == Precision::F16 ? 2u : 4u))
+    throw UserError(concat(ctx, ": transport rows are not ", precisionName(h.precision)));
+}
+
+void TransportReader::readRows(long long first, long long count, float* out) const {
+  ACPCA_CHECK(first >= 0 && count >= 0 && first + count <= rows(), "rows ", first, "+", count);
+  if (count == 0) return;
+  const hsize_t l = rowLength();
+  const hsize_t start[2] = {static_cast<hsize_t>(first), 0}, size[2] = {(hsize_t)count, l};
+  h5::Handle fileSpace(H5Dget_space(rows_.get()), H5Sclose);
+  h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+            path_, "row selection");
+  h5::Handle memSpace(H5Screate_simple(2, size, nullptr), H5Sclose);
+  herr_t status;
+  const size_t values = static_cast<size_t>(count) * l;
+  if (header_.precision == Precision::F16) {
+    halfBuffer_.resize(values);
+    h5::Handle type(H5Dget_type(rows_.get()), H5Tclose);  // read raw: no soft conversion
+    status = H5Dread(rows_.get(), type.get(), memSpace.get(), fileSpace.get(), H5P_DEFAULT,
+                     halfBuffer_.data());
+    if (status >= 0) halfToFloat(halfBuffer_.data(), out, values);
+  } else {
+    status =
+        H5Dread(rows_.get(), H5T_NATIVE_FLOAT, memSpace.get(), fileSpace.get(), H5P_DEFAULT, out);
+  }
+  h5::check(status, path_,
+            concat("cannot read transport rows ", first, "..", first + count,
+                   " (truncated or corrupt file?)"));
+  for (size_t i = 0; i < values; ++i)
+    if (!std::isfinite(out[i]))
+      throw UserError(concat(path_, ": non-finite transport value in row ", first + i / l));
+}
+
+long long TransportReader::fileBytes() const {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path_, ec);
+  return ec ? -1 : static_cast<long long>(size);
+}
+
+}  // namespace acpca

@@ -1,0 +1,101 @@
+#pragma once
+// The transport file: an HDF5 file holding, for every occupied pixel, its row of
+// T over the cube lattice (docs/design.md section 3), plus the image geometry, camera,
+// per-pixel albedo, coverage and normal. Layout: docs/formats.md.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/enum_names.h"
+#include "transport/camera.h"
+#include "transport/hdf5_handles.h"
+
+namespace acpca {
+
+enum class Precision { F16, F32 };
+inline constexpr EnumNames<Precision, 2> kPrecisionNames{
+    "precision", {{{Precision::F16, "f16"}, {Precision::F32, "f32"}}}};
+Precision parsePrecision(const std::string& text);  // "f16" | "f32"
+const char* precisionName(Precision p);
+
+inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
+inline constexpr int kTransportVersion = 1;
+
+/// Everything about a transport except its rows.
+struct TransportHeader {
+  Camera camera;  ///< camera.size is the image size
+  int cubemapResolution = 32;
+  int samplesPerPixel = 1;
+  int texelRays = 1;
+  Precision precision = Precision::F16;
+  std::string scene;
+  /// Rows per pixel layout: 1, one row shared by R, G and B (the light reaching
+  /// the pixel has the colour of the lighting); 3, the R, G and B rows side by
+  /// side (light that bounced off coloured surfaces carries their colour).
+  int channels = 1;
+  /// How the transport was made: bounces of indirect light (0: direct only),
+  /// paths per pixel sample, and the visibility cache's cell (relative to the
+  /// scene's extent; 0: exact shadow rays at every path vertex).
+  int bounces = 0;
+  int indirectSamples = 0;
+  double indirectCacheCell = 0;
+
+  std::vector<std::int32_t> pixels;  ///< linear index y*W+x of each row, increasing
+  std::vector<float> albedo;         ///< 3 per row, linear RGB
+  std::vector<float> coverage;       ///< 1 per row: fraction of pixel samples that hit
+  std::vector<float> normals;        ///< 3 per row: shading normal (first hit sample)
+
+  long long rows() const { return static_cast<long long>(pixels.size()); }
+  int latticeSize() const { return 6 * cubemapResolution * cubemapResolution; }
+  /// Values per row: channels x latticeSize, channel c's at [c l, (c + 1) l).
+  int rowLength() const { return channels * latticeSize(); }
+  /// Throws UserError when sizes or values do not agree (context names the file).
+  void validate(const std::string& context) const;
+};
+
+/// Writes a transport file row block by row block, in increasing row order.
+/// The file appears under its final name only after finish().
+class TransportWriter {
+ public:
+  TransportWriter(const std::string& path, const TransportHeader& header);
+  ~TransportWriter();
+  /// rows: count x rowLength floats, row-major; firstRow must follow the last block.
+  void writeRows(long long firstRow, long long count, const float* rows);
+  /// Marks the file complete and moves it into place.
+  void finish();
+  long long bytesWritten() const { return bytesWritten_; }
+
+ private:
+  AtomicOutput output_;
+  TransportHeader header_;
+  h5::Handle file_, rows_, halfType_;
+  long long nextRow_ = 0;
+  long long bytesWritten_ = 0;
+  std::vector<std::uint16_t> halfBuffer_;
+};
+
+/// Opens and validates a complete transport file; rows are read on demand.
+class TransportReader {
+ public:
+  explicit TransportReader(const std::string& path);
+  const std::string& path() const { return path_; }
+  const TransportHeader& header() const { return header_; }
+  long long rows() const { return header_.rows(); }
+  int latticeSize() const { return header_.latticeSize(); }
+  int rowLength() const { return header_.rowLength(); }
+  /// Reads rows [first, first + count) as floats into out (count x rowLength).
+  /// Not thread-safe: call from one thread at a time.
+  void readRows(long long first, long long count, float* out) const;
+  /// Size of the file on disk.
+  long long fileBytes() const;
+
+ private:
+  std::string path_;
+  TransportHeader header_;
+  h5::Handle file_, rows_;
+  mutable std::vector<std::uint16_t> halfBuffer_;
+};
+
+}  // namespace acpca
