@@ -71,7 +71,6 @@ Partition partitionRows(const ClusterInput& in, const CompressOptions& o) {
 
 Model compressTransport(const TransportReader& transport, const CompressOptions& o) {
   validateCompressOptions(o);
-  const int block = blockSideFor(o);
   const Stopwatch watch;
   const auto log = [&](const std::string& s) {
     if (o.log) o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));
@@ -113,23 +112,28 @@ Model compressTransport(const TransportReader& transport, const CompressOptions&
   modelOptions.allocateRanks = o.allocateRanks;
   Model model = buildModel(transport.header(), basis, projection, partition, modelOptions);
   model.method = methodName(o.method);
-  model.settings = nlohmann::json{{"method", model.method},
-                                  {"tolerance", o.tolerance},
-                                  {"global_energy", o.globalEnergy},
-                                  {"clusters", o.clusters},
-                                  {"block", block},
-                                  {"exact_quad_tree", o.exactQuadTree},
-                                  {"allocate_ranks", o.allocateRanks},
-                                  {"coeffs", coeffPrecisionName(o.coeffs)},
-                                  {"bases", coeffPrecisionName(o.bases)},
-                                  {"sample_rows", o.sampleRows},
-                                  {"clustering_dims", in.clusteringWidth()},
-                                  {"seed", o.seed},
-                                  {"mean", mean},
-                                  {"source", transport.path()}}
-                       .dump();
+  nlohmann::json settings = compressSettings(o, basis.globalBases());
+  settings["source"] = transport.path();
+  model.settings = settings.dump();
   model.compressSeconds = watch.seconds();
   return model;
+}
+
+nlohmann::json compressSettings(const CompressOptions& o, int globalBases) {
+  const int width = o.clusteringDims > 0 ? std::min(o.clusteringDims, globalBases) : globalBases;
+  return {{"method", methodName(o.method)},
+          {"tolerance", o.tolerance},
+          {"global_energy", o.globalEnergy},
+          {"clusters", o.clusters},
+          {"block", blockSideFor(o)},
+          {"exact_quad_tree", o.exactQuadTree},
+          {"allocate_ranks", o.allocateRanks},
+          {"coeffs", coeffPrecisionName(o.coeffs)},
+          {"bases", coeffPrecisionName(o.bases)},
+          {"sample_rows", o.sampleRows},
+          {"clustering_dims", width},
+          {"seed", o.seed},
+          {"mean", keepsMean(o.method)}};
 }
 
 }  // namespace acpca

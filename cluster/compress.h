@@ -1,6 +1,7 @@
 #pragma once
 // compress: transport file -> model, by one of the methods of docs/design.md section 5.
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "cluster/model_fit.h"
@@ -20,19 +21,20 @@ const char* methodName(Method m);
 
 struct CompressOptions {
   Method method = Method::AdaptiveQuad;
-  double tolerance = 0.999;     ///< fraction of each cluster's energy kept
-  double globalEnergy = 0.999;  ///< fraction of the sample's energy the global basis keeps
-  int clusters = 10;            ///< cpca; initial clusters of adaptive-binary
+  double tolerance = 0.999;  ///< fraction of each cluster's energy kept
+  /// Fraction of the sample's energy the global basis keeps.
+  double globalEnergy = GlobalBasisOptions{}.energy;
+  int clusters = 10;  ///< cpca; initial clusters of adaptive-binary
   /// block: block side; adaptive-quad: root block side; 0: 8 for block, 64 for adaptive-quad.
   int block = 0;
   bool exactQuadTree = false;  ///< adaptive-quad: bottom-up optimum instead of greedy
   bool allocateRanks = false;  ///< one error budget across clusters instead of per cluster
   CoeffPrecision coeffs = CoeffPrecision::F32;
   CoeffPrecision bases = CoeffPrecision::F32;  ///< F32 or F16
-  int sampleRows = 16384;
+  int sampleRows = GlobalBasisOptions{}.sampleRows;
   /// cpca, adaptive-binary: leading global coefficients rows are clustered on (0: all N).
   int clusteringDims = kDefaultClusteringDims;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = GlobalBasisOptions{}.seed;
   /// Stage messages ("global basis: N = 812") for progress output.
   std::function<void(const std::string&)> log;
   /// Go on even when the projection looks too large for the memory available.
@@ -49,6 +51,11 @@ bool keepsMean(Method m);
 /// blockSideFor, CPCA's K and adaptive binary's initial clusters from
 /// `clusters`).
 Partition partitionRows(const ClusterInput& in, const CompressOptions& options);
+
+/// The compress settings a model records (its `settings` attribute), the
+/// same whether `compress` or `build` made it: every option as applied, the
+/// block side resolved and the clustering width on `globalBases` bases.
+nlohmann::json compressSettings(const CompressOptions& options, int globalBases);
 
 /// Throws ParameterError on a bad value.
 void validateCompressOptions(const CompressOptions& options);

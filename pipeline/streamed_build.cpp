@@ -29,6 +29,7 @@
 #include "pipeline/tile_compression.h"
 #include "pipeline/tile_files.h"
 #include "pipeline/tile_plan.h"
+#include "precompute/precompute_json.h"
 #include "relight/image_output.h"
 
 namespace acpca {
@@ -61,33 +62,15 @@ void validate(const BuildOptions& o) {
 }
 
 /// The model's settings, as compress records them, plus how its rows were made.
-std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile) {
-  const CompressOptions& c = o.compress;
-  const PrecomputeOptions& r = o.render;
-  return nlohmann::json{{"method", methodName(c.method)},
-                        {"tolerance", c.tolerance},
-                        {"global_energy", c.globalEnergy},
-                        {"block", blockSideFor(c)},
-                        {"exact_quad_tree", c.exactQuadTree},
-                        {"coeffs", coeffPrecisionName(c.coeffs)},
-                        {"bases", coeffPrecisionName(c.bases)},
-                        {"sample_rows", c.sampleRows},
-                        {"seed", c.seed},
-                        {"mean", keepsMean(c.method)},
-                        {"clusters", c.clusters},
-                        {"clustering_dims", c.clusteringDims},
-                        {"source", concat("build of ", scene.name)},
-                        {"streamed", true},
-                        {"tile", tile},
-                        {"cubemap", r.cubemapResolution},
-                        {"spp", r.samplesPerPixel},
-                        {"antialiasing", kAntialiasingNames.name(r.antialiasing)},
-                        {"texel_rays", r.texelRays},
-                        {"precision", precisionName(r.precision)},
-                        {"bounces", r.bounces},
-                        {"indirect_samples", r.indirectSamples},
-                        {"indirect_cache_cell", r.indirectCacheCell}}
-      .dump();
+/// The compress settings a `compress` of the same options records, then how
+/// the rows were rendered and tiled (docs/formats.md).
+std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile, int globalBases) {
+  nlohmann::json settings = compressSettings(o.compress, globalBases);
+  settings.update(toJson(o.render));
+  settings["source"] = concat("build of ", scene.name);
+  settings["streamed"] = true;
+  settings["tile"] = tile;
+  return settings.dump();
 }
 
 }  // namespace
@@ -164,7 +147,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   Model head;
   head.geometry = header;
   head.method = methodName(c.method);
-  head.settings = settingsJson(o, scene, side);
+  head.settings = settingsJson(o, scene, side, basis.globalBases());
   head.globalBasis = basis.basis;
   head.hasMean = keepsMean(c.method);
   head.precision = c.coeffs;

@@ -18,6 +18,7 @@
 #include "core/warning.h"
 #include "python/long_calls.h"
 #include "python/opening_file.h"
+#include "python/to_python.h"
 #include "relight/batch_relight.h"
 #include "relight/environment.h"
 #include "relight/file_info.h"
@@ -41,10 +42,6 @@ using OutArgument = std::optional<py::array>;
 /// A rank limit as Python gives it: None, a rank (int), a fraction (float) or
 /// the CLI's text ("50%").
 using RankLimit = std::optional<std::variant<int, double, std::string>>;
-
-py::object toPython(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
-}
 
 /// An environment and the name it goes by.
 struct PyEnvironment {

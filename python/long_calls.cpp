@@ -11,21 +11,23 @@
 #include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
+#include "precompute/precompute_json.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "python/interruptible.h"
 #include "python/long_calls.h"
 #include "python/opening_file.h"
+#include "python/to_python.h"
 
 namespace acpca::python {
 
 namespace {
 
-py::dict precompute(const std::string& scene, const std::string& out,
-                    const std::optional<std::pair<int, int>>& size, const std::string& camera,
-                    int cubemap, int spp, const std::string& aa, int texelRays,
-                    const std::string& precision, int bounces, int indirectSamples,
-                    double indirectCache, int threads, bool force, const py::object& progress) {
+py::object precompute(const std::string& scene, const std::string& out,
+                      const std::optional<std::pair<int, int>>& size, const std::string& camera,
+                      int cubemap, int spp, const std::string& aa, int texelRays,
+                      const std::string& precision, int bounces, int indirectSamples,
+                      double indirectCache, int threads, bool force, const py::object& progress) {
   PrecomputeOptions o;
   o.bounces = bounces;
   o.indirectSamples = indirectSamples;
@@ -56,26 +58,14 @@ py::dict precompute(const std::string& scene, const std::string& out,
     });
     return 0;
   });
-  py::dict d;
-  d["occupied_pixels"] = stats.occupiedPixels;
-  d["occlusion_rays"] = stats.occlusionRays;
-  d["seconds"] = stats.seconds;
-  d["transport_seconds"] = stats.transportSeconds;
-  d["rays_per_second"] = stats.raysPerSecond();
-  d["supersampled_pixels"] = stats.supersampledPixels;
-  d["bytes_written"] = stats.bytesWritten;
-  d["channels"] = stats.channels;
-  d["path_rays"] = stats.pathRays;
-  d["cache_points"] = stats.cachePoints;
-  d["cache_seconds"] = stats.cacheSeconds;
-  return d;
+  return toPython(toJson(stats));
 }
 
 py::dict compress(const std::string& transport, const std::string& out, const std::string& method,
                   double tolerance, double globalEnergy, int clusters, int block,
                   bool exactQuadTree, bool allocateRanks, const std::string& coeffs,
-                  const std::string& bases, int sampleRows, std::uint64_t seed, bool force,
-                  const py::object& progress) {
+                  const std::string& bases, int sampleRows, int clusteringDims, std::uint64_t seed,
+                  bool force, const py::object& progress) {
   CompressOptions o;
   o.method = parseMethod(method);
   o.tolerance = tolerance;
@@ -87,6 +77,7 @@ py::dict compress(const std::string& transport, const std::string& out, const st
   o.coeffs = parseCoeffPrecision(coeffs);
   o.bases = parseBasisPrecision(bases);
   o.sampleRows = sampleRows;
+  o.clusteringDims = clusteringDims;
   o.seed = seed;
   o.force = force;
   Model model;
@@ -119,24 +110,32 @@ py::dict compress(const std::string& transport, const std::string& out, const st
 }  // namespace
 
 void registerLongCalls(py::module_& m) {
+  // The defaults are the library's, as the CLI's are.
+  const PrecomputeOptions render;
   m.def("precompute", &precompute, py::arg("scene"), py::arg("out"), py::kw_only(),
-        py::arg("size") = py::none(), py::arg("camera") = "", py::arg("cubemap") = 32,
-        py::arg("spp") = kDefaultSamplesPerPixel, py::arg("aa") = "adaptive",
-        py::arg("texel_rays") = 1, py::arg("precision") = "f16", py::arg("bounces") = 0,
-        py::arg("indirect_samples") = kDefaultIndirectSamples,
-        py::arg("indirect_cache") = kDefaultIndirectCacheCell, py::arg("threads") = 0,
-        py::arg("force") = false, py::arg("progress") = py::none(),
+        py::arg("size") = py::none(), py::arg("camera") = "",
+        py::arg("cubemap") = render.cubemapResolution, py::arg("spp") = render.samplesPerPixel,
+        py::arg("aa") = kAntialiasingNames.name(render.antialiasing),
+        py::arg("texel_rays") = render.texelRays,
+        py::arg("precision") = precisionName(render.precision), py::arg("bounces") = render.bounces,
+        py::arg("indirect_samples") = render.indirectSamples,
+        py::arg("indirect_cache") = render.indirectCacheCell, py::arg("threads") = render.threads,
+        py::arg("force") = render.force, py::arg("progress") = py::none(),
         "Ray-trace a scene (built-in name or JSON file) into the transport file `out`, as "
         "`adaptive-cpca precompute`; size is (width, height); bounces > 0 adds interreflections. "
         "progress(done, total) is called between bands of rows. Ctrl-C stops it and leaves no "
         "file. An image whose transport would not fit the disk or memory is refused before "
-        "any work unless force=True.");
+        "any work unless force=True. Returns the figures `precompute --json` reports.");
+  const CompressOptions c;
   m.def("compress", &compress, py::arg("transport"), py::arg("out"), py::kw_only(),
-        py::arg("method") = "adaptive-quad", py::arg("tolerance") = 0.999,
-        py::arg("global_energy") = 0.999, py::arg("clusters") = 10, py::arg("block") = 0,
-        py::arg("exact_quad_tree") = false, py::arg("allocate_ranks") = false,
-        py::arg("coeffs") = "f32", py::arg("bases") = "f32", py::arg("sample_rows") = 16384,
-        py::arg("seed") = 1, py::arg("force") = false, py::arg("progress") = py::none(),
+        py::arg("method") = methodName(c.method), py::arg("tolerance") = c.tolerance,
+        py::arg("global_energy") = c.globalEnergy, py::arg("clusters") = c.clusters,
+        py::arg("block") = c.block, py::arg("exact_quad_tree") = c.exactQuadTree,
+        py::arg("allocate_ranks") = c.allocateRanks,
+        py::arg("coeffs") = coeffPrecisionName(c.coeffs),
+        py::arg("bases") = coeffPrecisionName(c.bases), py::arg("sample_rows") = c.sampleRows,
+        py::arg("clustering_dims") = c.clusteringDims, py::arg("seed") = c.seed,
+        py::arg("force") = c.force, py::arg("progress") = py::none(),
         "Compress a transport into a model file, as `adaptive-cpca compress`; progress(message) "
         "is called at each stage, where Ctrl-C stops it (nothing is written).");
 }

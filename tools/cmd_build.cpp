@@ -28,9 +28,7 @@ void run(const BuildArgs& a) {
   // Reject bad options before any work.
   BuildOptions o;
   o.render = a.render.options(a.common.threads);
-  CompressFlags compress = a.compress;
-  if (compress.method.empty()) compress.method = "adaptive-quad";
-  o.compress = compress.options();
+  o.compress = a.compress.options();
   o.resume = a.resume;
   o.tilesInFlight = a.tilesInFlight;
   o.tileSide = a.tile;
@@ -62,7 +60,7 @@ void run(const BuildArgs& a) {
   if (!a.groundTruth.empty() && !a.common.quiet)
     std::cerr << "ground-truth images (dense relight, EXR) in " << a.groundTruth << "\n";
   if (!a.common.quiet)
-    std::cerr << "wrote " << a.out << ": " << compress.method << ", " << s.clusters
+    std::cerr << "wrote " << a.out << ": " << methodName(o.compress.method) << ", " << s.clusters
               << " clusters over " << s.tiles << " tiles, N = " << s.globalBases << ", "
               << s.costPerPixel << " per pixel, transport error " << s.transportError << ", "
               << formatBytes(s.frameBytes) << " read per frame; " << s.seconds << " s (basis "
@@ -73,7 +71,7 @@ void run(const BuildArgs& a) {
                                 {"scene", scene.name},
                                 {"width", scene.camera.size.width},
                                 {"height", scene.camera.size.height},
-                                {"method", compress.method},
+                                {"method", methodName(o.compress.method)},
                                 {"rows", s.rows},
                                 {"tiles", s.tiles},
                                 {"tiles_resumed", s.tilesResumed},

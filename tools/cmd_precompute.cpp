@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "core/ranks.h"
+#include "precompute/precompute_json.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "tools/cli_common.h"
@@ -58,22 +59,21 @@ void run(const PrecomputeArgs& a) {
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << ": " << scene.camera.size.width << "x"
               << scene.camera.size.height << ", " << stats.occupiedPixels << " occupied pixels, "
-              << 6 * a.render.cubemap * a.render.cubemap << " directions, "
+              << 6 * options.cubemapResolution * options.cubemapResolution << " directions, "
               << formatBytes(stats.bytesWritten) << " of rows; " << stats.occlusionRays
               << " occlusion rays in " << stats.transportSeconds << " s (" << raysPerSecond / 1e6
               << " M rays/s, " << stats.threadsUsed << " threads"
               << (ranks::distributed() ? concat(" over ", ranks::count(), " ranks") : std::string())
               << "), total " << stats.seconds << " s, peak memory "
               << formatBytes(peakMemoryBytes()) << "; " << stats.supersampledPixels
-              << " pixels traced at " << a.render.spp << " samples, the rest at 1\n";
-  if (a.render.bounces > 0 && !a.common.quiet)
-    std::cerr << "indirect light: " << a.render.bounces << " bounce(s), "
-              << a.render.indirectSamples << " paths per traced sample, " << stats.pathRays
-              << " path rays; "
+              << " pixels traced at " << options.samplesPerPixel << " samples, the rest at 1\n";
+  if (options.bounces > 0 && !a.common.quiet)
+    std::cerr << "indirect light: " << options.bounces << " bounce(s), " << options.indirectSamples
+              << " paths per traced sample, " << stats.pathRays << " path rays; "
               << (stats.channels == 3 ? "R, G and B rows (coloured surfaces)"
                                       : "one row per pixel (grey surfaces)")
               << "; visibility cache: "
-              << (a.render.indirectCache > 0
+              << (options.indirectCacheCell > 0
                       ? concat(stats.cachePoints, " points, ", stats.cacheRays, " rays, ",
                                stats.cacheSeconds, " s")
                       : std::string("off (exact shadow rays at every vertex)"))
@@ -81,33 +81,15 @@ void run(const PrecomputeArgs& a) {
   if (stats.degenerateTriangles > 0 && !a.common.quiet)
     std::cerr << "note: " << stats.degenerateTriangles
               << " zero-area triangles were left out (they cover nothing)\n";
-  writeJson(a.common.jsonPath, {{"out", a.out},
-                                {"scene", scene.name},
-                                {"width", scene.camera.size.width},
-                                {"height", scene.camera.size.height},
-                                {"cubemap", a.render.cubemap},
-                                {"triangles", stats.triangles},
-                                {"degenerate_triangles", stats.degenerateTriangles},
-                                {"occupied_pixels", stats.occupiedPixels},
-                                {"occlusion_rays", stats.occlusionRays},
-                                {"spp", a.render.spp},
-                                {"antialiasing", a.render.antialiasing},
-                                {"supersampled_pixels", stats.supersampledPixels},
-                                {"rays_per_second", raysPerSecond},
-                                {"transport_seconds", stats.transportSeconds},
-                                {"seconds", stats.seconds},
-                                {"threads_used", stats.threadsUsed},
-                                {"ranks", ranks::count()},
-                                {"row_bytes", stats.bytesWritten},
-                                {"bounces", a.render.bounces},
-                                {"indirect_samples", a.render.indirectSamples},
-                                {"indirect_cache_cell", a.render.indirectCache},
-                                {"channels", stats.channels},
-                                {"path_rays", stats.pathRays},
-                                {"cache_points", stats.cachePoints},
-                                {"cache_rays", stats.cacheRays},
-                                {"cache_seconds", stats.cacheSeconds},
-                                {"peak_memory_bytes", peakMemoryBytes()}});
+  nlohmann::json report = {{"out", a.out},
+                           {"scene", scene.name},
+                           {"width", scene.camera.size.width},
+                           {"height", scene.camera.size.height},
+                           {"ranks", ranks::count()},
+                           {"peak_memory_bytes", peakMemoryBytes()}};
+  report.update(toJson(options));
+  report.update(toJson(stats));
+  writeJson(a.common.jsonPath, report);
 }
 
 }  // namespace

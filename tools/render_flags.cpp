@@ -10,41 +10,39 @@ void RenderFlags::add(CLI::App& app) {
   app.add_option("--camera", camera,
                  "auto: frame the scene's bounds from its camera's direction; auto:THETA,PHI: "
                  "from that direction (degrees: THETA from +Y, PHI from -Z towards +X)");
-  app.add_option("--cubemap", cubemap, "Cube-map face resolution R (6 R^2 directions)");
-  app.add_option("--spp", spp,
-                 "Camera samples per pixel (default 4): anti-aliased silhouettes and textures");
+  app.add_option("--cubemap", values.cubemapResolution,
+                 "Cube-map face resolution R (6 R^2 directions)");
+  app.add_option("--spp", values.samplesPerPixel,
+                 "Camera samples per pixel: anti-aliased silhouettes and textures")
+      ->capture_default_str();
   app.add_option("--aa", antialiasing,
                  "adaptive: trace every sample only where they see different surfaces "
                  "(default); full: everywhere, shadow edges too, at spp times the cost");
-  app.add_flag("--force", force,
+  app.add_flag("--force", values.force,
                "Start even when the disk or memory looks too small for the whole image");
-  app.add_option("--texel-rays", texelRays, "Occlusion rays per texel (fractional visibility)");
+  app.add_option("--texel-rays", values.texelRays,
+                 "Occlusion rays per texel (fractional visibility)");
   app.add_option("--precision", precision,
                  "Stored precision: f16 or f32 (build rounds its rows the same way)");
-  app.add_option("--bounces", bounces,
+  app.add_option("--bounces", values.bounces,
                  "Interreflections: light that bounces up to K times off scene surfaces "
-                 "(default 0: direct light)");
-  app.add_option("--indirect-samples", indirectSamples,
-                 "Paths per traced camera sample for the bounced light (default 64): noise "
-                 "falls as they rise");
-  app.add_option("--indirect-cache", indirectCache,
+                 "(0: direct light)")
+      ->capture_default_str();
+  app.add_option("--indirect-samples", values.indirectSamples,
+                 "Paths per traced camera sample for the bounced light: noise falls as they rise")
+      ->capture_default_str();
+  app.add_option("--indirect-cache", values.indirectCacheCell,
                  "Path vertices share the visibility of one point per cell of this size, a "
-                 "fraction of the scene's extent (default 1/1024); 0 traces every vertex's own "
-                 "shadow rays (unbiased, slow)");
+                 "fraction of the scene's extent; 0 traces every vertex's own shadow rays "
+                 "(unbiased, slow)")
+      ->capture_default_str();
 }
 
 PrecomputeOptions RenderFlags::options(int threads) const {
-  PrecomputeOptions o;
-  o.cubemapResolution = cubemap;
-  o.samplesPerPixel = spp;
+  PrecomputeOptions o = values;
   o.antialiasing = kAntialiasingNames.parse(antialiasing);
-  o.texelRays = texelRays;
   o.precision = parsePrecision(precision);
   o.threads = threads;
-  o.bounces = bounces;
-  o.indirectSamples = indirectSamples;
-  o.indirectCacheCell = indirectCache;
-  o.force = force;
   return o;
 }
 
@@ -64,45 +62,36 @@ void CompressFlags::add(CLI::App& app, bool streamed) {
   else
     app.add_option("--method", method, "global, block, cpca, adaptive-quad or adaptive-binary")
         ->required();
-  app.add_option("--tolerance", tolerance, "Fraction of each cluster's energy kept");
-  app.add_option("--global-energy", globalEnergy,
+  app.add_option("--tolerance", values.tolerance, "Fraction of each cluster's energy kept");
+  app.add_option("--global-energy", values.globalEnergy,
                  "Fraction of energy the global basis keeps (1: every direction)");
-  app.add_option("--clusters", clusters,
+  app.add_option("--clusters", values.clusters,
                  streamed ? "cpca: K over the image; adaptive-binary: initial clusters per group"
                           : "cpca: K; adaptive-binary: initial clusters");
-  app.add_option("--block", block, "block: side (default 8); adaptive-quad: root side (64)");
-  app.add_flag("--exact-tree", exactQuadTree,
+  app.add_option("--block", values.block, "block: side (default 8); adaptive-quad: root side (64)");
+  app.add_flag("--exact-tree", values.exactQuadTree,
                "adaptive-quad: bottom-up optimal tree instead of the paper's greedy test");
   if (!streamed) {
-    app.add_flag("--allocate-ranks", allocateRanks,
+    app.add_flag("--allocate-ranks", values.allocateRanks,
                  "Spend one error budget, (1 - tolerance) of all energy, where it buys the most");
-    app.add_flag("--force", force, "Go on even when the projection looks too large for memory");
+    app.add_flag("--force", values.force,
+                 "Go on even when the projection looks too large for memory");
   }
   app.add_option("--coeffs", coeffs, "Coefficient storage: f32, f16 or i8");
   app.add_option("--bases", bases,
                  "Cluster basis storage: f32 or f16 (halves the bytes a frame reads for them)");
-  app.add_option("--sample-rows", sampleRows, "Rows sampled for the global basis");
-  app.add_option("--clustering-dims", clusteringDims,
+  app.add_option("--sample-rows", values.sampleRows, "Rows sampled for the global basis");
+  app.add_option("--clustering-dims", values.clusteringDims,
                  "cpca, adaptive-binary: leading global coefficients rows are clustered on "
                  "(0: all)");
-  app.add_option("--seed", seed, "Random seed (sampling, CPCA seeding)");
+  app.add_option("--seed", values.seed, "Random seed (sampling, CPCA seeding)");
 }
 
 CompressOptions CompressFlags::options() const {
-  CompressOptions o;
-  o.method = parseMethod(method);
-  o.tolerance = tolerance;
-  o.globalEnergy = globalEnergy;
-  o.clusters = clusters;
-  o.block = block;
-  o.exactQuadTree = exactQuadTree;
-  o.allocateRanks = allocateRanks;
+  CompressOptions o = values;
+  o.method = method.empty() ? values.method : parseMethod(method);
   o.coeffs = parseCoeffPrecision(coeffs);
   o.bases = parseBasisPrecision(bases);
-  o.sampleRows = sampleRows;
-  o.clusteringDims = clusteringDims;
-  o.seed = seed;
-  o.force = force;
   return o;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // The flags that say how a scene's rows are rendered and compressed, shared by
 // precompute and build (rendering) and by compress and build (compression).
+// Numbers bind straight to the library's option structs, so their defaults are
+// the library's; names (methods, precisions) are parsed into them.
 #include <CLI/CLI.hpp>
 #include <string>
 
@@ -11,11 +13,10 @@
 namespace acpca::cli {
 
 struct RenderFlags {
-  std::string scene, size, camera, precision = "f16", antialiasing = "adaptive";
-  int cubemap = 32, spp = kDefaultSamplesPerPixel, texelRays = 1;
-  int bounces = 0, indirectSamples = kDefaultIndirectSamples;
-  double indirectCache = kDefaultIndirectCacheCell;
-  bool force = false;
+  std::string scene, size, camera;
+  PrecomputeOptions values;
+  std::string precision = precisionName(values.precision);
+  std::string antialiasing = kAntialiasingNames.name(values.antialiasing);
 
   void add(CLI::App& app);
   /// Parsed (UserError on bad names); threads as given.
@@ -25,11 +26,10 @@ struct RenderFlags {
 };
 
 struct CompressFlags {
-  std::string method, coeffs = "f32", bases = "f32";
-  double tolerance = 0.999, globalEnergy = 0.999;
-  int clusters = 10, block = 0, sampleRows = 16384, clusteringDims = kDefaultClusteringDims;
-  unsigned long long seed = 1;
-  bool exactQuadTree = false, allocateRanks = false, force = false;
+  CompressOptions values;
+  std::string method;  ///< empty: required (compress) or adaptive-quad (build)
+  std::string coeffs = coeffPrecisionName(values.coeffs);
+  std::string bases = coeffPrecisionName(values.bases);
 
   /// streamed: build's subset (adaptive-quad by default; no CPCA options).
   void add(CLI::App& app, bool streamed);

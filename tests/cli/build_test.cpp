@@ -63,6 +63,26 @@ void expectSameClusters(const Model& streamed, const Model& twoStep) {
   EXPECT_NEAR(streamed.globalEnergyKept, twoStep.globalEnergyKept, 1e-6);
 }
 
+/// A model from `build` records the compress settings a `compress` with the
+/// same flags records, key for key and value for value (but for `source`),
+/// and beside them how its rows were rendered (kScene's flags).
+void expectSameCompressSettings(const Model& streamed, const Model& twoStep) {
+  const auto built = nlohmann::json::parse(streamed.settings);
+  const auto compressed = nlohmann::json::parse(twoStep.settings);
+  for (const auto& [key, value] : compressed.items()) {
+    if (key == "source") continue;
+    ASSERT_TRUE(built.contains(key)) << "build's settings lack " << key;
+    EXPECT_EQ(built[key], value) << key;
+  }
+  EXPECT_EQ(compressed.size(), 14u) << compressed.dump();
+  EXPECT_EQ(built["cubemap"], 8);
+  EXPECT_EQ(built["spp"], 1);
+  EXPECT_EQ(built["antialiasing"], "adaptive");
+  EXPECT_EQ(built["bounces"], 0);
+  EXPECT_EQ(built["streamed"], true);
+  EXPECT_EQ(built["source"], "build of plant");
+}
+
 TEST(Build, EqualsPrecomputeThenCompress) {
   TempDir dir;
   const RunResult pre = runCli("precompute " + kScene + " --quiet --out " + dir.file("t.h5"));
@@ -93,6 +113,7 @@ TEST(Build, EqualsPrecomputeThenCompress) {
     ASSERT_EQ(compressed.status, 0) << compressed.output;
     const Model streamed = readModel(dir.file("b.h5")), twoStep = readModel(dir.file("c.h5"));
     expectSameClusters(streamed, twoStep);
+    expectSameCompressSettings(streamed, twoStep);
     EXPECT_GT(streamed.clusters(), 9) << "the tiles split: the test exercises the quad tree";
     EXPECT_LT(reconstructionDifference(streamed, twoStep), bound);
     EXPECT_FALSE(fs::exists(dir.file("b.h5.tiles"))) << "the finished tiles are removed";
@@ -146,6 +167,7 @@ TEST(Build, CpcaAndAdaptiveBinaryClusterEachTileGroupOnItsOwn) {
     const Model streamed = readModel(dir.file("b.h5")), whole = readModel(dir.file("c.h5"));
     EXPECT_TRUE(streamed.hasMean);
     EXPECT_TRUE(streamed.globalBasis == whole.globalBasis);
+    expectSameCompressSettings(streamed, whole);
     for (int c = 0; c < streamed.clusters(); ++c) {
       std::set<int> groups;
       for (long long r = streamed.rowOffsets[c]; r < streamed.rowOffsets[c + 1]; ++r) {

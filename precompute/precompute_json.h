@@ -1,0 +1,17 @@
+#pragma once
+// What a precompute was asked and what it did, as the JSON the CLI's --json,
+// Python's precompute() and a build model's settings share: one key per field.
+#include <nlohmann/json.hpp>
+
+#include "precompute/transport_renderer.h"
+
+namespace acpca {
+
+/// How rows are rendered: cubemap, spp, antialiasing, texel_rays, precision,
+/// bounces, indirect_samples, indirect_cache_cell (docs/formats.md).
+nlohmann::json toJson(const PrecomputeOptions& options);
+
+/// The figures of one precompute (rays, rows, seconds, the indirect cache).
+nlohmann::json toJson(const PrecomputeStats& stats);
+
+}  // namespace acpca
