@@ -92,4 +92,16 @@ std::string rankSummary(const Model& m) {
   return out;
 }
 
+nlohmann::json summaryJson(const Model& m) {
+  return {{"method", m.method},
+          {"clusters", m.clusters()},
+          {"global_bases", m.globalBases()},
+          {"total_cost", m.totalCost()},
+          {"cost_per_pixel", m.costPerPixel()},
+          {"transport_error", m.transportError},
+          {"global_energy_kept", m.globalEnergyKept},
+          {"bytes_per_frame", m.frameBytes()},
+          {"seconds", m.compressSeconds}};
+}
+
 }  // namespace acpca

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -74,6 +75,11 @@ struct Model {
   /// The cluster of every row, in the transport's row order.
   std::vector<int> clusterOfRow() const;
 };
+
+/// What a compress made, as `compress --json` and Python's compress() report
+/// it: method, clusters, global_bases, total_cost, cost_per_pixel,
+/// transport_error, global_energy_kept, bytes_per_frame and seconds.
+nlohmann::json summaryJson(const Model& model);
 
 /// How many clusters have each rank.
 std::map<int, int> rankHistogram(const Model& model);

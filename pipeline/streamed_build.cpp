@@ -75,6 +75,30 @@ std::string settingsJson(const BuildOptions& o, const Scene& scene, int tile, in
 
 }  // namespace
 
+nlohmann::json toJson(const BuildStats& s) {
+  nlohmann::json errors = nlohmann::json::object();
+  for (const auto& [name, error] : s.imageErrors) errors[name] = error;
+  return {{"rows", s.rows},
+          {"tiles", s.tiles},
+          {"tiles_resumed", s.tilesResumed},
+          {"global_bases", s.globalBases},
+          {"sample_energy_kept", s.sampleEnergyKept},
+          {"held_out_energy_kept", s.heldOutEnergyKept},
+          {"clusters", s.clusters},
+          {"cost_per_pixel", s.costPerPixel},
+          {"transport_error", s.transportError},
+          {"global_energy_kept", s.globalEnergyKept},
+          {"bytes_per_frame", s.frameBytes},
+          {"occlusion_rays", s.occlusionRays},
+          {"path_rays", s.pathRays},
+          {"basis_seconds", s.basisSeconds},
+          {"tile_seconds", s.tileSeconds},
+          {"assemble_seconds", s.assembleSeconds},
+          {"seconds", s.seconds},
+          {"work_bytes", s.peakWorkBytes},
+          {"image_errors", errors}};
+}
+
 ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
   // What precompute holds, and the rows of the basis sample and of the tiles
   // in flight, in float, instead of a transport on disk.

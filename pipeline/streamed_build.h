@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cluster/compress.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
@@ -73,6 +75,9 @@ struct BuildStats {
 /// place), which `resume` continues from.
 /// What a build needs at most in memory (it writes tiles and the model, whose
 /// size is known only as they are fitted).
+/// The figures of one build, as `build --json` reports them.
+nlohmann::json toJson(const BuildStats& stats);
+
 ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o);
 
 BuildStats buildStreamed(const Scene& scene, const std::string& outPath,

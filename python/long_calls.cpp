@@ -61,11 +61,11 @@ py::object precompute(const std::string& scene, const std::string& out,
   return toPython(toJson(stats));
 }
 
-py::dict compress(const std::string& transport, const std::string& out, const std::string& method,
-                  double tolerance, double globalEnergy, int clusters, int block,
-                  bool exactQuadTree, bool allocateRanks, const std::string& coeffs,
-                  const std::string& bases, int sampleRows, int clusteringDims, std::uint64_t seed,
-                  bool force, const py::object& progress) {
+py::object compress(const std::string& transport, const std::string& out, const std::string& method,
+                    double tolerance, double globalEnergy, int clusters, int block,
+                    bool exactQuadTree, bool allocateRanks, const std::string& coeffs,
+                    const std::string& bases, int sampleRows, int clusteringDims,
+                    std::uint64_t seed, bool force, const py::object& progress) {
   CompressOptions o;
   o.method = parseMethod(method);
   o.tolerance = tolerance;
@@ -96,15 +96,7 @@ py::dict compress(const std::string& transport, const std::string& out, const st
     });
     return 0;
   });
-  py::dict d;
-  d["method"] = model.method;
-  d["clusters"] = model.clusters();
-  d["global_bases"] = model.globalBases();
-  d["cost_per_pixel"] = model.costPerPixel();
-  d["transport_error"] = model.transportError;
-  d["bytes_per_frame"] = model.frameBytes();
-  d["seconds"] = model.compressSeconds;
-  return d;
+  return toPython(summaryJson(model));
 }
 
 }  // namespace

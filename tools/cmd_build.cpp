@@ -52,11 +52,8 @@ void run(const BuildArgs& a) {
   const BuildStats s = buildStreamed(scene, a.out, o);
   progress.finish();
   if (!lead) return;
-  nlohmann::json errors = nlohmann::json::object();
-  for (const auto& [name, error] : s.imageErrors) {
-    errors[name] = error;
+  for (const auto& [name, error] : s.imageErrors)
     if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
-  }
   if (!a.groundTruth.empty() && !a.common.quiet)
     std::cerr << "ground-truth images (dense relight, EXR) in " << a.groundTruth << "\n";
   if (!a.common.quiet)
@@ -67,32 +64,15 @@ void run(const BuildArgs& a) {
               << s.basisSeconds << " s, tiles " << s.tileSeconds << " s, assembly "
               << s.assembleSeconds << " s), peak memory " << formatBytes(peakMemoryBytes())
               << ", tiles on disk at most " << formatBytes(s.peakWorkBytes) << "\n";
-  writeJson(a.common.jsonPath, {{"out", a.out},
-                                {"scene", scene.name},
-                                {"width", scene.camera.size.width},
-                                {"height", scene.camera.size.height},
-                                {"method", methodName(o.compress.method)},
-                                {"rows", s.rows},
-                                {"tiles", s.tiles},
-                                {"tiles_resumed", s.tilesResumed},
-                                {"ranks", ranks::count()},
-                                {"global_bases", s.globalBases},
-                                {"sample_energy_kept", s.sampleEnergyKept},
-                                {"held_out_energy_kept", s.heldOutEnergyKept},
-                                {"clusters", s.clusters},
-                                {"cost_per_pixel", s.costPerPixel},
-                                {"transport_error", s.transportError},
-                                {"global_energy_kept", s.globalEnergyKept},
-                                {"bytes_per_frame", s.frameBytes},
-                                {"occlusion_rays", s.occlusionRays},
-                                {"path_rays", s.pathRays},
-                                {"basis_seconds", s.basisSeconds},
-                                {"tile_seconds", s.tileSeconds},
-                                {"assemble_seconds", s.assembleSeconds},
-                                {"seconds", s.seconds},
-                                {"work_bytes", s.peakWorkBytes},
-                                {"image_errors", errors},
-                                {"peak_memory_bytes", peakMemoryBytes()}});
+  nlohmann::json report = {{"out", a.out},
+                           {"scene", scene.name},
+                           {"width", scene.camera.size.width},
+                           {"height", scene.camera.size.height},
+                           {"method", methodName(o.compress.method)},
+                           {"ranks", ranks::count()},
+                           {"peak_memory_bytes", peakMemoryBytes()}};
+  report.update(toJson(s));
+  writeJson(a.common.jsonPath, report);
 }
 
 }  // namespace

@@ -34,18 +34,10 @@ void run(const CompressArgs& a) {
               << model.costPerPixel() << " per pixel), transport error " << model.transportError
               << ", " << formatBytes(model.frameBytes()) << " read per frame, "
               << model.compressSeconds << " s, peak memory " << formatBytes(peak) << "\n";
-  writeJson(a.common.jsonPath, {{"out", a.out},
-                                {"method", model.method},
-                                {"clusters", model.clusters()},
-                                {"global_bases", model.globalBases()},
-                                {"total_cost", model.totalCost()},
-                                {"cost_per_pixel", model.costPerPixel()},
-                                {"transport_error", model.transportError},
-                                {"global_energy_kept", model.globalEnergyKept},
-                                {"bytes_per_frame", model.frameBytes()},
-                                {"rank_histogram", rankHistogramJson(model)},
-                                {"seconds", model.compressSeconds},
-                                {"peak_memory_bytes", peak}});
+  nlohmann::json report = summaryJson(model);
+  report.update(
+      {{"out", a.out}, {"rank_histogram", rankHistogramJson(model)}, {"peak_memory_bytes", peak}});
+  writeJson(a.common.jsonPath, report);
 }
 
 }  // namespace
