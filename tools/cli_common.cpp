@@ -102,54 +102,39 @@ ImageSize parseSize(const std::string& text, const std::string& option) {
   return size;
 }
 
-std::string messageWithFlag(const ParameterError& error) {
-  // The libraries' names for what the flags set.
-  static const std::map<std::string, std::string> flags{
-      {"method", "--method"},
-      {"tolerance", "--tolerance"},
-      {"global energy", "--global-energy"},
-      {"clusters", "--clusters"},
-      {"clustering dimensions", "--clustering-dims"},
-      {"block side", "--block"},
-      {"sample rows", "--sample-rows"},
-      {"allocate ranks", "--allocate-ranks"},
-      {"tiles in flight", "--tiles-in-flight"},
-      {"tile side", "--tile"},
-      {"coefficient precision", "--coeffs"},
-      {"basis precision", "--bases"},
-      {"precision", "--precision"},
-      {"environment", "--env"},
-      {"ground-truth lightings", "--env"},
-      {"rotation", "--rotate"},
-      {"background", "--background"},
-      {"cube-map resolution", "--cubemap"},
-      {"samples per pixel", "--spp"},
-      {"rays per texel", "--texel-rays"},
-      {"bounces", "--bounces"},
-      {"indirect samples", "--indirect-samples"},
-      {"indirect cache cell", "--indirect-cache"},
-      {"threads", "--threads"},
-      {"methods", "--methods"},
-      {"Haar terms", "--haar-terms"},
-      {"SH orders", "--sh-orders"},
-      {"SH groups", "--sh-groups"},
-      {"SH fit", "--sh-fits"},
-      {"patch centre", "--centre"},
-      {"block sides", "--blocks"},
-      {"dimensionality energy", "--energy"},
-      {"sizes", "--sizes"},
-      {"timed frames", "--frames"},
-      {"dense frames", "--dense-frames"},
-      {"stream size (GiB)", "--stream-gib"},
-      {"maximum rank", "--max-rank"},
-      {"image format", "--format"},
-      {"timing frames", "--frames"},
-      {"viewer script", "--script"},
-      {"camera", "--camera"},
-      {"output path", "--out"},
-  };
-  const auto it = flags.find(error.parameter());
-  return it == flags.end() ? error.what() : error.messageFor(it->second);
+namespace {
+/// The parameters of options whose flag is not named after them.
+std::map<const CLI::Option*, std::vector<std::string>>& taggedParameters() {
+  static std::map<const CLI::Option*, std::vector<std::string>> tags;
+  return tags;
+}
+
+bool sameWords(std::string flag, const std::string& parameter) {
+  std::replace(flag.begin(), flag.end(), '-', ' ');
+  return flag.size() == parameter.size() &&
+         std::equal(flag.begin(), flag.end(), parameter.begin(),
+                    [](char a, char b) { return ::tolower(a) == ::tolower(b); });
+}
+}  // namespace
+
+void nameParameters(CLI::App& command,
+                    const std::map<std::string, std::vector<std::string>>& flagParameters) {
+  for (const auto& [flag, parameters] : flagParameters)
+    taggedParameters()[command.get_option(flag)] = parameters;
+}
+
+std::string messageWithFlag(const ParameterError& error, const CLI::App& app) {
+  const CLI::App* command = &app;
+  while (!command->get_subcommands().empty()) command = command->get_subcommands().front();
+  for (const CLI::Option* option : command->get_options()) {
+    const auto tag = taggedParameters().find(option);
+    const bool sets = tag != taggedParameters().end()
+                          ? std::count(tag->second.begin(), tag->second.end(), error.parameter())
+                          : !option->get_lnames().empty() &&
+                                sameWords(option->get_lnames().front(), error.parameter());
+    if (sets) return error.messageFor("--" + option->get_lnames().front());
+  }
+  return error.what();
 }
 
 StudyLog stderrLog(const std::string& prefix, bool quiet) {

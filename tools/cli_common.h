@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -71,9 +72,16 @@ ImageSize parseSize(const std::string& text, const std::string& option);
 /// empty directory.
 std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs);
 
-/// ParameterError's message with the flag that sets the parameter in place of
-/// the library's name for it (the message as is for parameters without a flag).
-std::string messageWithFlag(const ParameterError& error);
+/// Says which library parameters flags of `command` set where a flag is not
+/// named after its parameter (`--spp` sets "samples per pixel"; `--global-energy`
+/// sets "global energy" and needs no entry), so that errors name the flag.
+void nameParameters(CLI::App& command,
+                    const std::map<std::string, std::vector<std::string>>& flagParameters);
+
+/// ParameterError's message with the flag of the command that ran (`app`'s
+/// parsed subcommand) that sets the parameter in place of the library's name
+/// for it; the message as is for parameters without a flag.
+std::string messageWithFlag(const ParameterError& error, const CLI::App& app);
 
 /// A log callback printing "PREFIX: line" on stderr; none when quiet.
 StudyLog stderrLog(const std::string& prefix, bool quiet);

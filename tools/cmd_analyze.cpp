@@ -42,6 +42,9 @@ void registerAnalyze(CLI::App& app) {
   sub->add_option("--tolerance", o.tolerance, "Energy each block's bases keep");
   sub->add_option("--energy", o.energy, "Energy that defines a patch's dimensionality");
   args->common.add(*sub);
+  nameParameters(*sub, {{"--centre", {"patch centre"}},
+                        {"--blocks", {"block sides"}},
+                        {"--energy", {"dimensionality energy"}}});
   sub->callback([args] { run(*args); });
 }
 

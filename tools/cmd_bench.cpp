@@ -53,6 +53,7 @@ void registerBench(CLI::App& app) {
   rays->add_option("--rows", args->rows, "Image rows (from the middle) to trace");
   rays->add_option("--repeats", args->repeats, "Runs of each loop; the fastest counts");
   args->common.add(*rays);
+  nameParameters(*rays, {{"--cubemap", {"cube-map resolution"}}});
   rays->callback([args] { runRays(*args); });
   registerBenchMethods(*bench);
   registerBenchRelight(*bench);

@@ -56,6 +56,7 @@ void registerBenchMethods(CLI::App& bench) {
                   "adaptive-binary, cpca (default all)")
       ->delimiter(',');
   args->common.add(*sub);
+  nameParameters(*sub, {{"--env", {"environment"}}});
   sub->callback([args] { run(*args); });
 }
 

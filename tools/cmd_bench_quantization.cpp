@@ -58,6 +58,7 @@ void registerBenchQuantization(CLI::App& bench) {
   sub->add_flag("--no-sh", o.noSh, "Leave out the spherical-harmonics table");
   sub->add_flag("--no-models", o.noModels, "Leave out the models' table");
   args->common.add(*sub);
+  nameParameters(*sub, {{"--env", {"environment"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -50,6 +50,9 @@ void registerBenchRelight(CLI::App& bench) {
   sub->add_option("--dense-frames", o.denseFrames, "Timed frames of the dense relight");
   sub->add_option("--stream-gib", o.streamGiB, "Array size of the streaming-read loop (GiB)");
   args->common.add(*sub);
+  nameParameters(*sub, {{"--env", {"environment"}},
+                        {"--frames", {"timed frames"}},
+                        {"--stream-gib", {"stream size (GiB)"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -63,6 +63,7 @@ void registerBenchScaling(CLI::App& bench) {
   sub->add_flag("--keep-transports", o.keepTransports,
                 "Keep transport_<size>.h5 in the report directory");
   args->common.add(*sub);
+  nameParameters(*sub, {{"--cubemap", {"cube-map resolution"}}});
   sub->callback([args] { run(*args); });
 }
 

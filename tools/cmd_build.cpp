@@ -104,6 +104,8 @@ void registerBuild(CLI::App& app) {
   sub->add_option("--tiles-in-flight", args->tilesInFlight,
                   "Tiles rendered and compressed at once (default 3; each holds its rows)");
   args->common.add(*sub);
+  nameParameters(*sub,
+                 {{"--tile", {"tile side"}}, {"--env", {"environment", "ground-truth lightings"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -60,6 +60,7 @@ void registerEnvmap(CLI::App& app) {
   sub->add_option("--size", args->size, "Lat-long size WxH");
   sub->add_flag("--fast-rotation", args->fastRotation, "Bilinear lattice rotation (fast mode)");
   args->common.add(*sub, false);
+  nameParameters(*sub, {{"--cubemap", {"cube-map resolution"}}, {"--rotate", {"rotation"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -95,6 +95,9 @@ void registerEval(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   args->common.add(*sub);
   args->command = sub;
+  nameParameters(
+      *sub,
+      {{"--env", {"environment"}}, {"--sh-fits", {"SH fit"}}, {"--frames", {"timing frames"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -88,6 +88,12 @@ void registerRelight(CLI::App& app) {
   sub->add_flag("--force", args->options.force,
                 "Write even when the frames look too large for the disk");
   args->common.add(*sub);
+  nameParameters(*sub, {{"--env", {"environment"}},
+                        {"--rotate", {"rotation"}},
+                        {"--format", {"image format"}},
+                        {"--frames", {"timing frames"}},
+                        {"--max-rank", {"maximum rank"}},
+                        {"--out", {"output path"}}});
   sub->callback([args] { run(*args); });
 }
 

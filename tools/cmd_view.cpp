@@ -95,6 +95,9 @@ void registerView(CLI::App& app) {
   sub->add_option("--threads", args->threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("-q,--quiet", args->quiet, "No messages on stderr");
+  nameParameters(
+      *sub,
+      {{"--env", {"environment"}}, {"--rotate", {"rotation"}}, {"--script", {"viewer script"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : fail(code);
   } catch (const acpca::ParameterError& e) {
-    std::cerr << "adaptive-cpca: " << rank << "error: " << acpca::cli::messageWithFlag(e) << "\n";
+    std::cerr << "adaptive-cpca: " << rank << "error: " << acpca::cli::messageWithFlag(e, app)
+              << "\n";
     return fail(1);
   } catch (const acpca::UserError& e) {
     std::cerr << "adaptive-cpca: " << rank << "error: " << e.what() << "\n";

@@ -36,6 +36,10 @@ void RenderFlags::add(CLI::App& app) {
                  "fraction of the scene's extent; 0 traces every vertex's own shadow rays "
                  "(unbiased, slow)")
       ->capture_default_str();
+  nameParameters(app, {{"--cubemap", {"cube-map resolution"}},
+                       {"--spp", {"samples per pixel"}},
+                       {"--texel-rays", {"rays per texel"}},
+                       {"--indirect-cache", {"indirect cache cell"}}});
 }
 
 PrecomputeOptions RenderFlags::options(int threads) const {
@@ -85,6 +89,10 @@ void CompressFlags::add(CLI::App& app, bool streamed) {
                  "cpca, adaptive-binary: leading global coefficients rows are clustered on "
                  "(0: all)");
   app.add_option("--seed", values.seed, "Random seed (sampling, CPCA seeding)");
+  nameParameters(app, {{"--block", {"block side"}},
+                       {"--coeffs", {"coefficient precision"}},
+                       {"--bases", {"basis precision"}},
+                       {"--clustering-dims", {"clustering dimensions"}}});
 }
 
 CompressOptions CompressFlags::options() const {

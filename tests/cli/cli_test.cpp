@@ -85,6 +85,26 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
   EXPECT_EQ(runCli("scenes").status, 0);
 }
 
+TEST_F(Cli, ParameterErrorsNameTheFlagThatSetsThem) {
+  // Flags named after their parameter (--global-energy) and those that are
+  // not (--spp: "samples per pixel"), over the commands that share them.
+  TempDir out;
+  const std::string t = " --out " + out.file("t.h5");
+  const std::string image = " --out " + out.file("r.exr");
+  for (const auto& [args, flag] : std::vector<std::pair<std::string, std::string>>{
+           {"precompute --scene sphere --spp 0" + t, "--spp '0'"},
+           {"build --scene sphere --texel-rays 0" + t, "--texel-rays '0'"},
+           {"compress " + transport_ + " --method adaptive-quad --global-energy 2" + t,
+            "--global-energy '2'"},
+           {"compress " + transport_ + " --method block --block -4" + t, "--block '-4'"},
+           {"relight " + transport_ + " --env sky --rotate 0:0:5" + image, "--rotate '0:0:5'"},
+           {"relight " + transport_ + " --env sun:1,2" + image, "--env 'sun:1,2'"},
+           {"bench relight " + transport_ + " --frames 0", "--frames '0'"}}) {
+    expectFailure(args, flag);
+  }
+  EXPECT_EQ(filesIn(out.path()), 0u);
+}
+
 TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
   TempDir out;
   expectFailure("precompute --scene teapot --out " + out.file("t.h5"), "teapot");
