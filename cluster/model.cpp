@@ -3,6 +3,7 @@
 #include "cluster/cost_model.h"
 #include "core/error.h"
 #include "core/half.h"
+#include "core/text.h"
 
 #include <algorithm>
 
@@ -90,6 +91,13 @@ std::string rankSummary(const Model& m) {
   }
   if (out.back() == ',') out.pop_back();
   return out;
+}
+
+std::string describeInWords(const Model& m) {
+  return concat(m.method, ", ", m.clusters(), " clusters, N = ", m.globalBases(), ", cost ",
+                m.totalCost(), " (", m.costPerPixel(), " per pixel), transport error ",
+                m.transportError, ", ", formatBytes(m.frameBytes()), " read per frame, ",
+                m.compressSeconds, " s");
 }
 
 nlohmann::json summaryJson(const Model& m) {

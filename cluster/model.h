@@ -80,6 +80,8 @@ struct Model {
 /// it: method, clusters, global_bases, total_cost, cost_per_pixel,
 /// transport_error, global_energy_kept, bytes_per_frame and seconds.
 nlohmann::json summaryJson(const Model& model);
+/// The same in a line of words, for the log.
+std::string describeInWords(const Model& model);
 
 /// How many clusters have each rank.
 std::map<int, int> rankHistogram(const Model& model);

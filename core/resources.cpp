@@ -89,7 +89,8 @@ long long availableMemoryBytes() {
 void requireResources(const ResourceNeed& need, bool force) {
   if (force) return;
   const auto instead = [](const std::string& advice) {
-    return concat(advice.empty() ? std::string() : "; " + advice, " (--force skips this check)");
+    return concat(advice.empty() ? std::string() : "; " + advice,
+                  "; forcing the run skips this check");
   };
   if (need.diskBytes > 0) {
     const long long free = freeDiskBytes(need.diskDirectory);
@@ -116,6 +117,12 @@ void requireResources(const ResourceNeed& need, bool force) {
                              " of memory, and ", formatBytes(available), " are available",
                              instead(need.memoryAdvice)));
   }
+}
+
+long long peakMemoryBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 }  // namespace acpca

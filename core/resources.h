@@ -30,4 +30,8 @@ long long availableMemoryBytes();
 /// and its advice. Does nothing when `force` is set.
 void requireResources(const ResourceNeed& need, bool force);
 
+/// This process's peak resident memory so far (reported in --json and logs,
+/// never in output files).
+long long peakMemoryBytes();
+
 }  // namespace acpca

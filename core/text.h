@@ -7,6 +7,10 @@ namespace acpca {
 /// The text printf would print for `format` and the values.
 std::string formatted(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
+/// Edits (insertions, deletions, substitutions) that turn a into b: how close
+/// a mistyped name is to a known one.
+size_t editDistance(const std::string& a, const std::string& b);
+
 /// Human-readable byte count (e.g. "1.20 GiB").
 std::string formatBytes(double bytes);
 

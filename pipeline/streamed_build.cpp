@@ -22,14 +22,16 @@
 #include "core/interrupt_cleanup.h"
 #include "core/ordered_pipeline.h"
 #include "core/ranks.h"
+#include "core/resources.h"
 #include "core/stopwatch.h"
+#include "core/text.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/kept_transport.h"
 #include "pipeline/sampled_basis.h"
 #include "pipeline/tile_compression.h"
 #include "pipeline/tile_files.h"
 #include "pipeline/tile_plan.h"
-#include "precompute/precompute_json.h"
+#include "precompute/precompute_report.h"
 #include "relight/image_output.h"
 
 namespace acpca {
@@ -53,12 +55,12 @@ void validate(const BuildOptions& o) {
   if (!o.groundTruthDir.empty() && o.groundTruth.empty())
     throw ParameterError("ground-truth lightings", "none", "are needed for ground-truth images");
   if (!o.keepTransport.empty() && o.resume)
-    throw UserError(
-        "--keep-transport cannot resume: an interrupted build kept no rows of its finished tiles");
+    throw ParameterError("keep transport", o.keepTransport,
+                         "cannot resume: an interrupted build kept no rows of its finished tiles");
   if (!o.keepTransport.empty() && ranks::distributed())
-    throw UserError(
-        "--keep-transport runs in one process: under mpirun every rank's rows would cross the "
-        "network to rank 0 (run precompute under mpirun for the transport)");
+    throw ParameterError("keep transport", o.keepTransport,
+                         "runs in one process: over MPI ranks every rank's rows would cross the "
+                         "network to rank 0 (a distributed precompute writes the transport)");
 }
 
 /// The model's settings, as compress records them, plus how its rows were made.
@@ -97,6 +99,15 @@ nlohmann::json toJson(const BuildStats& s) {
           {"seconds", s.seconds},
           {"work_bytes", s.peakWorkBytes},
           {"image_errors", errors}};
+}
+
+std::string describeInWords(const BuildStats& s) {
+  return concat(s.clusters, " clusters over ", s.tiles, " tiles, N = ", s.globalBases, ", ",
+                s.costPerPixel, " per pixel, transport error ", s.transportError, ", ",
+                formatBytes(s.frameBytes), " read per frame; ", s.seconds, " s (basis ",
+                s.basisSeconds, " s, tiles ", s.tileSeconds, " s, assembly ", s.assembleSeconds,
+                " s), peak memory ", formatBytes(peakMemoryBytes()), ", tiles on disk at most ",
+                formatBytes(s.peakWorkBytes));
 }
 
 ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
@@ -186,8 +197,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   std::vector<char> done(tiles.size(), 0);
   if (lead) {
     prepareWorkDirectory(dir, head.settings + "\n" + std::to_string(hash) + "\n", o.resume, o.log);
-    interrupt::setInterruptNote(
-        concat("finished tiles are kept in ", dir, ": the same build with --resume continues"));
+    interrupt::setInterruptNote(concat("finished tiles are kept in ", dir, ": ", o.resumeAdvice));
     for (size_t t = 0; t < tiles.size(); ++t) {
       std::error_code ec;
       done[t] = o.resume && fs::exists(tilePath(dir, t), ec);

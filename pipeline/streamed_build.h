@@ -32,6 +32,9 @@ struct BuildOptions {
   /// Continue an interrupted build from its finished tiles (same scene and
   /// settings); without it, what an earlier build left is started over.
   bool resume = false;
+  /// What the note an interrupted build leaves says continues it (the caller's
+  /// words for resuming).
+  std::string resumeAdvice = "resuming the same build continues from them";
   /// Tiles in flight at once (each holds its rows in float).
   int tilesInFlight = 3;
   /// Lightings (`--env` specs) whose dense relight B = albedo (T L), the
@@ -77,6 +80,8 @@ struct BuildStats {
 /// size is known only as they are fitted).
 /// The figures of one build, as `build --json` reports them.
 nlohmann::json toJson(const BuildStats& stats);
+/// The same in a line of words, for the log (with this process's peak memory).
+std::string describeInWords(const BuildStats& stats);
 
 ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const BuildOptions& o);
 

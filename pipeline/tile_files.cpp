@@ -67,11 +67,12 @@ void prepareWorkDirectory(const std::string& dir, const std::string& identity, b
     if (found != identity)
       throw UserError(concat(dir,
                              ": was left by a build of another scene or other settings; "
-                             "run without --resume to start over"));
+                             "build again without resuming to start over"));
     return;
   }
   if (fs::exists(dir, ec)) {
-    if (log) log(concat("starting over: removing ", dir, resume ? "" : " (--resume continues it)"));
+    if (log)
+      log(concat("starting over: removing ", dir, resume ? "" : " (resuming would continue it)"));
     fs::remove_all(dir, ec);
     if (ec) throw WriteError(concat(dir, ": cannot remove (", ec.message(), ")"));
   }

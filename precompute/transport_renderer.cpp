@@ -560,13 +560,13 @@ std::vector<std::string> samplingWarnings(const Scene& scene, const PrecomputeOp
     const std::string lobe = m.type == Material::Type::Phong
                                  ? concat("Phong exponent ", m.exponent)
                                  : concat("GGX roughness ", m.roughness);
-    warnings.push_back(concat(
-        object, ": ", lobe, " has a lobe ", 2 * halfWidth * 180 / M_PI,
-        " degrees wide at half maximum, under two direction samples across (", spacing * 180 / M_PI,
-        " degrees apart on 6x", options.cubemapResolution, "x", options.cubemapResolution, " with ",
-        options.texelRays, " ray(s) per texel): its highlights alias; --texel-rays ",
-        texelRaysForHalfWidth(halfWidth, options.cubemapResolution),
-        " or a larger --cubemap resolves it"));
+    warnings.push_back(concat(object, ": ", lobe, " has a lobe ", 2 * halfWidth * 180 / M_PI,
+                              " degrees wide at half maximum, under two direction samples across (",
+                              spacing * 180 / M_PI, " degrees apart on 6x",
+                              options.cubemapResolution, "x", options.cubemapResolution, " with ",
+                              options.texelRays, " ray(s) per texel): its highlights alias; ",
+                              texelRaysForHalfWidth(halfWidth, options.cubemapResolution),
+                              " rays per texel or a larger cube map resolve it"));
   };
   for (const auto& mesh : scene.meshes) check(mesh.material, concat("mesh '", mesh.name, "'"));
   for (size_t i = 0; i < scene.spheres.size(); ++i)

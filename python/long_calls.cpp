@@ -11,7 +11,7 @@
 #include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
-#include "precompute/precompute_json.h"
+#include "precompute/precompute_report.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "python/interruptible.h"

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -74,6 +75,34 @@ std::unique_ptr<Environment> loadEnvironment(const std::string& spec) {
     throw ParameterError("environment", spec,
                          "no such file, and not constant:V, sun:THETA,PHI,SIZE,I or sky");
   return loadEnvironmentImage(spec);
+}
+
+namespace {
+bool isImageFile(const std::filesystem::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  return ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
+}
+}  // namespace
+
+std::vector<std::string> expandEnvironmentSpecs(const std::vector<std::string>& specs) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  for (const auto& spec : specs) {
+    if (!isAnalyticEnvironment(spec) && fs::is_directory(spec)) {
+      std::vector<std::string> files;
+      for (const auto& entry : fs::directory_iterator(spec))
+        if (entry.is_regular_file() && isImageFile(entry.path()))
+          files.push_back(entry.path().string());
+      if (files.empty())
+        throw ParameterError("environment", spec, "the directory holds no .exr/.hdr maps");
+      std::sort(files.begin(), files.end());
+      out.insert(out.end(), files.begin(), files.end());
+    } else {
+      out.push_back(spec);
+    }
+  }
+  return out;
 }
 
 }  // namespace acpca

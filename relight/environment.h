@@ -48,6 +48,11 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
 /// True if spec names an analytic map rather than a file.
 bool isAnalyticEnvironment(const std::string& spec);
 
+/// Lighting specs with each directory replaced by the lighting images it holds
+/// (.exr, .hdr, .pfm, .tif; sorted); analytic specs and files pass through.
+/// Throws ParameterError for a directory without any.
+std::vector<std::string> expandEnvironmentSpecs(const std::vector<std::string>& specs);
+
 std::unique_ptr<Environment> makeConstantEnvironment(const Rgb& radiance);
 /// A disc of angular diameter sizeDegrees and uniform radiance, centred at the
 /// lat-long angles theta (from +Y) and phi (0 towards -Z, 90 towards +X).

@@ -1,8 +1,10 @@
 #include "relight/file_info.h"
 
 #include <filesystem>
+#include <sstream>
 
 #include "cluster/model_file.h"
+#include "core/text.h"
 
 namespace acpca {
 
@@ -79,6 +81,58 @@ nlohmann::json describeTransport(const TransportReader& t) {
 nlohmann::json describeFile(const std::string& path) {
   if (isModelFile(path)) return describeModel(readModel(path), path);
   return describeTransport(TransportReader(path));
+}
+
+std::string describeInWords(const Model& m, const std::string& path) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  std::ostringstream out;
+  out << path << ": " << m.method << " model of scene '" << m.geometry.scene << "'\n"
+      << "  image        " << m.geometry.camera.size.width << "x" << m.geometry.camera.size.height
+      << ", " << m.rows() << " occupied pixels\n"
+      << "  lattice      6x" << m.geometry.cubemapResolution << "x" << m.geometry.cubemapResolution
+      << ", N = " << m.globalBases() << " global bases"
+      << (m.geometry.channels == 3 ? " over R, G and B rows" : "") << "\n"
+      << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks "
+      << rankSummary(m) << "\n"
+      << "  cost         " << m.totalCost() << " multiply-adds per frame, " << m.costPerPixel()
+      << " per pixel\n"
+      << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "
+      << coeffPrecisionName(m.basisPrecision) << " bases, " << formatBytes(m.frameBytes())
+      << " read per frame, " << formatBytes(double(bytes)) << " on disk\n"
+      << "  error        " << m.transportError << " relative to T (Frobenius)\n";
+  return out.str();
+}
+
+std::string describeInWords(const TransportReader& t, const std::string& path) {
+  const auto& h = t.header();
+  const long long storedValues = t.rows() * static_cast<long long>(t.rowLength());
+  std::ostringstream out;
+  out << path << ": transport of scene '" << h.scene << "'\n"
+      << "  image        " << h.camera.size.width << "x" << h.camera.size.height << ", " << t.rows()
+      << " occupied pixels (" << 100.0 * t.rows() / h.camera.size.pixels() << "%)\n"
+      << "  lattice      6x" << h.cubemapResolution << "x" << h.cubemapResolution << " = "
+      << t.latticeSize() << " directions\n"
+      << "  sampling     " << h.samplesPerPixel << " sample(s) per pixel, " << h.texelRays
+      << " ray(s) per texel\n"
+      << "  light        "
+      << (h.bounces > 0 ? concat("direct and up to ", h.bounces, " bounce(s): ", h.indirectSamples,
+                                 " paths per traced sample, ",
+                                 h.indirectCacheCell > 0
+                                     ? concat("visibility cache cell ", h.indirectCacheCell,
+                                              " of the scene's extent")
+                                     : std::string("exact visibility at every vertex"))
+                        : std::string("direct"))
+      << "\n"
+      << "  rows         "
+      << (h.channels == 3 ? "R, G and B side by side (3 x l values per pixel)"
+                          : "one per pixel, shared by R, G and B")
+      << "\n"
+      << "  storage      " << precisionName(h.precision) << ", " << storedValues << " values, "
+      << formatBytes(t.fileBytes()) << " on disk\n"
+      << "  relight cost " << t.latticeSize()
+      << " multiply-adds of RGB triples per pixel (dense)\n";
+  return out.str();
 }
 
 }  // namespace acpca

@@ -17,5 +17,8 @@ nlohmann::json describeModel(const Model& model, const std::string& path);
 nlohmann::json describeTransport(const TransportReader& transport);
 /// Either of the above, whichever the file is (UserError when neither).
 nlohmann::json describeFile(const std::string& path);
+/// The same for a reader, as a few lines of text (what `info` prints).
+std::string describeInWords(const Model& model, const std::string& path);
+std::string describeInWords(const TransportReader& transport, const std::string& path);
 
 }  // namespace acpca

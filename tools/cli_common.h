@@ -12,6 +12,8 @@
 
 #include "cluster/model.h"
 #include "core/error.h"
+#include "core/progress_line.h"
+#include "core/resources.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "eval/study_output.h"
@@ -39,21 +41,6 @@ class ThreadLimit {
   int threads_;
 };
 
-/// A progress line on stderr: done/total, rate, ETA; rewritten in place on a
-/// terminal, one line every few seconds otherwise; silent when quiet.
-class Progress {
- public:
-  Progress(std::string label, std::string unit, bool quiet);
-  void update(long long done, long long total);
-  void finish();
-
- private:
-  std::string label_, unit_;
-  bool quiet_, tty_;
-  Stopwatch sinceStart_, sinceLastPrint_;
-  bool printed_ = false;
-};
-
 /// Writes JSON to a file (atomically) or to stdout for "-"; nothing when empty.
 void writeJson(const std::string& path, const nlohmann::json& value);
 
@@ -63,14 +50,6 @@ void writeJson(const std::string& path, const nlohmann::json& value);
 void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
                              const std::vector<std::string>& outFiles,
                              const std::vector<std::string>& outDirs = {});
-
-/// Parses "WxH" (e.g. 256x256); throws UserError naming the option.
-ImageSize parseSize(const std::string& text, const std::string& option);
-
-/// --env arguments with each directory replaced by the lighting images it holds
-/// (sorted); analytic specs and files pass through. Throws UserError for an
-/// empty directory.
-std::vector<std::string> expandEnvironments(const std::vector<std::string>& specs);
 
 /// Says which library parameters flags of `command` set where a flag is not
 /// named after its parameter (`--spp` sets "samples per pixel"; `--global-energy`

@@ -20,7 +20,7 @@ struct RaysArgs {
 void runRays(const RaysArgs& a) {
   Scene scene = loadScene(a.scene);
   refuseOutputsOverInputs(scene.files, {a.common.jsonPath});
-  scene.camera.size = parseSize(a.size, "--size");
+  scene.camera.size = parseImageSize(a.size, "--size");
   applyCameraSpec(scene, a.camera);
   ThreadLimit limit(a.common.threads);
   const RayBenchmarkReport r =

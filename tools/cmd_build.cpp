@@ -5,6 +5,7 @@
 #include "core/ranks.h"
 #include "eval/error_measures.h"
 #include "pipeline/streamed_build.h"
+#include "relight/environment.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "tools/render_flags.h"
@@ -30,12 +31,13 @@ void run(const BuildArgs& a) {
   o.render = a.render.options(a.common.threads);
   o.compress = a.compress.options();
   o.resume = a.resume;
+  o.resumeAdvice = "the same build with --resume continues";
   o.tilesInFlight = a.tilesInFlight;
   o.tileSide = a.tile;
   o.groundTruthDir = a.groundTruth;
   o.keepTransport = a.keepTransport;
   o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
-                                                           : expandEnvironments(a.envs);
+                                                           : expandEnvironmentSpecs(a.envs);
   const Scene scene = a.render.loadScene();
   refuseOutputsOverInputs(scene.files, {a.common.jsonPath});
   if (ranks::rank() == 0)
@@ -57,13 +59,8 @@ void run(const BuildArgs& a) {
   if (!a.groundTruth.empty() && !a.common.quiet)
     std::cerr << "ground-truth images (dense relight, EXR) in " << a.groundTruth << "\n";
   if (!a.common.quiet)
-    std::cerr << "wrote " << a.out << ": " << methodName(o.compress.method) << ", " << s.clusters
-              << " clusters over " << s.tiles << " tiles, N = " << s.globalBases << ", "
-              << s.costPerPixel << " per pixel, transport error " << s.transportError << ", "
-              << formatBytes(s.frameBytes) << " read per frame; " << s.seconds << " s (basis "
-              << s.basisSeconds << " s, tiles " << s.tileSeconds << " s, assembly "
-              << s.assembleSeconds << " s), peak memory " << formatBytes(peakMemoryBytes())
-              << ", tiles on disk at most " << formatBytes(s.peakWorkBytes) << "\n";
+    std::cerr << "wrote " << a.out << ": " << methodName(o.compress.method) << ", "
+              << describeInWords(s) << "\n";
   nlohmann::json report = {{"out", a.out},
                            {"scene", scene.name},
                            {"width", scene.camera.size.width},

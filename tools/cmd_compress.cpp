@@ -29,11 +29,8 @@ void run(const CompressArgs& a) {
   writeModel(model, a.out);
   const long long peak = peakMemoryBytes();
   if (!a.common.quiet)
-    std::cerr << "wrote " << a.out << ": " << model.method << ", " << model.clusters()
-              << " clusters, N = " << model.globalBases() << ", cost " << model.totalCost() << " ("
-              << model.costPerPixel() << " per pixel), transport error " << model.transportError
-              << ", " << formatBytes(model.frameBytes()) << " read per frame, "
-              << model.compressSeconds << " s, peak memory " << formatBytes(peak) << "\n";
+    std::cerr << "wrote " << a.out << ": " << describeInWords(model) << ", peak memory "
+              << formatBytes(peak) << "\n";
   nlohmann::json report = summaryJson(model);
   report.update(
       {{"out", a.out}, {"rank_histogram", rankHistogramJson(model)}, {"peak_memory_bytes", peak}});

@@ -18,7 +18,7 @@ struct EnvmapArgs {
 };
 
 void run(const EnvmapArgs& a) {
-  const ImageSize size = parseSize(a.size, "--size");
+  const ImageSize size = parseImageSize(a.size, "--size");
   EnvRotation rotation;
   if (!a.rotate.empty()) {
     const auto parsed = parseRotationSpec(a.rotate);

@@ -3,7 +3,7 @@
 #include <optional>
 
 #include "core/ranks.h"
-#include "precompute/precompute_json.h"
+#include "precompute/precompute_report.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "tools/cli_common.h"
@@ -55,32 +55,8 @@ void run(const PrecomputeArgs& a) {
   progress.finish();
   if (!lead) return;
 
-  const double raysPerSecond = stats.raysPerSecond();
   if (!a.common.quiet)
-    std::cerr << "wrote " << a.out << ": " << scene.camera.size.width << "x"
-              << scene.camera.size.height << ", " << stats.occupiedPixels << " occupied pixels, "
-              << 6 * options.cubemapResolution * options.cubemapResolution << " directions, "
-              << formatBytes(stats.bytesWritten) << " of rows; " << stats.occlusionRays
-              << " occlusion rays in " << stats.transportSeconds << " s (" << raysPerSecond / 1e6
-              << " M rays/s, " << stats.threadsUsed << " threads"
-              << (ranks::distributed() ? concat(" over ", ranks::count(), " ranks") : std::string())
-              << "), total " << stats.seconds << " s, peak memory "
-              << formatBytes(peakMemoryBytes()) << "; " << stats.supersampledPixels
-              << " pixels traced at " << options.samplesPerPixel << " samples, the rest at 1\n";
-  if (options.bounces > 0 && !a.common.quiet)
-    std::cerr << "indirect light: " << options.bounces << " bounce(s), " << options.indirectSamples
-              << " paths per traced sample, " << stats.pathRays << " path rays; "
-              << (stats.channels == 3 ? "R, G and B rows (coloured surfaces)"
-                                      : "one row per pixel (grey surfaces)")
-              << "; visibility cache: "
-              << (options.indirectCacheCell > 0
-                      ? concat(stats.cachePoints, " points, ", stats.cacheRays, " rays, ",
-                               stats.cacheSeconds, " s")
-                      : std::string("off (exact shadow rays at every vertex)"))
-              << "\n";
-  if (stats.degenerateTriangles > 0 && !a.common.quiet)
-    std::cerr << "note: " << stats.degenerateTriangles
-              << " zero-area triangles were left out (they cover nothing)\n";
+    std::cerr << "wrote " << a.out << ": " << describeInWords(stats, options, scene.camera.size);
   nlohmann::json report = {{"out", a.out},
                            {"scene", scene.name},
                            {"width", scene.camera.size.width},

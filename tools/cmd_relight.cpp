@@ -4,6 +4,7 @@
 
 #include "core/ranks.h"
 #include "relight/batch_relight.h"
+#include "relight/environment.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -29,7 +30,7 @@ void run(RelightArgs& a) {
     o.rotations.insert(o.rotations.end(), parsed.begin(), parsed.end());
   }
   if (o.rotations.empty()) o.rotations.push_back({});
-  o.envs = expandEnvironments(a.envs);
+  o.envs = expandEnvironmentSpecs(a.envs);
   o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
   validateBatchRelight(o);
   {

@@ -1,10 +1,8 @@
 // `adaptive-cpca view`: the interactive viewer (viewer/viewer.h) behind a
 // command line, with a clear refusal where there is no display to open.
 
-#include <algorithm>
-
-#include "cluster/model_file.h"
 #include "core/error.h"
+#include "relight/environment.h"
 #include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -27,36 +25,19 @@ struct ViewArgs {
 void run(const ViewArgs& a) {
   ViewerOptions o;
   o.modelPath = a.model;
-  o.envSpecs = expandEnvironments(
-      a.envs.empty() ? std::vector<std::string>{"sky", "sun:50,30,4,1000"} : a.envs);
+  if (!a.envs.empty()) o.envSpecs = expandEnvironmentSpecs(a.envs);
   o.background = parseBackground(a.background);
-  if (o.background == Background::Alpha)
-    throw UserError("--background alpha: the viewer shows env or black");
-  if (!a.rotate.empty()) {
-    // The viewer turns yaw and pitch only; "YAW,PITCH" is short for "YAW,PITCH,0".
-    const bool twoAngles = std::count(a.rotate.begin(), a.rotate.end(), ',') == 1;
-    const auto rotations = parseRotationSpec(twoAngles ? a.rotate + ",0" : a.rotate);
-    if (rotations.size() != 1 || rotations[0].roll != 0)
-      throw UserError(concat("--rotate '", a.rotate, "': give one YAW[,PITCH] for the viewer"));
-    o.initial.yaw = rotations[0].yaw;
-    o.initial.pitch = rotations[0].pitch;
-  }
+  if (!a.rotate.empty()) o.initial = parseViewerRotation(a.rotate, o.initial);
   o.initial.exposure = a.exposure;
-  if (a.rankPercent < 0 || a.rankPercent > 100)
-    throw UserError(concat("--rank-percent ", a.rankPercent, ": give 0..100"));
   o.initial.rankPercent = a.rankPercent;
   o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
-  if (a.frames < 0) throw UserError("--frames must be >= 0");
   o.frames = a.frames;
   o.rotateStep = a.rotateStep;
   o.screenshot = a.screenshot;
   o.saveDir = a.saveDir;
   o.log = stderrLog("view", a.quiet);
   if (!a.script.empty()) o.script = readViewerScript(a.script);
-  if (!isModelFile(a.model))
-    throw UserError(concat("'", a.model,
-                           "' is not a model file: view relights models (`compress` makes one); "
-                           "a dense transport is too slow to turn interactively"));
+  validateViewerOptions(o);
   if (const std::string problem = displayProblem(); !problem.empty())
     throw UserError(problem + "; for images without a window use `adaptive-cpca relight`");
   ThreadLimit limit(a.threads);

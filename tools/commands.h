@@ -21,7 +21,4 @@ void registerBenchRelight(CLI::App& bench);
 void registerBenchScaling(CLI::App& bench);
 void registerBenchQuantization(CLI::App& bench);
 
-/// Peak resident memory of this process so far, in bytes.
-long long peakMemoryBytes();
-
 }  // namespace acpca::cli

@@ -1,6 +1,4 @@
 // adaptive-cpca: the batch command line (README.md).
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <iostream>
 #include <new>
@@ -8,6 +6,7 @@
 #include "core/error.h"
 #include "core/interrupt_cleanup.h"
 #include "core/ranks.h"
+#include "core/text.h"
 #include "core/version.h"
 #include "core/warning.h"
 #include "tools/cli_common.h"
@@ -15,29 +14,7 @@
 
 namespace acpca::cli {
 
-long long peakMemoryBytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
 namespace {
-
-/// Edits (insertions, deletions, substitutions) that turn a into b.
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
 
 /// CLI11 reads an unknown first word as a stray argument ("A subcommand is
 /// required"), and with --help prints the main help: name it instead.

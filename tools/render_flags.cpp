@@ -52,7 +52,7 @@ PrecomputeOptions RenderFlags::options(int threads) const {
 
 Scene RenderFlags::loadScene() const {
   Scene s = acpca::loadScene(scene);
-  if (!size.empty()) s.camera.size = parseSize(size, "--size");
+  if (!size.empty()) s.camera.size = parseImageSize(size, "--size");
   applyCameraSpec(s, camera);
   s.validate();
   return s;

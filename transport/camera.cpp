@@ -1,6 +1,7 @@
 #include "transport/camera.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "core/error.h"
@@ -44,6 +45,16 @@ Eigen::Vector2d pixelSampleOffset(int s) {
 
 Vec3 directionFromAngles(double theta, double phi) {
   return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+ImageSize parseImageSize(const std::string& text, const std::string& what) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw UserError(concat(what, " '", text, "': expected WxH, e.g. 256x256"));
+  const ImageSize size{w, h};
+  validateImageSize(size, what + " " + text);
+  return size;
 }
 
 }  // namespace acpca

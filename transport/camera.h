@@ -16,6 +16,8 @@ struct ImageSize {
 constexpr int kMaxImageSide = 16384;
 /// Throws UserError naming `what` unless both sides are in 1..kMaxImageSide.
 void validateImageSize(const ImageSize& size, const std::string& what);
+/// Parses "WxH" (e.g. 256x256), validated; throws UserError naming `what`.
+ImageSize parseImageSize(const std::string& text, const std::string& what);
 
 /// Unit direction of lat-long angles (docs/design.md section 3): theta from +Y, phi
 /// from -Z towards +X. Lighting, suns and framing cameras all use it.

@@ -46,7 +46,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     maxRank_ = model.ranks.empty() ? 0 : *std::max_element(model.ranks.begin(), model.ranks.end());
   }  // the relighter keeps its own packed copy of the model
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
-  if (envs_.empty()) throw UserError("view: give at least one --env");
+  if (envs_.empty()) throw ParameterError("environment", "", "give at least one lighting");
   lattice_ = std::make_unique<CubeLattice>(relighter_->geometry().cubemapResolution);
   ui_ = options.initial;
   ui_.env = std::clamp(ui_.env, 0, static_cast<int>(envs_.size()) - 1);

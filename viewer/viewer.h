@@ -31,7 +31,7 @@ struct ViewState {
 
 struct ViewerOptions {
   std::string modelPath;
-  std::vector<std::string> envSpecs;
+  std::vector<std::string> envSpecs{"sky", "sun:50,30,4,1000"};
   ViewState initial;
   RotationMode rotationMode = RotationMode::Exact;
   Background background = Background::Env;
@@ -45,6 +45,13 @@ struct ViewerOptions {
   /// Messages for the user (saved files, the key help); none when empty.
   std::function<void(const std::string&)> log;
 };
+
+/// `view` with the yaw and pitch of "YAW[,PITCH]" (degrees); ParameterError
+/// for anything else (the viewer does not roll).
+ViewState parseViewerRotation(const std::string& text, ViewState view);
+
+/// Refuses options the viewer cannot show, before any window opens.
+void validateViewerOptions(const ViewerOptions& options);
 
 class Viewer {
  public:

@@ -203,8 +203,7 @@ TEST(Mpi, CommandsThatDoNotDealTheirWorkRefuseToRunOnSeveralRanks) {
                                     dir.file("kept.h5") + " --out " + dir.file("b.h5"),
                                 mpirun(2));
   EXPECT_NE(kept.status, 0) << kept.output;
-  EXPECT_NE(kept.output.find("--keep-transport runs in one process"), std::string::npos)
-      << kept.output;
+  EXPECT_NE(kept.output.find("--keep-transport '"), std::string::npos) << kept.output;
   EXPECT_FALSE(fs::exists(dir.file("kept.h5")));
   EXPECT_FALSE(fs::exists(dir.file("b.h5")));
 }

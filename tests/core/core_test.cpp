@@ -62,7 +62,8 @@ TEST(Resources, NeedsBeyondTheDiskTheFileLimitOrTheMemoryAreRefusedWithBothFigur
   need.diskBytes = 1LL << 50;  // a pebibyte
   const std::string disk = refusal(need);
   EXPECT_NE(disk.find("needs up to 1024.00 TiB on disk"), std::string::npos) << disk;
-  EXPECT_NE(disk.find(" free; write less (--force skips this check)"), std::string::npos) << disk;
+  EXPECT_NE(disk.find(" free; write less; forcing the run skips this check"), std::string::npos)
+      << disk;
   EXPECT_NO_THROW(requireResources(need, true)) << "force goes past";
   need.diskBytes = 3 << 20;
   {

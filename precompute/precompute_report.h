@@ -1,6 +1,7 @@
 #pragma once
-// What a precompute was asked and what it did, as the JSON the CLI's --json,
-// Python's precompute() and a build model's settings share: one key per field.
+// What a precompute was asked and what it did: the JSON the CLI's --json,
+// Python's precompute() and a build model's settings share (one key per
+// field), and the same in words for the log.
 #include <nlohmann/json.hpp>
 
 #include "precompute/transport_renderer.h"
@@ -13,5 +14,10 @@ nlohmann::json toJson(const PrecomputeOptions& options);
 
 /// The figures of one precompute (rays, rows, seconds, the indirect cache).
 nlohmann::json toJson(const PrecomputeStats& stats);
+
+/// The same in a few lines of words, for the log (with this process's peak
+/// memory and the rank count).
+std::string describeInWords(const PrecomputeStats& stats, const PrecomputeOptions& options,
+                            ImageSize size);
 
 }  // namespace acpca
