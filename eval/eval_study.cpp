@@ -10,9 +10,9 @@
 #include "core/stopwatch.h"
 #include "eval/error_measures.h"
 #include "eval/haar_transport.h"
-#include "eval/report_images.h"
 #include "eval/sh_transport.h"
 #include "eval/sparse_transport.h"
+#include "pictures/pictures.h"
 
 namespace acpca {
 

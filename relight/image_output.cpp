@@ -138,31 +138,39 @@ void ImageComposer::addRows(const float* rowRgb, float* pixels, int channels) co
 
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
                 bool exrFloat) {
+  if (format != ImageFormat::Exr) {
+    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv).encode(image);
+    return writePng8(image.width, image.height, image.channels, bytes.data(), path);
+  }
   AtomicOutput output(path);
   auto out = OIIO::ImageOutput::create(output.tempPath());
   if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
   const float scale = static_cast<float>(std::exp2(exposureEv));
   const size_t values = image.pixels.size();
-  bool ok;
-  if (format == ImageFormat::Exr) {
-    OIIO::ImageSpec spec(image.width, image.height, image.channels,
-                         exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
-    spec.attribute("compression", "zips");
-    // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
-    // the same inputs must give the same bytes (datasets are compared by hash).
-    spec.attribute("DateTime", "");
-    std::vector<float> scaled(values);
-    for (size_t i = 0; i < values; ++i)
-      scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
-    ok = out->open(output.tempPath(), spec) &&
-         out->write_image(OIIO::TypeDesc::FLOAT, scaled.data()) && out->close();
-  } else {
-    OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
-    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv).encode(image);
-    ok = out->open(output.tempPath(), spec) &&
-         out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) && out->close();
-  }
-  if (!ok) throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  OIIO::ImageSpec spec(image.width, image.height, image.channels,
+                       exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
+  spec.attribute("compression", "zips");
+  // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
+  // the same inputs must give the same bytes (datasets are compared by hash).
+  spec.attribute("DateTime", "");
+  std::vector<float> scaled(values);
+  for (size_t i = 0; i < values; ++i)
+    scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
+  if (!(out->open(output.tempPath(), spec) &&
+        out->write_image(OIIO::TypeDesc::FLOAT, scaled.data()) && out->close()))
+    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  output.commit();
+}
+
+void writePng8(int width, int height, int channels, const unsigned char* values,
+               const std::string& path) {
+  AtomicOutput output(path);  // the temporary name keeps the .png that picks the codec
+  auto out = OIIO::ImageOutput::create(output.tempPath());
+  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
+  const OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+  if (!(out->open(output.tempPath(), spec) && out->write_image(OIIO::TypeDesc::UINT8, values) &&
+        out->close()))
+    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
   output.commit();
 }
 

@@ -66,6 +66,11 @@ class ImageComposer {
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
                 bool exrFloat = false);
 
+/// Writes 8-bit values (rows top to bottom, channels interleaved) as PNG,
+/// atomically; throws UserError naming the path.
+void writePng8(int width, int height, int channels, const unsigned char* values,
+               const std::string& path);
+
 /// sRGB transfer function of a linear value in [0, 1].
 double linearToSrgb(double v);
 

@@ -10,7 +10,7 @@
 #include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
-#include "eval/report_images.h"
+#include "pictures/pictures.h"
 #include "relight/envmap_export.h"
 
 namespace acpca {

@@ -1,10 +1,8 @@
-#include "eval/report_images.h"
+#include "pictures/pictures.h"
 
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace acpca {
@@ -67,15 +65,10 @@ cv::Mat errorHeatMap(const TransportHeader& header, const std::vector<float>& ro
 }
 
 void writePng(const cv::Mat& bgr, const std::string& path) {
-  AtomicOutput file(path);  // the temporary name keeps the .png that picks the codec
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file.tempPath(), bgr);
-  } catch (const cv::Exception& e) {
-    throw UserError(concat(path, ": cannot write the PNG: ", e.what()));
-  }
-  if (!ok) throw UserError(concat(path, ": cannot write the PNG"));
-  file.commit();
+  ACPCA_CHECK(bgr.type() == CV_8UC3, "a picture is 8-bit BGR");
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  writePng8(rgb.cols, rgb.rows, 3, rgb.data, path);  // cvtColor allocates it whole
 }
 
 }  // namespace acpca

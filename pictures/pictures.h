@@ -1,6 +1,7 @@
 #pragma once
 // Pictures the viewer and the evaluation report share: 8-bit BGR canvases of
-// relit images, cluster boundaries and error heat maps, written as PNG.
+// relit images, cluster boundaries and error heat maps (drawn with OpenCV),
+// written as PNG by OpenImageIO as every other image file is.
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -27,7 +28,7 @@ void drawClusterBoundaries(cv::Mat& bgr, const std::vector<int>& clusterOfPixel,
 cv::Mat errorHeatMap(const TransportHeader& header, const std::vector<float>& rowRgb,
                      const std::vector<float>& truthRgb, double scale);
 
-/// Writes a BGR canvas as PNG, atomically; throws UserError naming the path.
+/// Writes an 8-bit BGR canvas as PNG, atomically; throws UserError naming the path.
 void writePng(const cv::Mat& bgr, const std::string& path);
 
 }  // namespace acpca
