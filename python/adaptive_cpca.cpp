@@ -179,37 +179,33 @@ class Relighter {
       py::gil_scoped_release release;
       setRank(maxRank);
       const size_t frameValues = static_cast<size_t>(images.size() / frames);
-      constexpr size_t kGroup = 32;  // lightings per pass over T, as the CLI's batches
-      std::vector<LatticeLighting> group;
-      std::vector<std::pair<const Environment*, EnvRotation>> frameOf;
-      const auto flush = [&](size_t first) {
-        if (source_.model) {  // one frame
-          relightModelInto(group[0], *frameOf[0].first, frameOf[0].second, bg, exposure,
-                           images.mutable_data() + first * frameValues);
-          group.clear(), frameOf.clear();
-          return;
-        }
-        std::vector<double> ms;
-        const auto rows = source_.relight(group, ms);
-        for (size_t k = 0; k < rows.size(); ++k)
-          finish(rows[k].data(), *frameOf[k].first, frameOf[k].second, bg, exposure,
-                 images.mutable_data() + (first + k) * frameValues);
-        group.clear(), frameOf.clear();
+      const RotationMode mode = fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
+      const auto frameOf = [&](size_t i) {
+        const auto& [yaw, pitch, roll] = rotations[i % rotations.size()];
+        return std::pair{envs[i / rotations.size()].env.get(), EnvRotation{yaw, pitch, roll}};
       };
-      size_t first = 0;
-      for (const auto& e : envs)
-        for (const auto& [yaw, pitch, roll] : rotations) {
-          const EnvRotation rotation{yaw, pitch, roll};
-          group.push_back(
-              computeLighting(*e.env, *lattice_, rotation,
-                              fastRotation ? RotationMode::FastLattice : RotationMode::Exact));
-          frameOf.emplace_back(e.env.get(), rotation);
-          if (group.size() == (source_.model ? 1 : kGroup)) {
-            flush(first);
-            first += source_.model ? 1 : kGroup;
-          }
-        }
-      if (!group.empty()) flush(first);
+      const auto lightingOf = [&](size_t i) {
+        const auto [env, rotation] = frameOf(i);
+        return computeLighting(*env, *lattice_, rotation, mode);
+      };
+      relightInGroups(static_cast<size_t>(frames), lightingOf,
+                      [&](size_t first, const std::vector<LatticeLighting>& lightings) {
+                        if (source_.model) {  // into the array, frame by frame
+                          for (size_t k = 0; k < lightings.size(); ++k) {
+                            const auto [env, rotation] = frameOf(first + k);
+                            relightModelInto(lightings[k], *env, rotation, bg, exposure,
+                                             images.mutable_data() + (first + k) * frameValues);
+                          }
+                          return;
+                        }
+                        std::vector<double> ms;
+                        const auto rows = source_.relight(lightings, ms);
+                        for (size_t k = 0; k < rows.size(); ++k) {
+                          const auto [env, rotation] = frameOf(first + k);
+                          finish(rows[k].data(), *env, rotation, bg, exposure,
+                                 images.mutable_data() + (first + k) * frameValues);
+                        }
+                      });
     }
     return images;
   }

@@ -146,7 +146,6 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   for (const auto& in : inputs)
     if (in.env)
       for (const auto& r : rotations) frames.push_back({&in, r});
-  constexpr size_t kGroup = 32;
   Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output", "ms"});
   std::vector<double> msPerFrame;
   nlohmann::json outputs = nlohmann::json::array();
@@ -199,44 +198,45 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   std::vector<size_t> mine;
   for (size_t i = 0; i < frames.size(); ++i)
     if (owner(i) == rank) mine.push_back(i);
-  for (size_t g = 0; g < mine.size(); g += kGroup) {
-    const size_t count = std::min(kGroup, mine.size() - g);
-    std::vector<LatticeLighting> lightings;
-    for (size_t k = 0; k < count; ++k)
-      lightings.push_back(computeLighting(*frames[mine[g + k]].input->env, lattice,
-                                          frames[mine[g + k]].rotation, a.rotationMode));
-    // Timing mode: one untimed warm-up, then the timed repeats.
-    std::vector<double> ms;
-    std::vector<std::vector<float>> results = source.relight(lightings, ms);
-    std::vector<double> frameMs = ms;
-    if (a.timingRepeats > 0) {
-      frameMs.assign(count, 0.0);
-      std::vector<std::vector<double>> repeats(count);
-      for (int rep = 0; rep < a.timingRepeats; ++rep) {
-        results = source.relight(lightings, ms);
-        for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
-        if (rankCount == 1) msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
-      }
-      for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
-      if (rankCount > 1 && rank == 0)
-        msPerFrame.insert(msPerFrame.end(), frameMs.begin(), frameMs.end());
-    } else if (rank == 0) {
-      msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
-    }
-    for (size_t k = 0; k < count; ++k) {
-      const size_t i = mine[g + k];
-      Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
-                                 rotationMatrix(frames[i].rotation));
-      if (rank == 0) {
-        writeOthersBefore(i);
-        writeFrame(i, image, frameMs[k]);
-        nextToWrite = i + 1;
-      } else {
-        image.pixels.push_back(static_cast<float>(frameMs[k]));
-        ranks::send(0, tag(i), image.pixels);
-      }
-    }
-  }
+  const auto lightingOf = [&](size_t k) {
+    const Frame& f = frames[mine[k]];
+    return computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
+  };
+  relightInGroups(
+      mine.size(), lightingOf, [&](size_t g, const std::vector<LatticeLighting>& lightings) {
+        const size_t count = lightings.size();
+        // Timing mode: one untimed warm-up, then the timed repeats.
+        std::vector<double> ms;
+        std::vector<std::vector<float>> results = source.relight(lightings, ms);
+        std::vector<double> frameMs = ms;
+        if (a.timingRepeats > 0) {
+          frameMs.assign(count, 0.0);
+          std::vector<std::vector<double>> repeats(count);
+          for (int rep = 0; rep < a.timingRepeats; ++rep) {
+            results = source.relight(lightings, ms);
+            for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
+            if (rankCount == 1) msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+          }
+          for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
+          if (rankCount > 1 && rank == 0)
+            msPerFrame.insert(msPerFrame.end(), frameMs.begin(), frameMs.end());
+        } else if (rank == 0) {
+          msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+        }
+        for (size_t k = 0; k < count; ++k) {
+          const size_t i = mine[g + k];
+          Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
+                                     rotationMatrix(frames[i].rotation));
+          if (rank == 0) {
+            writeOthersBefore(i);
+            writeFrame(i, image, frameMs[k]);
+            nextToWrite = i + 1;
+          } else {
+            image.pixels.push_back(static_cast<float>(frameMs[k]));
+            ranks::send(0, tag(i), image.pixels);
+          }
+        }
+      });
   if (rank == 0) writeOthersBefore(frames.size());
   if (rank != 0) {  // rank 0 wrote the images and reports
     BatchRelightResult result;
@@ -258,7 +258,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   // read once per frame.
   const double bytesPerFrame = frames.empty() ? 0
                                : source.dense
-                                   ? double(source.bytesPerPass) / std::min(kGroup, frames.size())
+                                   ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames.size())
                                    : double(source.bytesPerPass);
   const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
   result.summary =

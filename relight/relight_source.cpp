@@ -52,4 +52,15 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
   return s;
 }
 
+void relightInGroups(
+    size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
+    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup) {
+  for (size_t first = 0; first < count; first += kFramesPerGroup) {
+    std::vector<LatticeLighting> lightings;
+    for (size_t i = first; i < std::min(count, first + kFramesPerGroup); ++i)
+      lightings.push_back(lightingOf(i));
+    relightGroup(first, lightings);
+  }
+}
+
 }  // namespace acpca

@@ -30,6 +30,18 @@ struct RelightSource {
       relight;
 };
 
+/// Frames a batch relights together: a transport shares one pass over T among
+/// them; a model relights them one by one (the group bounds the lightings held).
+inline constexpr size_t kFramesPerGroup = 32;
+
+/// Frames [0, count) of a batch in groups of kFramesPerGroup, in order:
+/// lightingOf(i) is frame i's lighting; relightGroup(first, lightings) relights
+/// frames first .. first + lightings.size() - 1. The CLI's batches and
+/// Python's relight_batch both go through here.
+void relightInGroups(
+    size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
+    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup);
+
 /// Opens a model or transport file; maxRank as applyRankLimit (models only:
 /// a ParameterError for a transport).
 RelightSource openRelightSource(const std::string& path, const std::string& maxRank = "");
