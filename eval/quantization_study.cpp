@@ -61,101 +61,110 @@ std::string dB(double v) {
   return formatFixed(v, 2);
 }
 
-}  // namespace
-
-StudyOutput runQuantizationStudy(const TransportReader& transport, const QuantizationOptions& a,
-                                 const std::string& outDir) {
-  for (int n : a.shOrders) shBandsOf(n, "SH orders");
-  for (const auto& m : a.methods) parseMethod(m);
-  const Stopwatch watch;
-  const auto log = [&](const std::string& text) {
-    if (a.log) a.log(text);
-  };
-  createOutputDirectory(outDir);
-  const EvaluationData data = loadEvaluationData(transport, a.envs);
-
-  std::vector<ShRow> shRows;
-  if (!a.noSh) {
-    ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
-    log(concat("SH: ", sh.groups(), " normal groups"));
-    for (int n : a.shOrders)
-      for (ShFit fit : {ShFit::Uls, ShFit::Cls, ShFit::Ceb}) {
-        ShRow row{n, fit};
-        const Stopwatch fitWatch;
-        const ShCoefficients exact = sh.fit(n, fit);
-        row.stats = sh.statistics(exact);
-        row.stats.fitSeconds = fitWatch.seconds();
-        for (int s = 0; s < 3; ++s) {
-          ShCoefficients stored = exact;
-          storeShCoefficients(stored, kStorages[s]);
-          row.stored[s] =
-              measure(data, sh.frameBytes(stored),
-                      [&](const LatticeLighting& l, float* rgb) { sh.relight(stored, l, rgb); });
-        }
-        log(concat("SH n=", n, " ", shFitName(fit), ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ",
-                   dB(row.stored[1].psnr), " i8 ", dB(row.stored[2].psnr),
-                   " dB; |c|/sqrt(E_c) median ", formatFixed(row.stats.medianNormToBound, 2),
-                   " max ", formatFixed(row.stats.maxNormToBound, 1)));
-        shRows.push_back(row);
-      }
-  }
-
-  std::vector<ModelRow> modelRows;
-  if (!a.noModels) {
-    std::vector<double> rowNorm(transport.rows());
-    streamRowBlocks(transport, rowsPerBlock(transport),
-                    [&](long long first, long long count, const float* rows) {
-                      for (long long r = 0; r < count; ++r) {
-                        double sum = 0;
-                        for (int j = 0; j < transport.rowLength(); ++j)
-                          sum += double(rows[r * transport.rowLength() + j]) *
-                                 rows[r * transport.rowLength() + j];
-                        rowNorm[first + r] = std::sqrt(sum);
-                      }
-                    });
-    for (const auto& method : a.methods) {
-      CompressOptions c;
-      c.method = parseMethod(method);
-      c.tolerance = a.tolerance;
-      c.globalEnergy = a.globalEnergy;
-      c.clusters = a.cpcaClusters;
-      const Model exact = compressTransport(transport, c);
-      ModelRow row{method, exact.clusters(), exact.globalBases(), exact.costPerPixel()};
-      // Orthonormal V_g and W_c: |u_p| <= |g_p - mean_c| <= |T_p| + |mean_c|.
-      std::vector<double> ratios;
-      for (int k = 0; k < exact.clusters(); ++k) {
-        const double meanNorm =
-            Eigen::Map<const Eigen::VectorXf>(
-                exact.means.data() + static_cast<size_t>(k) * exact.globalBases(),
-                exact.globalBases())
-                .norm();
-        for (auto i = exact.rowOffsets[k]; i < exact.rowOffsets[k + 1]; ++i) {
-          const long long r = i - exact.rowOffsets[k];
+/// |T_p| of every row.
+std::vector<double> rowNorms(const TransportReader& transport) {
+  std::vector<double> rowNorm(transport.rows());
+  streamRowBlocks(
+      transport, rowsPerBlock(transport), [&](long long first, long long count, const float* rows) {
+        for (long long r = 0; r < count; ++r) {
           double sum = 0;
-          for (int b = 0; b < exact.ranks[k]; ++b) sum += std::pow(exact.coefficient(k, r, b), 2);
-          const double bound = rowNorm[exact.clusterRows[i]] + meanNorm;
-          if (bound > 0) ratios.push_back(std::sqrt(sum) / bound);
+          for (int j = 0; j < transport.rowLength(); ++j)
+            sum +=
+                double(rows[r * transport.rowLength() + j]) * rows[r * transport.rowLength() + j];
+          rowNorm[first + r] = std::sqrt(sum);
         }
-      }
-      row.medianNormRatio = median(ratios);
-      row.maxNormRatio = ratios.empty() ? 0 : *std::max_element(ratios.begin(), ratios.end());
-      for (int s = 0; s < 3; ++s) {
-        Model stored = exact;
-        storeCoefficients(stored, kStorages[s]);
-        ModelRelighter relighter(stored);
-        row.stored[s] =
-            measure(data, relighter.bytesPerFrame(),
-                    [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
-      }
-      log(concat(method, ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ", dB(row.stored[1].psnr),
-                 " i8 ", dB(row.stored[2].psnr), " dB; |u|/(|T|+|mean|) max ",
-                 formatFixed(row.maxNormRatio, 3)));
-      modelRows.push_back(row);
+      });
+  return rowNorm;
+}
+
+/// Each row's |u_p| / (|T_p| + |mean_c|), at most 1 with orthonormal bases.
+std::vector<double> normToBoundRatios(const Model& exact, const std::vector<double>& rowNorm) {
+  // Orthonormal V_g and W_c: |u_p| <= |g_p - mean_c| <= |T_p| + |mean_c|.
+  std::vector<double> ratios;
+  for (int k = 0; k < exact.clusters(); ++k) {
+    const double meanNorm =
+        Eigen::Map<const Eigen::VectorXf>(
+            exact.means.data() + static_cast<size_t>(k) * exact.globalBases(), exact.globalBases())
+            .norm();
+    for (auto i = exact.rowOffsets[k]; i < exact.rowOffsets[k + 1]; ++i) {
+      const long long r = i - exact.rowOffsets[k];
+      double sum = 0;
+      for (int b = 0; b < exact.ranks[k]; ++b) sum += std::pow(exact.coefficient(k, r, b), 2);
+      const double bound = rowNorm[exact.clusterRows[i]] + meanNorm;
+      if (bound > 0) ratios.push_back(std::sqrt(sum) / bound);
     }
   }
+  return ratios;
+}
 
+/// Each method's model, its coefficient norms against their bound, and its
+/// images with the coefficients stored at f32, f16 and i8.
+std::vector<ModelRow> measureModels(const TransportReader& transport, const EvaluationData& data,
+                                    const QuantizationOptions& a, const StudyLog& log) {
+  std::vector<ModelRow> modelRows;
+  const std::vector<double> rowNorm = rowNorms(transport);
+  for (const auto& method : a.methods) {
+    CompressOptions c;
+    c.method = parseMethod(method);
+    c.tolerance = a.tolerance;
+    c.globalEnergy = a.globalEnergy;
+    c.clusters = a.cpcaClusters;
+    const Model exact = compressTransport(transport, c);
+    ModelRow row{method, exact.clusters(), exact.globalBases(), exact.costPerPixel()};
+    const std::vector<double> ratios = normToBoundRatios(exact, rowNorm);
+    row.medianNormRatio = median(ratios);
+    row.maxNormRatio = ratios.empty() ? 0 : *std::max_element(ratios.begin(), ratios.end());
+    for (int s = 0; s < 3; ++s) {
+      Model stored = exact;
+      storeCoefficients(stored, kStorages[s]);
+      ModelRelighter relighter(stored);
+      row.stored[s] =
+          measure(data, relighter.bytesPerFrame(),
+                  [&](const LatticeLighting& l, float* rgb) { relighter.relight(l, rgb); });
+    }
+    log(concat(method, ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ", dB(row.stored[1].psnr),
+               " i8 ", dB(row.stored[2].psnr), " dB; |u|/(|T|+|mean|) max ",
+               formatFixed(row.maxNormRatio, 3)));
+    modelRows.push_back(row);
+  }
+  return modelRows;
+}
+
+/// [Lam06]'s fits at every order, each relit from its coefficients as stored
+/// at f32, f16 and i8.
+std::vector<ShRow> measureShFits(const TransportReader& transport, const EvaluationData& data,
+                                 const QuantizationOptions& a, const StudyLog& log) {
+  std::vector<ShRow> shRows;
+  ShTransport sh(transport, *std::max_element(a.shOrders.begin(), a.shOrders.end()), a.shGroups);
+  log(concat("SH: ", sh.groups(), " normal groups"));
+  for (int n : a.shOrders)
+    for (ShFit fit : {ShFit::Uls, ShFit::Cls, ShFit::Ceb}) {
+      ShRow row{n, fit};
+      const Stopwatch fitWatch;
+      const ShCoefficients exact = sh.fit(n, fit);
+      row.stats = sh.statistics(exact);
+      row.stats.fitSeconds = fitWatch.seconds();
+      for (int s = 0; s < 3; ++s) {
+        ShCoefficients stored = exact;
+        storeShCoefficients(stored, kStorages[s]);
+        row.stored[s] =
+            measure(data, sh.frameBytes(stored),
+                    [&](const LatticeLighting& l, float* rgb) { sh.relight(stored, l, rgb); });
+      }
+      log(concat("SH n=", n, " ", shFitName(fit), ": PSNR f32 ", dB(row.stored[0].psnr), " f16 ",
+                 dB(row.stored[1].psnr), " i8 ", dB(row.stored[2].psnr),
+                 " dB; |c|/sqrt(E_c) median ", formatFixed(row.stats.medianNormToBound, 2), " max ",
+                 formatFixed(row.stats.maxNormToBound, 1)));
+      shRows.push_back(row);
+    }
+  return shRows;
+}
+
+/// sh.csv and models.csv in `outDir`; the same rows as JSON.
+std::pair<nlohmann::json, nlohmann::json> writeQuantizationTables(
+    const std::vector<ShRow>& shRows, const std::vector<ModelRow>& modelRows,
+    const std::string& outDir) {
   // CSV, JSON and the summary's two tables.
-  std::ostringstream md;
   // Each table's own columns, then error, PSNR and bytes per storage.
   const auto withStored = [](std::vector<std::string> columns) {
     for (CoeffPrecision s : kStorages)
@@ -208,6 +217,14 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
   shCsv.writeCsv((fs::path(outDir) / "sh.csv").string());
   modelCsv.writeCsv((fs::path(outDir) / "models.csv").string());
 
+  return {shJson, modelJson};
+}
+
+/// summary.md's text: the two tables in words.
+std::string quantizationSummary(const TransportReader& transport, const EvaluationData& data,
+                                const QuantizationOptions& a, const std::vector<ShRow>& shRows,
+                                const std::vector<ModelRow>& modelRows) {
+  std::ostringstream md;
   md << "# Coefficient quantization: " << fs::path(transport.path()).filename().string() << "\n\n"
      << "PSNR (dB) of the relit images against the dense relight, mean over " << data.envs.size()
      << " maps (";
@@ -249,10 +266,31 @@ StudyOutput runQuantizationStudy(const TransportReader& transport, const Quantiz
        << formatFixed(100 * r.stored[1].error, 3) << "% | "
        << formatFixed(100 * r.stored[2].error, 3) << "% | "
        << formatFixed(r.stored[2].bytes / 1e6, 1) << " |\n";
-  md << "\n" << formatFixed(watch.seconds(), 0) << " s.\n";
-  writeTextFile((fs::path(outDir) / "summary.md").string(), md.str());
+  return md.str();
+}
+
+}  // namespace
+
+StudyOutput runQuantizationStudy(const TransportReader& transport, const QuantizationOptions& a,
+                                 const std::string& outDir) {
+  for (int n : a.shOrders) shBandsOf(n, "SH orders");
+  for (const auto& m : a.methods) parseMethod(m);
+  const Stopwatch watch;
+  const StudyLog log = [&](const std::string& text) {
+    if (a.log) a.log(text);
+  };
+  createOutputDirectory(outDir);
+  const EvaluationData data = loadEvaluationData(transport, a.envs);
+  const std::vector<ShRow> shRows =
+      a.noSh ? std::vector<ShRow>{} : measureShFits(transport, data, a, log);
+  const std::vector<ModelRow> modelRows =
+      a.noModels ? std::vector<ModelRow>{} : measureModels(transport, data, a, log);
+  const auto [shJson, modelJson] = writeQuantizationTables(shRows, modelRows, outDir);
+  const std::string md = quantizationSummary(transport, data, a, shRows, modelRows) + "\n" +
+                         formatFixed(watch.seconds(), 0) + " s.\n";
+  writeTextFile((fs::path(outDir) / "summary.md").string(), md);
   return {{{"input", transport.path()}, {"envs", data.envs}, {"sh", shJson}, {"models", modelJson}},
-          md.str()};
+          md};
 }
 
 }  // namespace acpca
