@@ -57,86 +57,41 @@ double samePatchGrowth(const SizeResult& previous, const std::string& previousPa
   return counted ? sum / counted : NAN;
 }
 
-}  // namespace
-
-void validateScalingOptions(const ScalingOptions& a) {
-  if (a.sizes.empty()) throw ParameterError("sizes", "", "give at least one size");
-  for (int s : a.sizes)
-    if (s < 8 || s > 8192) throw ParameterError("sizes", s, "is not in 8..8192");
-  parseMethod(a.method);
-  if (!a.precompute) throw ParameterError("precompute", "", "no way to make a transport given");
+/// One size's figures from its transport: the model, its frame time, the
+/// dimensionality slope, and the same-patch growth against the size before.
+void measureSize(SizeResult& r, const TransportReader& transport, const ScalingOptions& a,
+                 const std::vector<SizeResult>& results, const std::string& previousPath) {
+  r.pixels = transport.header().camera.size.pixels();
+  r.occupied = transport.rows();
+  Stopwatch t;
+  CompressOptions c;
+  c.method = parseMethod(a.method);
+  c.tolerance = a.tolerance;
+  c.globalEnergy = a.globalEnergy;
+  const Model model = compressTransport(transport, c);
+  r.compressSeconds = t.seconds();
+  r.globalBases = model.globalBases();
+  r.clusters = model.clusters();
+  r.totalCost = model.totalCost();
+  r.costPerPixel = model.costPerPixel();
+  ModelRelighter relighter(model);
+  r.modelBytes = relighter.bytesPerFrame();
+  const LatticeLighting sky = computeLighting(*loadEnvironment("sky"), CubeLattice(a.cubemap), {});
+  std::vector<float> rgb(3 * relighter.rows());
+  r.msPerFrame = medianMilliseconds([&] { relighter.relight(sky, rgb.data()); }, a.frames);
+  const DimensionalityAnalysis dims =
+      analyzeDimensionality(transport, {}, kAnalysisSides, a.energy, {});
+  r.slope = dims.meanSlope;
+  for (const auto& c : dims.centres) r.centres.push_back({c.x, c.y});
+  if (!results.empty())
+    r.samePatchGrowth = samePatchGrowth(results.back(), previousPath, transport, a.energy);
+  // Doubling a patch's pixels splits it into two halves of mu n bases each.
+  r.mu = muFromSlope(r.slope, 2);
 }
 
-StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) {
-  validateScalingOptions(a);
-  const Stopwatch watch;
-  createOutputDirectory(outDir);
-  const auto log = [&](const std::string& s) {
-    if (a.log) a.log(s);
-  };
-
-  std::vector<SizeResult> results;
-  std::string previousPath;
-  for (int size : a.sizes) {
-    SizeResult r;
-    r.size = size;
-    const std::string path = (fs::path(outDir) / concat("transport_", size, ".h5")).string();
-    Stopwatch t;
-    a.precompute(size, a.cubemap, path);
-    r.precomputeSeconds = t.seconds();
-    {
-      const TransportReader transport(path);
-      r.pixels = transport.header().camera.size.pixels();
-      r.occupied = transport.rows();
-      t.restart();
-      CompressOptions c;
-      c.method = parseMethod(a.method);
-      c.tolerance = a.tolerance;
-      c.globalEnergy = a.globalEnergy;
-      const Model model = compressTransport(transport, c);
-      r.compressSeconds = t.seconds();
-      r.globalBases = model.globalBases();
-      r.clusters = model.clusters();
-      r.totalCost = model.totalCost();
-      r.costPerPixel = model.costPerPixel();
-      ModelRelighter relighter(model);
-      r.modelBytes = relighter.bytesPerFrame();
-      const LatticeLighting sky =
-          computeLighting(*loadEnvironment("sky"), CubeLattice(a.cubemap), {});
-      std::vector<float> rgb(3 * relighter.rows());
-      r.msPerFrame = medianMilliseconds([&] { relighter.relight(sky, rgb.data()); }, a.frames);
-      const DimensionalityAnalysis dims =
-          analyzeDimensionality(transport, {}, kAnalysisSides, a.energy, {});
-      r.slope = dims.meanSlope;
-      for (const auto& c : dims.centres) r.centres.push_back({c.x, c.y});
-      if (!results.empty())
-        r.samePatchGrowth = samePatchGrowth(results.back(), previousPath, transport, a.energy);
-      // Doubling a patch's pixels splits it into two halves of mu n bases each.
-      r.mu = muFromSlope(r.slope, 2);
-    }
-    // The previous transport is kept until this size has been compared with it.
-    if (!a.keepTransports && !previousPath.empty()) fs::remove(previousPath);
-    previousPath = path;
-    if (!results.empty()) {
-      const SizeResult& prev = results.back();
-      const double quadruplings = std::log(double(r.pixels) / prev.pixels) / std::log(4.0);
-      r.costRatio = std::pow(r.totalCost / prev.totalCost, 1 / quadruplings);
-      r.predicted = 4 * prev.mu * prev.mu;
-    }
-    log(concat(size, ": N = ", r.globalBases, ", ", r.clusters, " clusters, cost/pixel ",
-               r.costPerPixel, ", total ", r.totalCost, ", ", r.msPerFrame, " ms/frame, slope ",
-               formatFixed(r.slope, 3), ", mu ", formatFixed(r.mu, 3),
-               std::isnan(r.costRatio)
-                   ? std::string()
-                   : concat(", cost ratio per 4x pixels ", formatFixed(r.costRatio, 2),
-                            " (4 mu^2 = ", formatFixed(r.predicted, 2), "), same-patch n growth ",
-                            formatFixed(r.samePatchGrowth, 2)),
-               " [precompute ", formatFixed(r.precomputeSeconds, 0), " s, compress ",
-               formatFixed(r.compressSeconds, 0), " s]"));
-    results.push_back(r);
-  }
-  if (!a.keepTransports && !previousPath.empty()) fs::remove(previousPath);
-
+/// scaling.csv in `outDir`, and the same rows as JSON.
+nlohmann::json writeScalingTable(const std::vector<SizeResult>& results,
+                                 const std::string& outDir) {
   Table csv({"size", "pixels", "occupied_pixels", "global_bases", "clusters", "total_cost",
              "cost_per_pixel", "ms_per_frame", "model_bytes", "slope", "mu", "cost_ratio",
              "predicted_ratio", "precompute_seconds", "compress_seconds", "same_patch_growth"});
@@ -165,8 +120,12 @@ StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) 
                     {"compress_seconds", r.compressSeconds}});
   }
   csv.writeCsv((fs::path(outDir) / "scaling.csv").string());
-  const std::string plotProblem = drawPlots("scaling", outDir);
+  return rows;
+}
 
+/// summary.md's text: the table and what it tests.
+std::string scalingSummary(const ScalingOptions& a, const std::vector<SizeResult>& results,
+                           const std::string& plotProblem) {
   std::ostringstream md;
   md << "# Cost against resolution: " << a.sceneName << "\n\n"
      << a.method << " at tolerance " << a.tolerance << ", global energy " << a.globalEnergy
@@ -197,9 +156,67 @@ StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) 
     md << "![scaling](scaling.png)\n";
   else
     md << "No plot: " << plotProblem << "\n";
-  md << "\n" << results.size() << " sizes in " << formatFixed(watch.seconds(), 0) << " s.\n";
-  writeTextFile((fs::path(outDir) / "summary.md").string(), md.str());
-  return {{{"scene", a.sceneName}, {"sizes", rows}}, md.str()};
+  return md.str();
+}
+
+}  // namespace
+
+void validateScalingOptions(const ScalingOptions& a) {
+  if (a.sizes.empty()) throw ParameterError("sizes", "", "give at least one size");
+  for (int s : a.sizes)
+    if (s < 8 || s > 8192) throw ParameterError("sizes", s, "is not in 8..8192");
+  parseMethod(a.method);
+  if (!a.precompute) throw ParameterError("precompute", "", "no way to make a transport given");
+}
+
+StudyOutput runScalingStudy(const ScalingOptions& a, const std::string& outDir) {
+  validateScalingOptions(a);
+  const Stopwatch watch;
+  createOutputDirectory(outDir);
+  const auto log = [&](const std::string& s) {
+    if (a.log) a.log(s);
+  };
+
+  std::vector<SizeResult> results;
+  std::string previousPath;
+  for (int size : a.sizes) {
+    SizeResult r;
+    r.size = size;
+    const std::string path = (fs::path(outDir) / concat("transport_", size, ".h5")).string();
+    Stopwatch t;
+    a.precompute(size, a.cubemap, path);
+    r.precomputeSeconds = t.seconds();
+    measureSize(r, TransportReader(path), a, results, previousPath);
+    // The previous transport is kept until this size has been compared with it.
+    if (!a.keepTransports && !previousPath.empty()) fs::remove(previousPath);
+    previousPath = path;
+    if (!results.empty()) {
+      const SizeResult& prev = results.back();
+      const double quadruplings = std::log(double(r.pixels) / prev.pixels) / std::log(4.0);
+      r.costRatio = std::pow(r.totalCost / prev.totalCost, 1 / quadruplings);
+      r.predicted = 4 * prev.mu * prev.mu;
+    }
+    log(concat(size, ": N = ", r.globalBases, ", ", r.clusters, " clusters, cost/pixel ",
+               r.costPerPixel, ", total ", r.totalCost, ", ", r.msPerFrame, " ms/frame, slope ",
+               formatFixed(r.slope, 3), ", mu ", formatFixed(r.mu, 3),
+               std::isnan(r.costRatio)
+                   ? std::string()
+                   : concat(", cost ratio per 4x pixels ", formatFixed(r.costRatio, 2),
+                            " (4 mu^2 = ", formatFixed(r.predicted, 2), "), same-patch n growth ",
+                            formatFixed(r.samePatchGrowth, 2)),
+               " [precompute ", formatFixed(r.precomputeSeconds, 0), " s, compress ",
+               formatFixed(r.compressSeconds, 0), " s]"));
+    results.push_back(r);
+  }
+  if (!a.keepTransports && !previousPath.empty()) fs::remove(previousPath);
+
+  const nlohmann::json rows = writeScalingTable(results, outDir);
+  const std::string plotProblem = drawPlots("scaling", outDir);
+  const std::string md =
+      scalingSummary(a, results, plotProblem) +
+      concat("\n", results.size(), " sizes in ", formatFixed(watch.seconds(), 0), " s.\n");
+  writeTextFile((fs::path(outDir) / "summary.md").string(), md);
+  return {{{"scene", a.sceneName}, {"sizes", rows}}, md};
 }
 
 }  // namespace acpca
