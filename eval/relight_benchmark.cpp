@@ -106,6 +106,65 @@ std::vector<Measured> measureModel(const Model& model, const std::string& path,
   return out;
 }
 
+/// The dense relight from memory, timed, and every model's image error
+/// against it (the evaluation's aggregate over the lightings).
+Measured measureDense(const TransportReader& reader, const std::vector<LatticeLighting>& lightings,
+                      int denseFrames, StreamingRead& paired, std::vector<Measured>& models,
+                      std::string& out) {
+  const Stopwatch load;
+  SparseTransport sparse(reader);
+  const double loadSeconds = load.seconds();
+  Measured dense;
+  dense.name = "dense (f16, zero segments skipped)";
+  dense.file = reader.path();
+  dense.coeffs = "f16 T";
+  for (const auto& lighting : lightings) dense.images.push_back(sparse.relight(lighting));
+  dense.times = timeFrames(
+      denseFrames, [&] { sparse.relight(lightings[0], dense.images[0].data()); }, &paired);
+  dense.bytes = double(sparse.bytesPerFrame());
+  dense.costPerPixel = sparse.keptFraction() * reader.latticeSize();  // in RGB triples
+  out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n", loadSeconds,
+                   100 * sparse.keptFraction());
+  // Image error over the lightings as the evaluation defines it (docs/design.md 7).
+  for (auto& m : models) {
+    if (m.images.empty()) continue;  // another kernel level: same image, within rounding
+    std::vector<double> errors;
+    for (size_t k = 0; k < lightings.size(); ++k)
+      errors.push_back(relativeL2(m.images[k], dense.images[k]));
+    m.error = aggregateError(errors);
+  }
+  return dense;
+}
+
+/// A line per relighter in `out`, and the same as JSON rows.
+nlohmann::json relighterRows(const std::vector<Measured>& models, double streamGbs,
+                             std::string& out) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& m : models) {
+    char error[32] = "-";
+    if (m.error >= 0) std::snprintf(error, sizeof error, "%.3f%%", 100 * m.error);
+    out += formatted("%-36s %8s %10.3f %9.3f %9.3f %10.1f %8.1f %6.0f%% %6.0f%% %9.1f %8s\n",
+                     m.name.c_str(), m.coeffs.c_str(), m.times.median, m.times.p10, m.times.p90,
+                     m.bytes / 1e6, m.gbPerSecond(), 100 * m.gbPerSecond() / streamGbs,
+                     100 * m.pairedShare(), m.costPerPixel, error);
+    rows.push_back(
+        {{"name", m.name},
+         {"file", m.file},
+         {"coeffs", m.coeffs},
+         {"ms_per_frame_median", m.times.median},
+         {"ms_per_frame_p10", m.times.p10},
+         {"ms_per_frame_p90", m.times.p90},
+         {"bytes_per_frame", m.bytes},
+         {"gb_per_s", m.gbPerSecond()},
+         {"fraction_of_stream", m.gbPerSecond() / streamGbs},
+         {"paired_stream_gb_per_s", median(m.times.streamGbs)},
+         {"fraction_of_paired_stream", m.pairedShare()},
+         {"cost_per_pixel", m.costPerPixel},
+         {"relative_l2_vs_dense", m.error < 0 ? nlohmann::json() : nlohmann::json(m.error)}});
+  }
+  return rows;
+}
+
 }  // namespace
 
 void validateRelightBenchmarkOptions(const RelightBenchmarkOptions& a) {
@@ -155,31 +214,8 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
       models.push_back(measureModel(baselines[i], a.baselines[i], lightings, a.frames, paired)[0]);
     models.insert(models.begin(), levels.begin(), levels.end());
 
-    if (reader) {
-      const Stopwatch load;
-      SparseTransport sparse(*reader);
-      const double loadSeconds = load.seconds();
-      Measured dense;
-      dense.name = "dense (f16, zero segments skipped)";
-      dense.file = a.transport;
-      dense.coeffs = "f16 T";
-      for (const auto& lighting : lightings) dense.images.push_back(sparse.relight(lighting));
-      dense.times = timeFrames(
-          a.denseFrames, [&] { sparse.relight(lightings[0], dense.images[0].data()); }, &paired);
-      dense.bytes = double(sparse.bytesPerFrame());
-      dense.costPerPixel = sparse.keptFraction() * reader->latticeSize();  // in RGB triples
-      out += formatted("dense reference: loaded in %.1f s, %.1f%% of T's entries kept\n",
-                       loadSeconds, 100 * sparse.keptFraction());
-      // Image error over the lightings as the evaluation defines it (docs/design.md 7).
-      for (auto& m : models) {
-        if (m.images.empty()) continue;  // another kernel level: same image, within rounding
-        std::vector<double> errors;
-        for (size_t k = 0; k < lightings.size(); ++k)
-          errors.push_back(relativeL2(m.images[k], dense.images[k]));
-        m.error = aggregateError(errors);
-      }
-      models.push_back(std::move(dense));
-    }
+    if (reader)
+      models.push_back(measureDense(*reader, lightings, a.denseFrames, paired, models, out));
   }
 
   const BandwidthMeasurement after = measureStreamingRead(a.streamGiB * (1 << 30), 5);
@@ -197,30 +233,7 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
   out += formatted("%-36s %8s %10s %9s %9s %10s %8s %7s %7s %9s %8s\n", "relighter", "u/bases",
                    "ms median", "p10", "p90", "MB/frame", "GB/s", "stream", "paired", "cost/px",
                    "error");
-  nlohmann::json rows = nlohmann::json::array();
-  for (const auto& m : models) {
-    char error[32] = "-";
-    if (m.error >= 0) std::snprintf(error, sizeof error, "%.3f%%", 100 * m.error);
-    out +=
-        formatted("%-36s %8s %10.3f %9.3f %9.3f %10.1f %8.1f %6.0f%% %6.0f%% %9.1f %8s\n",
-                  m.name.c_str(), m.coeffs.c_str(), m.times.median, m.times.p10, m.times.p90,
-                  m.bytes / 1e6, m.gbPerSecond(), 100 * m.gbPerSecond() / stream.gbPerSecondMedian,
-                  100 * m.pairedShare(), m.costPerPixel, error);
-    rows.push_back(
-        {{"name", m.name},
-         {"file", m.file},
-         {"coeffs", m.coeffs},
-         {"ms_per_frame_median", m.times.median},
-         {"ms_per_frame_p10", m.times.p10},
-         {"ms_per_frame_p90", m.times.p90},
-         {"bytes_per_frame", m.bytes},
-         {"gb_per_s", m.gbPerSecond()},
-         {"fraction_of_stream", m.gbPerSecond() / stream.gbPerSecondMedian},
-         {"paired_stream_gb_per_s", median(m.times.streamGbs)},
-         {"fraction_of_paired_stream", m.pairedShare()},
-         {"cost_per_pixel", m.costPerPixel},
-         {"relative_l2_vs_dense", m.error < 0 ? nlohmann::json() : nlohmann::json(m.error)}});
-  }
+  const nlohmann::json rows = relighterRows(models, stream.gbPerSecondMedian, out);
   nlohmann::json speedups = nlohmann::json::object();
   for (size_t i = 1; i < models.size(); ++i) {
     const double ratio = models[i].times.median / models[0].times.median;
