@@ -223,9 +223,6 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     TileEnergies energies;
     std::pair<long long, long long> rays;
   };
-  // A fault-injection switch for the tests: the rank that starts this tile dies.
-  const char* fault = std::getenv("ACPCA_FAULT_TILE");
-  const long long faultTile = fault ? std::atoll(fault) : -1;
   long long rowsDone = 0;
   for (size_t t = 0; t < tiles.size(); ++t)
     if (done[t]) rowsDone += static_cast<long long>(tiles[t].rows.size());
@@ -296,7 +293,7 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
         return true;
       },
       [&](Slot& slot) {
-        if (static_cast<long long>(slot.tile) == faultTile) std::raise(SIGKILL);
+        if (o.beforeTile) o.beforeTile(static_cast<long long>(slot.tile));
         slot.part = compressTile(tiles[slot.tile], source, projector, basis, o, truthSet, slot.rows,
                                  slot.truth, slot.energies, slot.rays);
       },

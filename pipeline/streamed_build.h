@@ -52,6 +52,9 @@ struct BuildOptions {
   std::function<void(long long, long long)> progress;
   /// Stage messages.
   std::function<void(const std::string&)> log;
+  /// Called as this process starts each tile (its index): where tests stop a
+  /// rank on purpose.
+  std::function<void(long long tile)> beforeTile;
 };
 
 struct BuildStats {

@@ -238,9 +238,6 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
   std::vector<int> mine;
   for (int band = 0; band < bandCount; ++band)
     if (owner(band) == rank) mine.push_back(band);
-  // A fault-injection switch for the tests: the rank that starts this band dies.
-  const char* fault = std::getenv("ACPCA_FAULT_BAND");
-  const int faultBand = fault ? std::atoi(fault) : -1;
   const auto onStart = [&](int band) {
     // Each rank logs the first of its bands in every tile: the last line of a
     // rank that dies names where it was.
@@ -248,10 +245,7 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
       options.log(concat(ranks::prefix(), "starts tile ", band / kTileBands, " (image rows ",
                          band * kBandRows, "-",
                          std::min(height, (band + kTileBands) * kBandRows) - 1, ")"));
-    if (band == faultBand) {
-      if (options.log) options.log(concat(ranks::prefix(), "fault injected at band ", band));
-      std::raise(SIGKILL);
-    }
+    if (options.beforeBand) options.beforeBand(band);
   };
   const auto tag = [](int band) { return band % 32767; };  // MPI guarantees tags up to 32767
   size_t mineDone = 0;

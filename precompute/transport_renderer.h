@@ -57,6 +57,9 @@ struct PrecomputeOptions {
   std::function<void(long long, long long)> cacheProgress, cacheFillProgress;
   /// Start even when the disk or memory looks too small (precomputeNeed).
   bool force = false;
+  /// Called as this process starts each band of rows (its index): where tests
+  /// stop a rank on purpose, to see the job end cleanly.
+  std::function<void(int band)> beforeBand;
 };
 
 struct PrecomputeStats {

@@ -1,9 +1,8 @@
 #include "tools/cli_common.h"
 
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-
 #include <algorithm>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -12,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
+#include "core/ranks.h"
 
 namespace acpca::cli {
 
@@ -22,14 +22,6 @@ void CommonOptions::add(CLI::App& app, bool withThreads) {
     app.add_option("--threads", threads, "Worker threads (0: all cores)")
         ->check(CLI::NonNegativeNumber);
 }
-
-ThreadLimit::ThreadLimit(int threads)
-    : threads_(threads > 0 ? threads : tbb::info::default_concurrency()) {
-  control_ =
-      std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads_);
-}
-
-ThreadLimit::~ThreadLimit() = default;
 
 void writeJson(const std::string& path, const nlohmann::json& value) {
   if (path.empty()) return;
@@ -81,6 +73,16 @@ std::string messageWithFlag(const ParameterError& error, const CLI::App& app) {
     if (sets) return error.messageFor("--" + option->get_lnames().front());
   }
   return error.what();
+}
+
+std::function<void(long long)> faultInjection(const char* variable, const char* item) {
+  const char* value = std::getenv(variable);
+  if (!value) return {};
+  return [item, fault = std::atoll(value)](long long i) {
+    if (i != fault) return;
+    std::cerr << (ranks::prefix() + concat("fault injected at ", item, " ", i, "\n"));
+    std::raise(SIGKILL);
+  };
 }
 
 StudyLog stderrLog(const std::string& prefix, bool quiet) {

@@ -1,8 +1,6 @@
 #pragma once
-// Helpers every subcommand shares: options common to all, progress lines,
-// JSON output, thread control and size parsing.
-#include <tbb/global_control.h>
-
+// Helpers every subcommand shares: options common to all, JSON output, the
+// flags errors name, fault injection for the tests.
 #include <CLI/CLI.hpp>
 #include <map>
 #include <memory>
@@ -14,10 +12,9 @@
 #include "core/error.h"
 #include "core/progress_line.h"
 #include "core/resources.h"
-#include "core/stopwatch.h"
 #include "core/text.h"
+#include "core/thread_limit.h"
 #include "eval/study_output.h"
-#include "transport/camera.h"
 
 namespace acpca::cli {
 
@@ -27,18 +24,6 @@ struct CommonOptions {
   std::string jsonPath;
   int threads = 0;
   void add(CLI::App& app, bool withThreads = true);
-};
-
-/// Caps TBB at `threads` worker threads (0: all cores) while it lives.
-class ThreadLimit {
- public:
-  explicit ThreadLimit(int threads);
-  ~ThreadLimit();
-  int threads() const { return threads_; }
-
- private:
-  std::unique_ptr<tbb::global_control> control_;
-  int threads_;
 };
 
 /// Writes JSON to a file (atomically) or to stdout for "-"; nothing when empty.
@@ -61,6 +46,10 @@ void nameParameters(CLI::App& command,
 /// parsed subcommand) that sets the parameter in place of the library's name
 /// for it; the message as is for parameters without a flag.
 std::string messageWithFlag(const ParameterError& error, const CLI::App& app);
+
+/// For the tests: when the environment variable `variable` holds N, a hook that
+/// says so and kills this process (SIGKILL) as it starts `item` N; else none.
+std::function<void(long long)> faultInjection(const char* variable, const char* item);
 
 /// A log callback printing "PREFIX: line" on stderr; none when quiet.
 StudyLog stderrLog(const std::string& prefix, bool quiet);

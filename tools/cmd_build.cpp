@@ -51,6 +51,7 @@ void run(const BuildArgs& a) {
   o.progress = [&](long long done, long long total) { progress.update(done, total); };
   if (!a.common.quiet)  // one write per line: the ranks share mpirun's stderr
     o.log = [](const std::string& s) { std::cerr << ("build: " + s + "\n"); };
+  o.beforeTile = faultInjection("ACPCA_FAULT_TILE", "tile");
   const BuildStats s = buildStreamed(scene, a.out, o);
   progress.finish();
   if (!lead) return;

@@ -51,6 +51,7 @@ void run(const PrecomputeArgs& a) {
     // One write per line: the ranks share mpirun's stderr.
     if (!a.common.quiet) std::cerr << ("precompute: " + line + "\n");
   };
+  options.beforeBand = faultInjection("ACPCA_FAULT_BAND", "band");
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
   progress.finish();
   if (!lead) return;
