@@ -146,7 +146,9 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   for (const auto& in : inputs)
     if (in.env)
       for (const auto& r : rotations) frames.push_back({&in, r});
-  Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output", "ms"});
+  // No times in the manifest: equal runs write equal files (frame times go
+  // to the JSON report).
+  Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output"});
   std::vector<double> msPerFrame;
   nlohmann::json outputs = nlohmann::json::array();
   // Rank 0 writes every frame (images, manifest row), in frame order.
@@ -165,12 +167,13 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     std::string joined;
     for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
     manifest.add({a.input, f.input->spec, f.rotation.yaw, f.rotation.pitch, f.rotation.roll,
-                  a.exposure, joined, ms});
+                  a.exposure, joined});
     outputs.push_back({{"env", f.input->spec},
                        {"yaw", f.rotation.yaw},
                        {"pitch", f.rotation.pitch},
                        {"roll", f.rotation.roll},
-                       {"paths", paths}});
+                       {"paths", paths},
+                       {"ms", ms}});
     if (a.progress)
       a.progress(static_cast<long long>(i + 1), static_cast<long long>(frames.size()));
   };
@@ -256,10 +259,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
                slowest = msPerFrame.empty() ? 0 : *highest;
   // Dense passes share one read of T among the frames of a group; the model is
   // read once per frame.
-  const double bytesPerFrame = frames.empty() ? 0
-                               : source.dense
-                                   ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames.size())
-                                   : double(source.bytesPerPass);
+  const double bytesPerFrame =
+      frames.empty() ? 0
+      : source.dense ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames.size())
+                     : double(source.bytesPerPass);
   const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
   result.summary =
       concat("relit ", frames.size(), " frame(s) from ", a.input, " (", source.method,

@@ -333,7 +333,15 @@ TEST(Determinism, EqualRunsWriteByteIdenticalFilesWhateverTheThreadCount) {
                  threads + " --out " + dir.file("i" + threads + image))
               .status,
           0);
+    ASSERT_EQ(runCli("relight " + dir.file("adaptive-quad1.h5") +
+                     " --env sky --rotate 0:90:45 --quiet --threads " + threads + " --out " +
+                     dir.file("batch"))
+                  .status,
+              0);
+    fs::rename(dir.file("batch/manifest.csv"), dir.file("manifest" + threads + ".csv"));
   }
+  EXPECT_TRUE(bytes("manifest1.csv") == bytes("manifest2.csv"))
+      << "a batch's manifest holds no times";
   for (const std::string name : {"t", "adaptive-quad", "adaptive-binary", "b", "i", "i"}) {
     const std::string ext = name == "i" ? ".exr" : ".h5";
     EXPECT_FALSE(bytes(name + "1" + ext).empty()) << name;
