@@ -21,9 +21,6 @@ constexpr const char* kWindow = "adaptive-cpca view";
 constexpr const char* kExposureBar = "exposure";
 constexpr const char* kRankBar = "rank %";
 constexpr const char* kEnvBar = "env map";
-// The exposure trackbar runs over -10..+10 stops in quarter stops.
-constexpr int kExposureSteps = 80;
-constexpr double kExposureStep = 0.25, kExposureMin = -10;
 
 EnvRotation rotationOf(const ViewState& s) {
   return EnvRotation{s.yaw, s.pitch, 0};
@@ -210,54 +207,16 @@ void Viewer::waitForLatestRequest() {
 }
 
 void Viewer::applyDrag(int dx, int dy) {
-  // A full window width turns the lighting once around; height is half a turn.
-  ui_.yaw += dx * 360.0 / width_;
-  ui_.pitch = std::clamp(ui_.pitch + dy * 180.0 / height_, -90.0, 90.0);
+  ui_ = acpca::applyDrag(ui_, dx, dy, width_, height_);
   request();
 }
 
 bool Viewer::applyKey(int key) {
-  const int envs = static_cast<int>(envs_.size());
-  switch (key) {
-    case 27:
-    case 'q':
-      return false;
-    case 'n':
-    case ' ':
-      ui_.env = (ui_.env + 1) % envs;
-      break;
-    case 'p':
-      ui_.env = (ui_.env + envs - 1) % envs;
-      break;
-    case 'c':
-      ui_.clusterOverlay = !ui_.clusterOverlay;
-      break;
-    case 'h':
-      ui_.rankHeatMap = !ui_.rankHeatMap;
-      break;
-    case 'l':
-      ui_.lightingInset = !ui_.lightingInset;
-      break;
-    case 'a':
-    case 'd':
-      ui_.yaw += key == 'a' ? -10 : 10;
-      break;
-    case 'r':
-      ui_.yaw = ui_.pitch = 0;
-      break;
-    case '+':
-    case '=':
-      ui_.exposure = std::min(ui_.exposure + 0.5, -kExposureMin);
-      break;
-    case '-':
-      ui_.exposure = std::max(ui_.exposure - 0.5, kExposureMin);
-      break;
-    case 's':
-      savePictures("");
-      return true;
-    default:
-      return true;
-  }
+  const ViewUpdate u = acpca::applyKey(ui_, key, static_cast<int>(envs_.size()));
+  if (u.action == ViewAction::Quit) return false;
+  if (u.action == ViewAction::Save) savePictures("");
+  if (u.state == ui_) return true;
+  ui_ = u.state;
   syncTrackbars();
   request();
   return true;
@@ -345,8 +304,7 @@ void Viewer::createTrackbars() {
 void Viewer::syncTrackbars() {
   // Setting a position calls onTrackbar, which would read the bars not yet set.
   syncing_ = true;
-  const int exposure = static_cast<int>(std::lround((ui_.exposure - kExposureMin) / kExposureStep));
-  cv::setTrackbarPos(kExposureBar, kWindow, std::clamp(exposure, 0, kExposureSteps));
+  cv::setTrackbarPos(kExposureBar, kWindow, exposurePosition(ui_.exposure));
   cv::setTrackbarPos(kRankBar, kWindow, ui_.rankPercent);
   if (envs_.size() > 1) cv::setTrackbarPos(kEnvBar, kWindow, ui_.env);
   syncing_ = false;
@@ -355,11 +313,7 @@ void Viewer::syncTrackbars() {
 void Viewer::onTrackbar(int, void* self) {
   auto* v = static_cast<Viewer*>(self);
   if (v->syncing_) return;
-  ViewState next = v->ui_;
-  const int exposure = cv::getTrackbarPos(kExposureBar, kWindow);
-  // A position that merely rounds the current exposure leaves it alone.
-  const int current = static_cast<int>(std::lround((next.exposure - kExposureMin) / kExposureStep));
-  if (exposure >= 0 && exposure != current) next.exposure = kExposureMin + exposure * kExposureStep;
+  ViewState next = applyExposurePosition(v->ui_, cv::getTrackbarPos(kExposureBar, kWindow));
   if (const int rank = cv::getTrackbarPos(kRankBar, kWindow); rank >= 0) next.rankPercent = rank;
   if (v->envs_.size() > 1)
     if (const int env = cv::getTrackbarPos(kEnvBar, kWindow); env >= 0) next.env = env;
@@ -372,17 +326,14 @@ void Viewer::onTrackbar(int, void* self) {
 
 void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
   auto* v = static_cast<Viewer*>(self);
-  if (event == cv::EVENT_LBUTTONDOWN && y < v->height_) {
-    v->dragging_ = true;
-    v->dragX_ = x;
-    v->dragY_ = y;
-  } else if (event == cv::EVENT_LBUTTONUP) {
-    v->dragging_ = false;
-  } else if (event == cv::EVENT_MOUSEMOVE && v->dragging_ && (flags & cv::EVENT_FLAG_LBUTTON)) {
-    v->applyDrag(x - v->dragX_, y - v->dragY_);
-    v->dragX_ = x;
-    v->dragY_ = y;
-  }
+  int dx = 0, dy = 0;
+  if (event == cv::EVENT_LBUTTONDOWN)
+    v->drag_.press(x, y, v->height_);
+  else if (event == cv::EVENT_LBUTTONUP)
+    v->drag_.release();
+  else if (event == cv::EVENT_MOUSEMOVE &&
+           v->drag_.move(x, y, (flags & cv::EVENT_FLAG_LBUTTON) != 0, dx, dy))
+    v->applyDrag(dx, dy);
 }
 
 void Viewer::run() {

@@ -16,18 +16,10 @@
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
+#include "viewer/view_input.h"
 #include "viewer/viewer_script.h"
 
 namespace acpca {
-
-/// What a frame shows; the UI thread edits it, the worker draws it.
-struct ViewState {
-  int env = 0;
-  double yaw = 0, pitch = 0;  ///< degrees
-  double exposure = 0;        ///< stops
-  int rankPercent = 100;      ///< share of each cluster's bases used
-  bool clusterOverlay = false, rankHeatMap = false, lightingInset = false;
-};
 
 struct ViewerOptions {
   std::string modelPath;
@@ -114,8 +106,8 @@ class Viewer {
   // UI thread only.
   Frame onScreen_;
   ViewState ui_;
-  int dragX_ = 0, dragY_ = 0;
-  bool dragging_ = false, syncing_ = false;
+  DragTracker drag_;
+  bool syncing_ = false;
 };
 
 }  // namespace acpca
