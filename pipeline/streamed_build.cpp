@@ -21,6 +21,7 @@
 #include "core/input_guard.h"
 #include "core/interrupt_cleanup.h"
 #include "core/ordered_pipeline.h"
+#include "core/rank_gather.h"
 #include "core/ranks.h"
 #include "core/resources.h"
 #include "core/stopwatch.h"
@@ -207,16 +208,16 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   // Tiles left to do are dealt round robin; rank 0 writes every finished
   // tile, its own and those the others send; a tile's file is the same bytes
   // whoever made it, so nothing depends on the rank count.
-  std::vector<size_t> todo, mine;
+  std::vector<size_t> todo;
   for (size_t t = 0; t < tiles.size(); ++t)
     if (!done[t]) todo.push_back(t);
-  for (size_t i = 0; i < todo.size(); ++i)
-    if (static_cast<int>(i % rankCount) == rank) mine.push_back(todo[i]);
+  const std::vector<long long> mine = ranks::itemsOfThisRank(static_cast<long long>(todo.size()));
   constexpr int kTileTag = 1;
   stats.tilesResumed = static_cast<long long>(tiles.size() - todo.size());
 
   const BasisProjector projector(basis, header.latticeSize(), header.rowLength());
   struct Slot {
+    long long item = 0;  ///< into todo
     size_t tile = 0;
     std::vector<float> rows, truth;
     Model part;
@@ -233,46 +234,18 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     rowsDone += static_cast<long long>(tiles[tile].rows.size());
     if (o.progress) o.progress(rowsDone, stats.rows);
   };
-  // Rank 0 takes the other ranks' tiles on a thread of its own, as they
-  // arrive and in any order (each is a file of its own; the model is
-  // assembled in tile order): a sender waits for none of rank 0's tiles, and
-  // a slow tile holds up only its own rank. A message is the tile's index,
-  // then the file's bytes. While that thread runs, it alone calls MPI on rank
-  // 0, and only it writes raw bytes (no HDF5, which is not thread-safe).
-  const auto receiveOther = [&] {
-    int from = 0;
-    const std::vector<char> message = ranks::receiveBytesFromAny(kTileTag, from);
-    std::uint64_t tile = 0;
-    ACPCA_CHECK(message.size() >= sizeof tile, "tile message from rank ", from, " is empty");
-    std::memcpy(&tile, message.data(), sizeof tile);
-    ACPCA_CHECK(tile < tiles.size(), "tile ", tile, " from rank ", from);
-    writeBytes(tilePath(dir, tile), {message.begin() + sizeof tile, message.end()});
-    wrote(tile);
-  };
-  struct Receiver {
-    std::atomic<bool> stop{false};
-    std::exception_ptr failure;
-    std::thread thread;
-    ~Receiver() {  // on the way out after a failure: stop waiting for tiles
-      stop = true;
-      if (thread.joinable()) thread.join();
-    }
-  } receiver;
-  if (lead && todo.size() > mine.size())
-    receiver.thread = std::thread([&, others = todo.size() - mine.size()]() mutable {
-      try {
-        while (others > 0 && !receiver.stop) {
-          if (!ranks::pending(kTileTag)) {
-            ranks::sleepBetweenPolls();
-            continue;
-          }
-          receiveOther();
-          --others;
-        }
-      } catch (...) {
-        receiver.failure = std::current_exception();
-      }
-    });
+  // Rank 0 takes the other ranks' tiles as they arrive and in any order (each
+  // is a file of its own; the model is assembled in tile order): a sender
+  // waits for none of rank 0's tiles, and a slow tile holds up only its own
+  // rank. Only the receiving thread writes those bytes (no HDF5 there, which
+  // is not thread-safe).
+  ranks::Gather<char> gather(
+      static_cast<long long>(todo.size()), ranks::GatherOrder::Arrival,
+      [&](long long item, const std::vector<char>& bytes) {
+        writeBytes(tilePath(dir, todo[item]), bytes);
+        wrote(todo[item]);
+      },
+      kTileTag);
   const auto writePart = [&](const Slot& slot, const std::string& path) {
     ModelFileWriter part(path, head, ModelSizes::of(slot.part), ModelFileKind::Clusters);
     part.append(slot.part);
@@ -285,7 +258,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
       o.tilesInFlight,
       [&](Slot& slot) {
         if (next >= mine.size()) return false;
-        slot.tile = mine[next++];
+        slot.item = mine[next++];
+        slot.tile = todo[slot.item];
         const Tile& t = tiles[slot.tile];
         if (rankCount > 1 && o.log)
           o.log(concat(ranks::prefix(), "starts tile ", slot.tile, " (pixels ", t.x0, ",", t.y0,
@@ -310,19 +284,13 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
               (fs::temp_directory_path() / concat("acpca-tile-", ::getpid(), "-", slot.tile, ".h5"))
                   .string();
           writePart(slot, local);
-          const std::uint64_t tile = slot.tile;
-          std::vector<char> message(sizeof tile);
-          std::memcpy(message.data(), &tile, sizeof tile);
-          const std::vector<char> bytes = readBytes(local);
-          message.insert(message.end(), bytes.begin(), bytes.end());
-          ranks::sendBytes(0, kTileTag, message);
+          gather.put(slot.item, readBytes(local));
           std::error_code ec;
           fs::remove(local, ec);
         }
         slot.part = Model();
       });
-  if (receiver.thread.joinable()) receiver.thread.join();
-  if (receiver.failure) std::rethrow_exception(receiver.failure);
+  gather.finish();
   if (kept) {
     kept->finish();
     log(concat("wrote the transport to ", o.keepTransport));

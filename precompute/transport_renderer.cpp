@@ -23,6 +23,7 @@
 #include "core/half.h"
 #include "core/input_guard.h"
 #include "core/ordered_pipeline.h"
+#include "core/rank_gather.h"
 #include "core/ranks.h"
 #include "core/stopwatch.h"
 #include "precompute/embree_scene.h"
@@ -233,11 +234,9 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
                                const std::function<void(const std::vector<float>&)>& write,
                                const PrecomputeOptions& options) {
   const int bandCount = (height + kBandRows - 1) / kBandRows;
-  const int rank = ranks::rank(), count = ranks::count();
-  const auto owner = [&](int band) { return band % count; };
+  const int count = ranks::count();
   std::vector<int> mine;
-  for (int band = 0; band < bandCount; ++band)
-    if (owner(band) == rank) mine.push_back(band);
+  for (long long band : ranks::itemsOfThisRank(bandCount)) mine.push_back(static_cast<int>(band));
   const auto onStart = [&](int band) {
     // Each rank logs the first of its bands in every tile: the last line of a
     // rank that dies names where it was.
@@ -247,27 +246,13 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
                          std::min(height, (band + kTileBands) * kBandRows) - 1, ")"));
     if (options.beforeBand) options.beforeBand(band);
   };
-  const auto tag = [](int band) { return band % 32767; };  // MPI guarantees tags up to 32767
+  ranks::Gather<float> gather(bandCount, ranks::GatherOrder::ItemOrder,
+                              [&](long long, const std::vector<float>& rows) { write(rows); });
   size_t mineDone = 0;
-  int nextToWrite = 0;
-  const auto writeOthersBefore = [&](int end) {
-    for (; nextToWrite < end; ++nextToWrite)
-      write(ranks::receive(owner(nextToWrite), tag(nextToWrite)));
-  };
   PrecomputeStats stats = runBands(
       renderer, mine, threads,
-      [&](const std::vector<float>& rows) {
-        const int band = mine[mineDone++];
-        if (rank == 0) {
-          writeOthersBefore(band);
-          write(rows);
-          nextToWrite = band + 1;
-        } else {
-          ranks::send(0, tag(band), rows);
-        }
-      },
-      onStart);
-  if (rank == 0) writeOthersBefore(bandCount);
+      [&](const std::vector<float>& rows) { gather.put(mine[mineDone++], rows); }, onStart);
+  gather.finish();
   return stats;
 }
 

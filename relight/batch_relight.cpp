@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
+#include "core/rank_gather.h"
 #include "core/ranks.h"
 #include "core/resources.h"
 #include "core/statistics.h"
@@ -177,30 +178,26 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     if (a.progress)
       a.progress(static_cast<long long>(i + 1), static_cast<long long>(frames.size()));
   };
-  // Under mpirun -np K frame i goes to rank i mod K; the others send each
-  // composed image (and its time) to rank 0, which receives in frame order (a
-  // sender waits its turn, so memory stays bounded): the same files for any K.
+  // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
+  // composed image (and its time) in frame order (a sender waits its turn, so
+  // memory stays bounded): the same files for any K.
   const int rank = ranks::rank(), rankCount = ranks::count();
-  const auto owner = [&](size_t i) { return static_cast<int>(i % rankCount); };
-  const auto tag = [](size_t i) { return static_cast<int>(i % 32767); };
   const int channels = ImageComposer::channels(a.background);
-  size_t nextToWrite = 0;
-  const auto writeOthersBefore = [&](size_t end) {
-    for (; nextToWrite < end; ++nextToWrite) {
-      if (owner(nextToWrite) == 0) continue;  // rank 0's own, written already
-      std::vector<float> message = ranks::receive(owner(nextToWrite), tag(nextToWrite));
-      ACPCA_CHECK(!message.empty(), "frame ", nextToWrite, " arrived empty");
-      const double ms = message.back();
-      message.pop_back();
-      Image image{source.header.camera.size.width, source.header.camera.size.height, channels,
-                  std::move(message)};
-      msPerFrame.push_back(ms);
-      writeFrame(nextToWrite, image, ms);
-    }
+  const auto deliver = [&](long long i, const std::vector<float>& message) {
+    ACPCA_CHECK(!message.empty(), "frame ", i, " arrived empty");
+    const double ms = message.back();
+    Image image{source.header.camera.size.width,
+                source.header.camera.size.height,
+                channels,
+                {message.begin(), message.end() - 1}};
+    if (ranks::ownerOf(i) != 0) msPerFrame.push_back(ms);  // rank 0's own are counted below
+    writeFrame(static_cast<size_t>(i), image, ms);
   };
+  ranks::Gather<float> gather(static_cast<long long>(frames.size()), ranks::GatherOrder::ItemOrder,
+                              deliver);
   std::vector<size_t> mine;
-  for (size_t i = 0; i < frames.size(); ++i)
-    if (owner(i) == rank) mine.push_back(i);
+  for (long long i : ranks::itemsOfThisRank(static_cast<long long>(frames.size())))
+    mine.push_back(static_cast<size_t>(i));
   const auto lightingOf = [&](size_t k) {
     const Frame& f = frames[mine[k]];
     return computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
@@ -230,17 +227,11 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
           const size_t i = mine[g + k];
           Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
                                      rotationMatrix(frames[i].rotation));
-          if (rank == 0) {
-            writeOthersBefore(i);
-            writeFrame(i, image, frameMs[k]);
-            nextToWrite = i + 1;
-          } else {
-            image.pixels.push_back(static_cast<float>(frameMs[k]));
-            ranks::send(0, tag(i), image.pixels);
-          }
+          image.pixels.push_back(static_cast<float>(frameMs[k]));
+          gather.put(static_cast<long long>(i), image.pixels);
         }
       });
-  if (rank == 0) writeOthersBefore(frames.size());
+  gather.finish();
   if (rank != 0) {  // rank 0 wrote the images and reports
     BatchRelightResult result;
     result.method = source.method;

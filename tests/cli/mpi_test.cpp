@@ -34,6 +34,44 @@ std::string mpirun(int ranks, const std::string& environment = "") {
          std::to_string(ranks);
 }
 
+/// The core gather primitive (core/rank_gather.h) through gather_probe: every
+/// item arrives once and whole at rank 0, in item order where asked, for 1..4
+/// ranks, floats and bytes, more items than ranks and fewer.
+TEST(Mpi, GatherDeliversEveryItemOnceAtOneToFourRanks) {
+  TempDir dir;
+  for (int ranks : {1, 2, 3, 4})
+    for (const std::string order : {"item", "arrival"})
+      for (const std::string type : {"float", "char"})
+        for (int count : {0, 3, 29}) {
+          SCOPED_TRACE(std::to_string(ranks) + " ranks, " + order + ", " + type + ", " +
+                       std::to_string(count) + " items");
+          const std::string out = dir.file("out.txt");
+          fs::remove(out);
+          const RunResult r =
+              runShell(mpirun(ranks) + " " + ACPCA_GATHER_PROBE + " " + std::to_string(count) +
+                       " " + order + " " + type + " -1 " + out);
+          ASSERT_EQ(r.status, 0) << r.output;
+          EXPECT_EQ(test::readFile(out), "gathered " + std::to_string(count) + "\n");
+        }
+}
+
+/// A rank killed mid-gather ends the whole job, promptly, with nothing written.
+TEST(Mpi, GatherWithAKilledRankEndsTheJob) {
+  TempDir dir;
+  for (int ranks : {2, 3, 4})
+    for (const std::string order : {"item", "arrival"}) {
+      SCOPED_TRACE(std::to_string(ranks) + " ranks, " + order);
+      const std::string out = dir.file("out.txt");
+      // Item 5 belongs to rank 5 mod K (never rank 0 here).
+      const RunResult r = runShell("timeout 120 env " + mpirun(ranks) + " " + ACPCA_GATHER_PROBE +
+                                   " 12 " + order + " float 5 " + out);
+      EXPECT_NE(r.status, 0) << r.output;
+      EXPECT_NE(r.status, 124) << "the job hung after a rank died";
+      EXPECT_NE(r.status, 127) << r.output;  // the command itself ran
+      EXPECT_FALSE(fs::exists(out));
+    }
+}
+
 TEST(Mpi, PrecomputeWritesTheSameBytesForAnyRankCount) {
   TempDir dir;
   // Direct light, and bounced light (R, G and B rows; each rank builds the
