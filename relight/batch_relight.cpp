@@ -40,6 +40,108 @@ std::string extensionOf(ImageFormat f) {
   return f == ImageFormat::Exr ? ".exr" : ".png";
 }
 
+/// Refuses a batch whose frames, uncompressed in every format (an upper
+/// bound), would not fit the disk.
+void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
+                       const std::vector<ImageFormat>& formats, bool batch) {
+  const fs::path out(a.out);
+  const long long pixels = static_cast<long long>(size.width) * size.height;
+  const int channels = a.background == Background::Alpha ? 4 : 3;
+  long long frameBytes = 0;
+  for (ImageFormat f : formats)
+    frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
+  ResourceNeed need;
+  need.what =
+      concat(a.envs.size() * a.rotations.size(), " frame(s) of ", size.width, "x", size.height);
+  need.diskBytes = frameBytes * static_cast<long long>(a.envs.size() * a.rotations.size());
+  need.largestFile = frameBytes;
+  need.diskDirectory = batch ? a.out : (out.has_parent_path() ? out.parent_path().string() : ".");
+  if (batch && !fs::exists(a.out)) need.diskDirectory = fs::path(a.out).parent_path().string();
+  need.diskAdvice = "write fewer frames at once, or to another disk";
+  requireResources(need, a.force);
+}
+
+/// Every lighting of the batch; in a batch, one that cannot be read is
+/// skipped with a warning (and reported), otherwise its error stops the run.
+std::vector<EnvInput> loadInputs(const std::vector<std::string>& specs, bool batch,
+                                 const std::function<void(const std::string&)>& warn) {
+  std::vector<EnvInput> inputs;
+  for (const auto& spec : specs) {
+    EnvInput in{spec, nullptr, ""};
+    try {
+      in.env = loadEnvironment(spec);
+    } catch (const UserError& e) {
+      if (!batch) throw;
+      in.error = e.what();
+      if (warn) warn(concat("skipping: ", e.what()));
+    }
+    inputs.push_back(std::move(in));
+  }
+  return inputs;
+}
+
+/// One group relit; in timing mode an untimed warm-up, then the timed
+/// repeats (frameMs: each frame's median). Times that count go to msPerFrame
+/// (rank 0's own here; the others' as they arrive).
+std::vector<std::vector<float>> relightTimed(const RelightSource& source,
+                                             const std::vector<LatticeLighting>& lightings,
+                                             int timingRepeats, std::vector<double>& frameMs,
+                                             std::vector<double>& msPerFrame) {
+  const int rank = ranks::rank(), rankCount = ranks::count();
+  const size_t count = lightings.size();
+  std::vector<double> ms;
+  std::vector<std::vector<float>> results = source.relight(lightings, ms);
+  frameMs = ms;
+  if (timingRepeats > 0) {
+    frameMs.assign(count, 0.0);
+    std::vector<std::vector<double>> repeats(count);
+    for (int rep = 0; rep < timingRepeats; ++rep) {
+      results = source.relight(lightings, ms);
+      for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
+      if (rankCount == 1) msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+    }
+    for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
+    if (rankCount > 1 && rank == 0)
+      msPerFrame.insert(msPerFrame.end(), frameMs.begin(), frameMs.end());
+  } else if (rank == 0) {
+    msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
+  }
+  return results;
+}
+
+/// The batch's times and bytes per frame, in words and as JSON.
+void summarize(BatchRelightResult& result, const BatchRelightOptions& a,
+               const RelightSource& source, size_t frames, std::vector<double> msPerFrame) {
+  const double med = median(msPerFrame);
+  const auto [lowest, highest] = std::minmax_element(msPerFrame.begin(), msPerFrame.end());
+  const double fastest = msPerFrame.empty() ? 0 : *lowest,
+               slowest = msPerFrame.empty() ? 0 : *highest;
+  // Dense passes share one read of T among the frames of a group; the model is
+  // read once per frame.
+  const double bytesPerFrame = frames == 0 ? 0
+                               : source.dense
+                                   ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames)
+                                   : double(source.bytesPerPass);
+  const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
+  result.summary =
+      concat("relit ", frames, " frame(s) from ", a.input, " (", source.method,
+             "): ", msPerFrame.size(), " timed, median ", med, " ms/frame (min ", fastest, ", max ",
+             slowest, "), ", formatBytes(bytesPerFrame), " read per frame, ", gbPerSecond, " GB/s");
+  result.method = source.method;
+  result.frames = static_cast<long long>(frames);
+  result.bytesPerFrame = bytesPerFrame;
+  result.json = {{"input", a.input},
+                 {"method", source.method},
+                 {"frames", frames},
+                 {"timed_frames", msPerFrame.size()},
+                 {"ms_per_frame_median", med},
+                 {"ms_per_frame_min", fastest},
+                 {"ms_per_frame_max", slowest},
+                 {"bytes_per_frame", bytesPerFrame},
+                 {"gb_per_s", gbPerSecond}};
+  result.msPerFrame = std::move(msPerFrame);
+}
+
 }  // namespace
 
 void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
@@ -105,38 +207,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const std::vector<EnvRotation>& rotations = a.rotations;
   const RelightSource source = openRelightSource(a.input, a.maxRank);
   const CubeLattice lattice(source.header.cubemapResolution);
-  {
-    // Uncompressed, every format: an upper bound on what the frames take.
-    const long long pixels =
-        static_cast<long long>(source.header.camera.size.width) * source.header.camera.size.height;
-    const int channels = a.background == Background::Alpha ? 4 : 3;
-    long long frameBytes = 0;
-    for (ImageFormat f : formats)
-      frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
-    ResourceNeed need;
-    need.what = concat(a.envs.size() * a.rotations.size(), " frame(s) of ",
-                       source.header.camera.size.width, "x", source.header.camera.size.height);
-    need.diskBytes = frameBytes * static_cast<long long>(a.envs.size() * a.rotations.size());
-    need.largestFile = frameBytes;
-    need.diskDirectory = batch ? a.out : (out.has_parent_path() ? out.parent_path().string() : ".");
-    if (batch && !fs::exists(a.out)) need.diskDirectory = fs::path(a.out).parent_path().string();
-    need.diskAdvice = "write fewer frames at once, or to another disk";
-    requireResources(need, a.force);
-  }
+  requireFrameSpace(a, source.header.camera.size, formats, batch);
   if (batch) createOutputDirectory(a.out);
 
-  std::vector<EnvInput> inputs;
-  for (const auto& spec : a.envs) {
-    EnvInput in{spec, nullptr, ""};
-    try {
-      in.env = loadEnvironment(spec);
-    } catch (const UserError& e) {
-      if (!batch) throw;
-      in.error = e.what();
-      if (a.warn) a.warn(concat("skipping: ", e.what()));
-    }
-    inputs.push_back(std::move(in));
-  }
+  const std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
 
   // Frames in groups: each group streams T once; memory stays flat for any count.
   struct Frame {
@@ -181,7 +255,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
   // memory stays bounded): the same files for any K.
-  const int rank = ranks::rank(), rankCount = ranks::count();
+  const int rank = ranks::rank();
   const int channels = ImageComposer::channels(a.background);
   const auto deliver = [&](long long i, const std::vector<float>& message) {
     ACPCA_CHECK(!message.empty(), "frame ", i, " arrived empty");
@@ -205,24 +279,9 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   relightInGroups(
       mine.size(), lightingOf, [&](size_t g, const std::vector<LatticeLighting>& lightings) {
         const size_t count = lightings.size();
-        // Timing mode: one untimed warm-up, then the timed repeats.
-        std::vector<double> ms;
-        std::vector<std::vector<float>> results = source.relight(lightings, ms);
-        std::vector<double> frameMs = ms;
-        if (a.timingRepeats > 0) {
-          frameMs.assign(count, 0.0);
-          std::vector<std::vector<double>> repeats(count);
-          for (int rep = 0; rep < a.timingRepeats; ++rep) {
-            results = source.relight(lightings, ms);
-            for (size_t k = 0; k < count; ++k) repeats[k].push_back(ms[k]);
-            if (rankCount == 1) msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
-          }
-          for (size_t k = 0; k < count; ++k) frameMs[k] = median(repeats[k]);
-          if (rankCount > 1 && rank == 0)
-            msPerFrame.insert(msPerFrame.end(), frameMs.begin(), frameMs.end());
-        } else if (rank == 0) {
-          msPerFrame.insert(msPerFrame.end(), ms.begin(), ms.end());
-        }
+        std::vector<double> frameMs;
+        const std::vector<std::vector<float>> results =
+            relightTimed(source, lightings, a.timingRepeats, frameMs, msPerFrame);
         for (size_t k = 0; k < count; ++k) {
           const size_t i = mine[g + k];
           Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
@@ -244,36 +303,9 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   std::vector<std::string>& failed = result.failed;
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
-  const double med = median(msPerFrame);
-  const auto [lowest, highest] = std::minmax_element(msPerFrame.begin(), msPerFrame.end());
-  const double fastest = msPerFrame.empty() ? 0 : *lowest,
-               slowest = msPerFrame.empty() ? 0 : *highest;
-  // Dense passes share one read of T among the frames of a group; the model is
-  // read once per frame.
-  const double bytesPerFrame =
-      frames.empty() ? 0
-      : source.dense ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames.size())
-                     : double(source.bytesPerPass);
-  const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
-  result.summary =
-      concat("relit ", frames.size(), " frame(s) from ", a.input, " (", source.method,
-             "): ", msPerFrame.size(), " timed, median ", med, " ms/frame (min ", fastest, ", max ",
-             slowest, "), ", formatBytes(bytesPerFrame), " read per frame, ", gbPerSecond, " GB/s");
-  result.method = source.method;
-  result.frames = static_cast<long long>(frames.size());
-  result.bytesPerFrame = bytesPerFrame;
-  result.json = {{"input", a.input},
-                 {"method", source.method},
-                 {"frames", frames.size()},
-                 {"timed_frames", msPerFrame.size()},
-                 {"ms_per_frame_median", med},
-                 {"ms_per_frame_min", fastest},
-                 {"ms_per_frame_max", slowest},
-                 {"bytes_per_frame", bytesPerFrame},
-                 {"gb_per_s", gbPerSecond},
-                 {"outputs", outputs},
-                 {"failed", failed}};
-  result.msPerFrame = std::move(msPerFrame);
+  summarize(result, a, source, frames.size(), std::move(msPerFrame));
+  result.json["outputs"] = outputs;
+  result.json["failed"] = failed;
   return result;
 }
 
