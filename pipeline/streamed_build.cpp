@@ -131,15 +131,11 @@ ResourceNeed buildNeed(const Scene& scene, const std::string& outPath, const Bui
   return need;
 }
 
-BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
-  validate(o);
-  const Stopwatch watch;
-  const auto log = [&](const std::string& s) {
-    if (o.log && ranks::rank() == 0)  // stages once; every rank names its tiles
-      o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));
-  };
-  BuildStats stats;
-  // Nothing written may replace what the build reads.
+namespace {
+
+/// Before any work: nothing written may replace what the build reads, the
+/// disk and memory suffice, and every output's directory exists.
+void checkOutputs(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
   std::vector<std::string> inputs = scene.files;
   inputs.insert(inputs.end(), o.groundTruth.begin(), o.groundTruth.end());
   refuseOutputOverInputs(outPath, inputs);
@@ -151,19 +147,13 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   { AtomicOutput check(outPath); }  // the output's directory exists, before any work
   if (!o.keepTransport.empty()) AtomicOutput check(o.keepTransport);
   if (!o.groundTruthDir.empty()) createOutputDirectory(o.groundTruthDir);
-  GroundTruth truthSet = loadGroundTruth(o.groundTruth);
+}
 
-  const RowSource source(scene, o.render);
-  const TransportHeader& header = source.header();
-  layOutGroundTruth(truthSet, header.cubemapResolution, header.channels);
-  stats.rows = header.rows();
-  log(concat("G-buffer: ", header.rows(), " occupied pixels"));
-
-  const CompressOptions& c = o.compress;
-  const int rank = ranks::rank(), rankCount = ranks::count();
-  const bool lead = rank == 0;
+/// Rank 0 renders the basis sample and fits the global basis; every rank
+/// gets the same values.
+GlobalBasis fitAndShareBasis(const RowSource& source, const CompressOptions& c, BuildStats& stats) {
   GlobalBasis basis;
-  if (lead) {
+  if (ranks::rank() == 0) {
     std::pair<long long, long long> rays{0, 0};
     basis = fitBasis(source, {c.globalEnergy, c.sampleRows, c.seed}, rays);
     stats.occlusionRays += rays.first, stats.pathRays += rays.second;
@@ -172,34 +162,41 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   stats.globalBases = basis.globalBases();
   stats.sampleEnergyKept = basis.sampleEnergyKept;
   stats.heldOutEnergyKept = basis.heldOutEnergyKept;
-  stats.basisSeconds = watch.seconds();
-  log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
-             " directions the sample sees, ", basis.sampleEnergyKept, " of the sample's energy (",
-             basis.heldOutEnergyKept, " on held-out rows)"));
+  return basis;
+}
 
-  const int side = tileSide(o);
-  const std::vector<Tile> tiles = planTiles(header.camera.size, header.pixels, side);
-  stats.tiles = static_cast<long long>(tiles.size());
+/// What every tile file and the model share: the image, the basis, the
+/// settings and the storage.
+Model modelHead(const TransportHeader& header, const GlobalBasis& basis, const BuildOptions& o,
+                std::string settings) {
   Model head;
   head.geometry = header;
-  head.method = methodName(c.method);
-  head.settings = settingsJson(o, scene, side, basis.globalBases());
+  head.method = methodName(o.compress.method);
+  head.settings = std::move(settings);
   head.globalBasis = basis.basis;
-  head.hasMean = keepsMean(c.method);
-  head.precision = c.coeffs;
-  head.basisPrecision = c.bases;
+  head.hasMean = keepsMean(o.compress.method);
+  head.precision = o.compress.coeffs;
+  head.basisPrecision = o.compress.bases;
+  return head;
+}
 
-  // What a resumed build must share: settings, the image's rows and the basis.
+/// Rank 0 prepares the work directory (a resumed build must share the
+/// settings, the image's rows and the basis) and every rank learns which
+/// tiles are left to do.
+std::vector<size_t> tilesLeftToDo(const std::string& dir, size_t tileCount, const Model& head,
+                                  const BuildOptions& o) {
+  const TransportHeader& header = head.geometry;
+  const Eigen::MatrixXf& basis = head.globalBasis;
+  const bool lead = ranks::rank() == 0;
   std::uint64_t hash = fingerprint(header.pixels.data(), header.pixels.size() * 4);
   hash = fingerprint(header.albedo.data(), header.albedo.size() * 4, hash);
-  hash = fingerprint(basis.basis.data(), basis.basis.size() * 4, hash);
-  const std::string dir = buildWorkDirectory(outPath);
+  hash = fingerprint(basis.data(), basis.size() * 4, hash);
   // Rank 0 keeps the work directory and says which tiles are left to do.
-  std::vector<char> done(tiles.size(), 0);
+  std::vector<char> done(tileCount, 0);
   if (lead) {
     prepareWorkDirectory(dir, head.settings + "\n" + std::to_string(hash) + "\n", o.resume, o.log);
     interrupt::setInterruptNote(concat("finished tiles are kept in ", dir, ": ", o.resumeAdvice));
-    for (size_t t = 0; t < tiles.size(); ++t) {
+    for (size_t t = 0; t < tileCount; ++t) {
       std::error_code ec;
       done[t] = o.resume && fs::exists(tilePath(dir, t), ec);
     }
@@ -209,11 +206,94 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   // tile, its own and those the others send; a tile's file is the same bytes
   // whoever made it, so nothing depends on the rank count.
   std::vector<size_t> todo;
-  for (size_t t = 0; t < tiles.size(); ++t)
+  for (size_t t = 0; t < tileCount; ++t)
     if (!done[t]) todo.push_back(t);
+  return todo;
+}
+
+/// The model from the finished tiles, in tile order, with its errors and
+/// (when asked) the ground-truth images; `seconds` is the build's time so far.
+void assembleModel(const std::string& outPath, const std::string& dir,
+                   const std::vector<Tile>& tiles, const Model& head, const GlobalBasis& basis,
+                   const GroundTruth& truthSet, const BuildOptions& o, double seconds,
+                   BuildStats& stats) {
+  const TransportHeader& header = head.geometry;
+  {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+      stats.peakWorkBytes += static_cast<long long>(entry.file_size(ec));
+  }
+  ModelSizes sizes;  // the tiles' sizes first: the model's arrays are written whole-sized
+  for (size_t t = 0; t < tiles.size(); ++t)
+    sizes += readModelClusterSizes(tilePath(dir, t), basis.globalBases());
+  ModelFileWriter writer(outPath, head, sizes);
+  TileEnergies sum;
+  const int maps = truthSet.maps();
+  sum.truthDiff.assign(maps, 0.0), sum.truthNorm.assign(maps, 0.0);
+  std::vector<std::vector<float>> truth(maps);
+  if (!o.groundTruthDir.empty())
+    for (auto& t : truth) t.assign(3 * static_cast<size_t>(stats.rows), 0.0f);
+  for (size_t t = 0; t < tiles.size(); ++t) {
+    TileEnergies e;
+    e.truthDiff.assign(maps, 0.0), e.truthNorm.assign(maps, 0.0);
+    std::map<std::string, double> extra = e.attributes();
+    const std::string path = tilePath(dir, t);
+    const Model part = readModelClusters(path, head, &extra);
+    writer.append(part);
+    sum.energy += extra["energy"];
+    sum.globalResidual += extra["global_residual"];
+    sum.errorEnergy += extra["error_energy"];
+    for (int m = 0; m < maps; ++m) {
+      sum.truthDiff[m] += extra[concat("truth_diff_", m)];
+      sum.truthNorm[m] += extra[concat("truth_norm_", m)];
+    }
+    stats.frameBytes += part.frameBytes();
+    if (!o.groundTruthDir.empty()) {
+      const std::vector<long long>& rows = tiles[t].rows;
+      const std::vector<float> values = readTileArray(path, "ground_truth", maps * rows.size() * 3);
+      for (int m = 0; m < maps; ++m)
+        for (size_t i = 0; i < rows.size(); ++i)
+          for (int c = 0; c < 3; ++c)
+            truth[m][3 * rows[i] + c] = values[(m * rows.size() + i) * 3 + c];
+    }
+  }
+  for (int m = 0; m < maps; ++m) {
+    const double error = sum.truthNorm[m] > 0 ? std::sqrt(sum.truthDiff[m] / sum.truthNorm[m])
+                                              : std::sqrt(sum.truthDiff[m]);
+    stats.imageErrors.emplace_back(truthSet.environments[m]->name(), error);
+  }
+  Model summary;
+  summary.transportError =
+      sum.energy > 0 ? std::sqrt(std::max(0.0, sum.errorEnergy) / sum.energy) : 0;
+  summary.globalEnergyKept = sum.energy > 0 ? 1 - sum.globalResidual / sum.energy : 1;
+  summary.compressSeconds = seconds;
+  stats.clusters = writer.clustersWritten();
+  stats.costPerPixel = writer.totalCost() / std::max(1LL, stats.rows);
+  writer.finish(summary);
+  stats.transportError = summary.transportError;
+  stats.globalEnergyKept = summary.globalEnergyKept;
+  stats.frameBytes += static_cast<long long>(basis.basis.size()) * 4;
+  for (int m = 0; m < maps && !o.groundTruthDir.empty(); ++m) {
+    const Image image = composeImage(header, truth[m], Background::Env, *truthSet.environments[m],
+                                     Eigen::Matrix3d::Identity());
+    writeImage(image,
+               (fs::path(o.groundTruthDir) / (truthSet.environments[m]->name() + ".exr")).string(),
+               ImageFormat::Exr, 0);
+  }
+}
+
+/// Every tile left to do, rendered, projected and compressed by the rank it
+/// is dealt to (round robin), kept as a file in `dir` by rank 0; with
+/// --keep-transport the rows also go to the transport file.
+void compressTiles(const std::vector<Tile>& tiles, const std::vector<size_t>& todo,
+                   const RowSource& source, const GlobalBasis& basis, const GroundTruth& truthSet,
+                   const Model& head, const std::string& dir, const BuildOptions& o,
+                   BuildStats& stats) {
+  const TransportHeader& header = source.header();
+  const int rankCount = ranks::count();
+  const bool lead = ranks::rank() == 0;
   const std::vector<long long> mine = ranks::itemsOfThisRank(static_cast<long long>(todo.size()));
   constexpr int kTileTag = 1;
-  stats.tilesResumed = static_cast<long long>(tiles.size() - todo.size());
 
   const BasisProjector projector(basis, header.latticeSize(), header.rowLength());
   struct Slot {
@@ -224,9 +304,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     TileEnergies energies;
     std::pair<long long, long long> rays;
   };
-  long long rowsDone = 0;
-  for (size_t t = 0; t < tiles.size(); ++t)
-    if (done[t]) rowsDone += static_cast<long long>(tiles[t].rows.size());
+  long long rowsDone = stats.rows;  // the resumed tiles' rows, then each finished tile's
+  for (size_t t : todo) rowsDone -= static_cast<long long>(tiles[t].rows.size());
   size_t next = 0;          // into mine
   std::mutex progressLock;  // rank 0 counts its own tiles and those it receives
   const auto wrote = [&](size_t tile) {
@@ -293,8 +372,46 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
   gather.finish();
   if (kept) {
     kept->finish();
-    log(concat("wrote the transport to ", o.keepTransport));
+    if (o.log) o.log(concat("wrote the transport to ", o.keepTransport));
   }
+}
+
+}  // namespace
+
+BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const BuildOptions& o) {
+  validate(o);
+  const Stopwatch watch;
+  const auto log = [&](const std::string& s) {
+    if (o.log && ranks::rank() == 0)  // stages once; every rank names its tiles
+      o.log(concat("[", std::fixed, std::setprecision(1), watch.seconds(), " s] ", s));
+  };
+  BuildStats stats;
+  checkOutputs(scene, outPath, o);
+  GroundTruth truthSet = loadGroundTruth(o.groundTruth);
+
+  const RowSource source(scene, o.render);
+  const TransportHeader& header = source.header();
+  layOutGroundTruth(truthSet, header.cubemapResolution, header.channels);
+  stats.rows = header.rows();
+  log(concat("G-buffer: ", header.rows(), " occupied pixels"));
+
+  const CompressOptions& c = o.compress;
+  const bool lead = ranks::rank() == 0;
+  const GlobalBasis basis = fitAndShareBasis(source, c, stats);
+  stats.basisSeconds = watch.seconds();
+  log(concat("global basis: N = ", basis.globalBases(), " of ", basis.activeDirections,
+             " directions the sample sees, ", basis.sampleEnergyKept, " of the sample's energy (",
+             basis.heldOutEnergyKept, " on held-out rows)"));
+
+  const int side = tileSide(o);
+  const std::vector<Tile> tiles = planTiles(header.camera.size, header.pixels, side);
+  stats.tiles = static_cast<long long>(tiles.size());
+  const Model head = modelHead(header, basis, o, settingsJson(o, scene, side, basis.globalBases()));
+
+  const std::string dir = buildWorkDirectory(outPath);
+  const std::vector<size_t> todo = tilesLeftToDo(dir, tiles.size(), head, o);
+  stats.tilesResumed = static_cast<long long>(tiles.size() - todo.size());
+  compressTiles(tiles, todo, source, basis, truthSet, head, dir, o, stats);
   stats.occlusionRays = ranks::sum(stats.occlusionRays);
   stats.pathRays = ranks::sum(stats.pathRays);
   if (!lead) {  // rank 0 assembles the model
@@ -306,70 +423,8 @@ BuildStats buildStreamed(const Scene& scene, const std::string& outPath, const B
     log(concat(stats.tilesResumed, " of ", tiles.size(), " tiles finished by an earlier run"));
   log(concat(tiles.size(), " tiles of ", side, "x", side, " rendered and compressed"));
 
-  // Assemble the model from the tiles, in tile order.
   const double assembleStart = watch.seconds();
-  {
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir, ec))
-      stats.peakWorkBytes += static_cast<long long>(entry.file_size(ec));
-  }
-  ModelSizes sizes;  // the tiles' sizes first: the model's arrays are written whole-sized
-  for (size_t t = 0; t < tiles.size(); ++t)
-    sizes += readModelClusterSizes(tilePath(dir, t), basis.globalBases());
-  ModelFileWriter writer(outPath, head, sizes);
-  TileEnergies sum;
-  const int maps = truthSet.maps();
-  sum.truthDiff.assign(maps, 0.0), sum.truthNorm.assign(maps, 0.0);
-  std::vector<std::vector<float>> truth(maps);
-  if (!o.groundTruthDir.empty())
-    for (auto& t : truth) t.assign(3 * static_cast<size_t>(stats.rows), 0.0f);
-  for (size_t t = 0; t < tiles.size(); ++t) {
-    TileEnergies e;
-    e.truthDiff.assign(maps, 0.0), e.truthNorm.assign(maps, 0.0);
-    std::map<std::string, double> extra = e.attributes();
-    const std::string path = tilePath(dir, t);
-    const Model part = readModelClusters(path, head, &extra);
-    writer.append(part);
-    sum.energy += extra["energy"];
-    sum.globalResidual += extra["global_residual"];
-    sum.errorEnergy += extra["error_energy"];
-    for (int m = 0; m < maps; ++m) {
-      sum.truthDiff[m] += extra[concat("truth_diff_", m)];
-      sum.truthNorm[m] += extra[concat("truth_norm_", m)];
-    }
-    stats.frameBytes += part.frameBytes();
-    if (!o.groundTruthDir.empty()) {
-      const std::vector<long long>& rows = tiles[t].rows;
-      const std::vector<float> values = readTileArray(path, "ground_truth", maps * rows.size() * 3);
-      for (int m = 0; m < maps; ++m)
-        for (size_t i = 0; i < rows.size(); ++i)
-          for (int c = 0; c < 3; ++c)
-            truth[m][3 * rows[i] + c] = values[(m * rows.size() + i) * 3 + c];
-    }
-  }
-  for (int m = 0; m < maps; ++m) {
-    const double error = sum.truthNorm[m] > 0 ? std::sqrt(sum.truthDiff[m] / sum.truthNorm[m])
-                                              : std::sqrt(sum.truthDiff[m]);
-    stats.imageErrors.emplace_back(truthSet.environments[m]->name(), error);
-  }
-  Model summary;
-  summary.transportError =
-      sum.energy > 0 ? std::sqrt(std::max(0.0, sum.errorEnergy) / sum.energy) : 0;
-  summary.globalEnergyKept = sum.energy > 0 ? 1 - sum.globalResidual / sum.energy : 1;
-  summary.compressSeconds = watch.seconds();
-  stats.clusters = writer.clustersWritten();
-  stats.costPerPixel = writer.totalCost() / std::max(1LL, stats.rows);
-  writer.finish(summary);
-  stats.transportError = summary.transportError;
-  stats.globalEnergyKept = summary.globalEnergyKept;
-  stats.frameBytes += static_cast<long long>(basis.basis.size()) * 4;
-  for (int m = 0; m < maps && !o.groundTruthDir.empty(); ++m) {
-    const Image image = composeImage(header, truth[m], Background::Env, *truthSet.environments[m],
-                                     Eigen::Matrix3d::Identity());
-    writeImage(image,
-               (fs::path(o.groundTruthDir) / (truthSet.environments[m]->name() + ".exr")).string(),
-               ImageFormat::Exr, 0);
-  }
+  assembleModel(outPath, dir, tiles, head, basis, truthSet, o, watch.seconds(), stats);
   std::error_code ec;
   fs::remove_all(dir, ec);  // the model is in place: the tiles are no longer needed
   interrupt::setInterruptNote("");
