@@ -49,9 +49,20 @@ struct Stopped {
   std::string output;
 };
 
+/// Whether process `pid` has installed a handler for `signal` (its SigCgt mask
+/// in /proc): before that, the dynamic loader and the libraries' static
+/// initializers still run, and the signal would kill it outright.
+inline bool catchesSignal(pid_t pid, int signal) {
+  const std::string status = test::readFile("/proc/" + std::to_string(pid) + "/status");
+  const auto at = status.find("SigCgt:");
+  if (at == std::string::npos) return false;
+  const unsigned long long mask = std::stoull(status.substr(at + 7), nullptr, 16);
+  return (mask >> (signal - 1)) & 1;
+}
+
 /// Runs the CLI with `args` (stderr to a file), sends `signal` once `ready()`
-/// says so (or after 60 s), and waits for it. With `ignoredByParent` it starts
-/// with SIGINT and SIGTERM ignored, as a script's background job does.
+/// says so and the CLI catches it (or after 60 s), and waits for it. With `ignoredByParent` it
+/// starts with SIGINT and SIGTERM ignored, as a script's background job does.
 inline Stopped stopWhen(const std::vector<std::string>& args, const std::function<bool()>& ready,
                         int signal, const std::string& log, bool ignoredByParent = false) {
   std::vector<std::string> argv{ACPCA_CLI_PATH};
@@ -76,7 +87,9 @@ inline Stopped stopWhen(const std::vector<std::string>& args, const std::functio
   int status = 0;
   for (;;) {
     if (waitpid(pid, &status, WNOHANG) == pid) break;  // finished first
-    if (ready() || Clock::now() - start > std::chrono::seconds(60)) {
+    // SIGKILL has no handler to wait for.
+    const bool armed = signal == SIGKILL || catchesSignal(pid, signal);
+    if ((ready() && armed) || Clock::now() - start > std::chrono::seconds(60)) {
       kill(pid, signal);
       s.signalled = true;
       const auto sent = Clock::now();
