@@ -126,7 +126,8 @@ TEST(Ggx, NarrowLobesTheLatticeUnderSamplesAreWarnedOf) {
   const auto warnings = samplingWarnings(s, o);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("GGX roughness 0.02"), std::string::npos) << warnings[0];
-  EXPECT_NE(warnings[0].find("rays per texel or a larger cube map"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("rays per texel or a larger cube map"), std::string::npos)
+      << warnings[0];
   s.spheres[0].material.roughness = 0.5;
   EXPECT_TRUE(samplingWarnings(s, o).empty());
 }
