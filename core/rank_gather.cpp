@@ -46,7 +46,7 @@ Gather<T>::Gather(long long count, GatherOrder order, Deliver deliver, int tag)
     : count_(count), order_(order), deliver_(std::move(deliver)), tag_(tag) {
   ACPCA_CHECK(tag >= 0 && tag < kTags, "gather tag ", tag);
   if (rank() != 0 || order != GatherOrder::Arrival) return;
-  const long long others = count - static_cast<long long>(itemsOfThisRank(count).size());
+  const long long others = count - (count + ranks::count() - 1) / ranks::count();  // not rank 0's
   if (others > 0) receiver_ = std::thread([this, others] { receiveArrivals(others); });
 }
 
@@ -73,7 +73,8 @@ void Gather<T>::receiveArrivals(long long others) {
       std::memcpy(&item, index.data(), sizeof item);
       ACPCA_CHECK(static_cast<long long>(item) < count_ && ownerOf(item) == from, "item ", item,
                   " from rank ", from);
-      deliver_(static_cast<long long>(item), receiveValues<T>(from, tag_));
+      std::vector<T> values = receiveValues<T>(from, tag_);
+      deliver_(static_cast<long long>(item), values);
       --others;
     }
   } catch (...) {
@@ -84,12 +85,14 @@ void Gather<T>::receiveArrivals(long long others) {
 template <typename T>
 void Gather<T>::deliverOthersBefore(long long end) {
   for (; next_ < end; ++next_)
-    if (ownerOf(next_) != 0)
-      deliver_(next_, receiveValues<T>(ownerOf(next_), (tag_ + next_) % kTags));
+    if (ownerOf(next_) != 0) {
+      std::vector<T> values = receiveValues<T>(ownerOf(next_), (tag_ + next_) % kTags);
+      deliver_(next_, values);
+    }
 }
 
 template <typename T>
-void Gather<T>::put(long long item, const std::vector<T>& values) {
+void Gather<T>::put(long long item, std::vector<T>& values) {
   ACPCA_CHECK(item >= 0 && item < count_ && ownerOf(item) == rank(), "item ", item,
               " is not this rank's");
   if (rank() == 0) {

@@ -35,7 +35,9 @@ enum class GatherOrder {
 template <typename T>  // float or char
 class Gather {
  public:
-  using Deliver = std::function<void(long long item, const std::vector<T>& values)>;
+  /// Gets each item's values; it may move them away (a batch keeps a frame's
+  /// pixels without copying them).
+  using Deliver = std::function<void(long long item, std::vector<T>& values)>;
   /// `tag` keeps this gather's messages apart from others' (0 <= tag < 32767;
   /// item order uses the tags from `tag` on, modulo 32767).
   Gather(long long count, GatherOrder order, Deliver deliver, int tag = 0);
@@ -46,7 +48,7 @@ class Gather {
 
   /// Hands over this rank's `item` (rank 0: delivers it, after every earlier
   /// item of the others in item order; other ranks: send it to rank 0).
-  void put(long long item, const std::vector<T>& values);
+  void put(long long item, std::vector<T>& values);
   /// Rank 0: delivers every item not yet delivered, waiting for them, and
   /// rethrows what failed on the receiving thread; other ranks: nothing.
   void finish();

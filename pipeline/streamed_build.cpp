@@ -320,7 +320,7 @@ void compressTiles(const std::vector<Tile>& tiles, const std::vector<size_t>& to
   // is not thread-safe).
   ranks::Gather<char> gather(
       static_cast<long long>(todo.size()), ranks::GatherOrder::Arrival,
-      [&](long long item, const std::vector<char>& bytes) {
+      [&](long long item, std::vector<char>& bytes) {
         writeBytes(tilePath(dir, todo[item]), bytes);
         wrote(todo[item]);
       },
@@ -363,7 +363,8 @@ void compressTiles(const std::vector<Tile>& tiles, const std::vector<size_t>& to
               (fs::temp_directory_path() / concat("acpca-tile-", ::getpid(), "-", slot.tile, ".h5"))
                   .string();
           writePart(slot, local);
-          gather.put(slot.item, readBytes(local));
+          std::vector<char> bytes = readBytes(local);
+          gather.put(slot.item, bytes);
           std::error_code ec;
           fs::remove(local, ec);
         }

@@ -247,11 +247,11 @@ PrecomputeStats renderAllBands(const BandRenderer& renderer, int height, int thr
     if (options.beforeBand) options.beforeBand(band);
   };
   ranks::Gather<float> gather(bandCount, ranks::GatherOrder::ItemOrder,
-                              [&](long long, const std::vector<float>& rows) { write(rows); });
+                              [&](long long, std::vector<float>& rows) { write(rows); });
   size_t mineDone = 0;
   PrecomputeStats stats = runBands(
       renderer, mine, threads,
-      [&](const std::vector<float>& rows) { gather.put(mine[mineDone++], rows); }, onStart);
+      [&](std::vector<float>& rows) { gather.put(mine[mineDone++], rows); }, onStart);
   gather.finish();
   return stats;
 }

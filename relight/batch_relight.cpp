@@ -257,14 +257,17 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   // memory stays bounded): the same files for any K.
   const int rank = ranks::rank();
   const int channels = ImageComposer::channels(a.background);
-  const auto deliver = [&](long long i, const std::vector<float>& message) {
-    ACPCA_CHECK(!message.empty(), "frame ", i, " arrived empty");
-    const double ms = message.back();
-    Image image{source.header.camera.size.width,
-                source.header.camera.size.height,
-                channels,
-                {message.begin(), message.end() - 1}};
-    if (ranks::ownerOf(i) != 0) msPerFrame.push_back(ms);  // rank 0's own are counted below
+  // Another rank's frame arrives with its time as one more value; rank 0's
+  // own frames come as they are (no copy of the image to append it), their
+  // time in ownMs.
+  double ownMs = 0;
+  const auto deliver = [&](long long i, std::vector<float>& pixels) {
+    const bool own = ranks::ownerOf(i) == 0;
+    ACPCA_CHECK(own || !pixels.empty(), "frame ", i, " arrived empty");
+    const double ms = own ? ownMs : pixels.back();
+    if (!own) pixels.pop_back(), msPerFrame.push_back(ms);  // rank 0's own are counted below
+    const Image image{source.header.camera.size.width, source.header.camera.size.height, channels,
+                      std::move(pixels)};
     writeFrame(static_cast<size_t>(i), image, ms);
   };
   ranks::Gather<float> gather(static_cast<long long>(frames.size()), ranks::GatherOrder::ItemOrder,
@@ -286,7 +289,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
           const size_t i = mine[g + k];
           Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
                                      rotationMatrix(frames[i].rotation));
-          image.pixels.push_back(static_cast<float>(frameMs[k]));
+          if (rank == 0)
+            ownMs = frameMs[k];
+          else
+            image.pixels.push_back(static_cast<float>(frameMs[k]));
           gather.put(static_cast<long long>(i), image.pixels);
         }
       });

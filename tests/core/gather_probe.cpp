@@ -26,7 +26,7 @@ int run(long long count, acpca::ranks::GatherOrder order, long long kill, const 
   std::vector<int> seen(static_cast<size_t>(count), 0);
   long long last = -1;
   bool ok = true;
-  acpca::ranks::Gather<T> gather(count, order, [&](long long item, const std::vector<T>& values) {
+  acpca::ranks::Gather<T> gather(count, order, [&](long long item, std::vector<T>& values) {
     bool whole = values.size() == static_cast<size_t>(item + 1);
     for (size_t k = 0; whole && k < values.size(); ++k) whole = values[k] == valueOf<T>(item, k);
     if (!whole) std::fprintf(stderr, "item %lld arrived damaged\n", item), ok = false;
