@@ -45,7 +45,7 @@ void dotSegmentsRgb(const std::uint16_t* values, const std::uint16_t* segments, 
 
 /// out[c][lane] = base[c] + sum_{k < rank} coefficients[k * 16 + lane] * lighting[3k + c]:
 /// [Mahajan07] eq. 17 for one chunk of 16 rows of a cluster, and W_i^T L_g for a
-/// tile of 16 bases (lanes = bases, k = global index).
+/// basis chunk of 16 bases (lanes = bases, k = global index).
 void shadeChunk(const float* coefficients, const float* lighting, int rank, const float base[3],
                 float out[3][kChunkRows]);
 void shadeChunk(const std::uint16_t* coefficients, const float* lighting, int rank,
