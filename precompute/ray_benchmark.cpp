@@ -9,10 +9,12 @@
 #include <tbb/task_arena.h>
 
 #include <limits>
+#include <numeric>
 
 #include "core/error.h"
 #include "precompute/embree_scene.h"
-#include "precompute/transport_renderer.h"
+#include "precompute/image_row_schedule.h"
+#include "precompute/transport_pass.h"
 
 namespace acpca {
 
@@ -161,6 +163,37 @@ RayRate timeLoop(const std::string& name, RTCScene scene, const Workload& w, int
     if (seconds < best.seconds) best = {name, rays, seconds};
   }
   return best;
+}
+
+/// The real transport pass over the middle `imageRows` rows of the image,
+/// direct light alone, without writing a file: its occlusion rays and seconds.
+PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOptions& options,
+                                      int imageRows) {
+  validatePrecomputeOptions(options);
+  const int threads = arenaThreads(options.threads);
+  tbb::task_arena arena(threads);
+  PrecomputeOptions direct = options;  // the rate of the shadow rays: direct light alone
+  direct.bounces = 0;
+  return arena.execute([&] {
+    const TransportPass pass(scene, direct);
+    const CubeLattice& lattice = pass.lattice;
+    // The middle rows of the image, where the scene's detail usually is (the
+    // same rows as the raw loops trace).
+    const int height = scene.camera.size.height;
+    const int want = std::clamp(imageRows, 1, height);
+    std::vector<int> middle(want);
+    std::iota(middle.begin(), middle.end(), (height - want) / 2);
+    long long rows = 0;
+    PrecomputeStats stats =
+        renderImageRows(pass.renderer, middle, threads, [&](const std::vector<float>& r) {
+          rows += static_cast<long long>(r.size()) / lattice.size();
+        });
+    stats.occupiedPixels = rows;
+    stats.triangles = scene.triangleCount();
+    stats.degenerateTriangles = pass.embree.degenerateTriangles();
+    stats.seconds = stats.transportSeconds;
+    return stats;
+  });
 }
 
 }  // namespace

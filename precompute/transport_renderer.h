@@ -50,16 +50,16 @@ struct PrecomputeOptions {
   double indirectCacheCell = kDefaultIndirectCacheCell;
   /// Called from one thread as rows are written: (rows done, rows in total).
   std::function<void(long long, long long)> progress;
-  /// Lines worth a log (under MPI: which rank starts which tile).
+  /// Lines worth a log (under MPI: which rank starts which image rows).
   std::function<void(const std::string&)> log;
   /// The same for the indirect cache: its pre-pass (image rows done, in total),
   /// then its visibility (points done, in total).
   std::function<void(long long, long long)> cacheProgress, cacheFillProgress;
   /// Start even when the disk or memory looks too small (precomputeNeed).
   bool force = false;
-  /// Called as this process starts each band of rows (its index): where tests
+  /// Called as this process starts each image row (its index): where tests
   /// stop a rank on purpose, to see the job end cleanly.
-  std::function<void(int band)> beforeBand;
+  std::function<void(int imageRow)> beforeImageRow;
 };
 
 struct PrecomputeStats {
@@ -116,22 +116,5 @@ class RowSource {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// Computes the rows of image rows [0, rows) without writing a file (for the
-/// ray benchmark): returns the occlusion rays traced and the seconds spent.
-/// Occlusion rays per texel that resolve a Phong lobe of this exponent on a
-/// 6 x R x R lattice (1 when texel centres already do).
-int texelRaysForLobe(double exponent, int cubemapResolution);
-/// Half the width at half maximum (radians) of a material's specular lobe over
-/// light directions: Phong's, or GGX's mirrored distribution; 0 without one.
-double lobeHalfWidth(const Material& m);
-/// One line per Phong or GGX material whose lobe the lattice under-samples: fewer than
-/// two direction samples (2/R radians apart at a face's centre, over
-/// sqrt(texel rays)) across its half-maximum width, so highlights alias. Each
-/// names the --texel-rays that resolves the lobe.
-std::vector<std::string> samplingWarnings(const Scene& scene, const PrecomputeOptions& options);
-
-PrecomputeStats measurePrecomputeRate(const Scene& scene, const PrecomputeOptions& options,
-                                      int imageRows);
 
 }  // namespace acpca

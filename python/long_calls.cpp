@@ -47,7 +47,7 @@ py::object precompute(const std::string& scene, const std::string& out,
       if (size) s.camera.size = {size->first, size->second};
       applyCameraSpec(s, camera);
       s.validate();
-      // Called from one thread between bands of rows: where a cancel lands.
+      // Called from one thread between image rows: where a cancel lands.
       o.progress = [&](long long done, long long total) {
         context.check();
         if (!progress.is_none()) context.callPython([&] { progress(done, total); });
@@ -115,7 +115,7 @@ void registerLongCalls(py::module_& m) {
         py::arg("force") = render.force, py::arg("progress") = py::none(),
         "Ray-trace a scene (built-in name or JSON file) into the transport file `out`, as "
         "`adaptive-cpca precompute`; size is (width, height); bounces > 0 adds interreflections. "
-        "progress(done, total) is called between bands of rows. Ctrl-C stops it and leaves no "
+        "progress(done, total) is called between image rows. Ctrl-C stops it and leaves no "
         "file. An image whose transport would not fit the disk or memory is refused before "
         "any work unless force=True. Returns the figures `precompute --json` reports.");
   const CompressOptions c;

@@ -5,6 +5,7 @@
 #include "core/ranks.h"
 #include "eval/error_measures.h"
 #include "pipeline/streamed_build.h"
+#include "precompute/sampling_advice.h"
 #include "relight/environment.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -92,7 +93,7 @@ void registerBuild(CLI::App& app) {
                   "against it is reported");
   sub->add_option("--keep-transport", args->keepTransport,
                   "Also write the dense transport to this file, as precompute would (one "
-                  "process; about a band of tiles' rows in memory; the disk must hold it)");
+                  "process; about a tile row's transport rows in memory; the disk must hold it)");
   sub->add_option("--env", args->envs,
                   "Lightings of the ground truth and image errors (default with --ground-truth: "
                   "the evaluation set)");

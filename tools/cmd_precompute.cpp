@@ -4,6 +4,7 @@
 
 #include "core/ranks.h"
 #include "precompute/precompute_report.h"
+#include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "tools/cli_common.h"
@@ -51,7 +52,7 @@ void run(const PrecomputeArgs& a) {
     // One write per line: the ranks share mpirun's stderr.
     if (!a.common.quiet) std::cerr << ("precompute: " + line + "\n");
   };
-  options.beforeBand = faultInjection("ACPCA_FAULT_BAND", "band");
+  options.beforeImageRow = faultInjection("ACPCA_FAULT_ROW", "image row");
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
   progress.finish();
   if (!lead) return;

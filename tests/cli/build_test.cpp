@@ -98,7 +98,7 @@ TEST(Build, EqualsPrecomputeThenCompress) {
         "build " + kScene + " " + settings + " --quiet --json " + dir.file("b.json") +
         (keep ? " --keep-transport " + dir.file("kept.h5") : "") + " --out " + dir.file("b.h5"));
     ASSERT_EQ(built.status, 0) << built.output;
-    if (keep) {  // three bands of three 32x32 tiles, written as precompute writes T
+    if (keep) {  // three tile rows of three 32x32 tiles, written as precompute writes T
       const auto bytes = [](const std::string& path) {
         std::ifstream in(path, std::ios::binary);
         return std::string(std::istreambuf_iterator<char>(in), {});

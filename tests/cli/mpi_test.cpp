@@ -98,13 +98,14 @@ TEST(Mpi, PrecomputeWritesTheSameBytesForAnyRankCount) {
 
 TEST(Mpi, ARankThatDiesIsNamedAndLeavesNoFile) {
   TempDir dir;
-  // Band 21 (image row 21) lies in tile 1 (rows 16-31) and goes to rank 1.
+  // Image row 21 goes to rank 1 (rows are dealt round robin), which logs rows 16-31.
   const RunResult r =
       runCli("precompute --scene plant --size 48x48 --cubemap 8 --out " + dir.file("t.h5"),
-             mpirun(2, "ACPCA_FAULT_BAND=21"));
+             mpirun(2, "ACPCA_FAULT_ROW=21"));
   EXPECT_NE(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("rank 1 of 2: starts tile 1"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("rank 1 of 2: fault injected at band 21"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("rank 1 of 2: starts image rows 16-31"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("rank 1 of 2: fault injected at image row 21"), std::string::npos)
+      << r.output;
   EXPECT_FALSE(fs::exists(dir.file("t.h5")));
   // What a killed rank 0 cannot remove is its partial file, under a name no
   // reader takes for the output.

@@ -15,6 +15,7 @@
 #include "eval/error_measures.h"
 #include "eval/haar_transport.h"
 #include "eval/sh_transport.h"
+#include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "relight/dense_relight.h"

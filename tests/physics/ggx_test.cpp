@@ -9,6 +9,7 @@
 #include <random>
 
 #include "precompute/material.h"
+#include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "relight/environment.h"
