@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "cluster/cost_model.h"
+#include "cluster/model_arrays.h"
+#include "cluster/model_values.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/half.h"
@@ -20,87 +22,7 @@ void writeVector(hid_t f, const std::string& name, const std::vector<T>& v, hid_
   h5::writeTyped(f, name, {static_cast<hsize_t>(v.size())}, type, v.data(), ctx);
 }
 
-template <typename T>
-std::vector<T> readVector(hid_t f, const std::string& name, hid_t type, hsize_t expected,
-                          const std::string& ctx) {
-  const auto shape = h5::datasetShape(f, name, ctx);
-  if (shape.size() != 1 || shape[0] != expected)
-    throw UserError(concat(ctx, ": dataset '", name, "' has the wrong size"));
-  std::vector<T> v(expected);
-  h5::readTyped(f, name, type, v.data(), ctx);
-  return v;
-}
-
-/// An upper bound on |relit value| per unit of the largest lattice light
-/// value, from the triangle inequality on albedo_p * (u_p . W^T V_g^T L +
-/// mu . V_g^T L): every value may be finite while their products overflow.
-double relitBoundPerUnitLight(const Model& m) {
-  const long long n = m.globalBases();
-  double projection = 0;  // max_j sum_i |V_g(i, j)|: bounds |(V_g^T L)_j| / max|L|
-  for (long long j = 0; j < n; ++j)
-    projection = std::max(projection, double(m.globalBasis.col(j).cwiseAbs().sum()));
-  double worstRow = 0;
-  std::vector<double> basisNorm;
-  for (int c = 0; c < m.clusters(); ++c) {
-    basisNorm.assign(m.ranks[c], 0.0);
-    for (int k = 0; k < m.ranks[c]; ++k)
-      for (long long j = 0; j < n; ++j)
-        basisNorm[k] += std::abs(m.bases[m.basisOffsets[c] + k * n + j]);
-    double mean = 0;
-    for (long long j = 0; j < n; ++j) mean += std::abs(m.means[c * n + j]);
-    for (long long r = 0; r < m.rowOffsets[c + 1] - m.rowOffsets[c]; ++r) {
-      double row = mean;
-      for (int k = 0; k < m.ranks[c]; ++k) row += std::abs(m.coefficient(c, r, k)) * basisNorm[k];
-      worstRow = std::max(worstRow, row);
-    }
-  }
-  double albedo = 0;
-  for (float a : m.geometry.albedo) albedo = std::max(albedo, double(a));
-  return albedo * worstRow * projection;
-}
-
-/// The cluster arrays of a model file (rows of its clusters in all, n global
-/// bases): offsets checked against the ranks and sizes before the large
-/// arrays are read.
-void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long clusters,
-                       const std::string& ctx) {
-  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
-  m.rowOffsets =
-      readVector<std::int64_t>(f, "cluster_row_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  m.ranks = readVector<std::int32_t>(f, "cluster_rank", H5T_NATIVE_INT32, clusters, ctx);
-  m.basisOffsets =
-      readVector<std::int64_t>(f, "cluster_basis_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  m.coefficientOffsets =
-      readVector<std::int64_t>(f, "coefficient_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
-  if (m.rowOffsets[0] != 0 || m.basisOffsets[0] != 0 || m.coefficientOffsets[0] != 0)
-    throw UserError(concat(ctx, ": cluster offsets do not start at 0"));
-  for (long long c = 0; c < clusters; ++c) {
-    const long long p = m.rowOffsets[c + 1] - m.rowOffsets[c];
-    if (p < 0 || p > rows || m.ranks[c] < 0 || m.ranks[c] > n ||
-        m.basisOffsets[c + 1] - m.basisOffsets[c] != n * m.ranks[c] ||
-        m.coefficientOffsets[c + 1] - m.coefficientOffsets[c] != p * m.ranks[c])
-      throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
-  }
-  if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
-  // HDF5 converts half datasets to float on read.
-  m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
-  m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);
-  m.coeffScale = readVector<float>(f, "coefficient_scale", H5T_NATIVE_FLOAT,
-                                   n > 0 ? m.basisOffsets.back() / n : 0, ctx);
-  const long long coefficients = m.coefficientOffsets.back();
-  if (m.precision == CoeffPrecision::F32)
-    m.coeffF32 = readVector<float>(f, "coefficients", H5T_NATIVE_FLOAT, coefficients, ctx);
-  if (m.precision == CoeffPrecision::F16) {
-    const h5::Handle half = h5::halfType();
-    m.coeffF16 = readVector<std::uint16_t>(f, "coefficients", half.get(), coefficients, ctx);
-  }
-  if (m.precision == CoeffPrecision::I8)
-    m.coeffI8 = readVector<std::int8_t>(f, "coefficients", H5T_NATIVE_INT8, coefficients, ctx);
-}
-
 }  // namespace
-
-inline constexpr const char* kClustersFormat = "adaptive-cpca model clusters";
 
 struct ModelFileWriter::Datasets {
   explicit Datasets(const std::string& path) : output(path) {}
@@ -324,80 +246,7 @@ Model readModel(const std::string& path) {
       throw UserError(concat(ctx, ": cluster rows are not a partition"));
     seen[r] = 1;
   }
-  const auto finite = [&](const auto& values, const char* what) {
-    for (float v : values)
-      if (!std::isfinite(v)) throw UserError(concat(ctx, ": non-finite ", what));
-  };
-  finite(m.bases, "basis value");
-  finite(m.means, "cluster mean");
-  finite(m.coeffF32, "coefficient");
-  finite(m.coeffScale, "coefficient scale");
-  finite(Eigen::Map<const Eigen::VectorXf>(m.globalBasis.data(), m.globalBasis.size()),
-         "global basis value");
-  if (m.precision == CoeffPrecision::F16) {
-    std::vector<float> decoded(m.coeffF16.size());
-    halfToFloat(m.coeffF16.data(), decoded.data(), decoded.size());
-    finite(decoded, "coefficient");
-  }
-  // Orthonormal bases and transport values below 1 keep real models many orders
-  // below this; 1e20 still leaves lighting up to ~1e18 per
-  // lattice direction before a relit value could overflow a float.
-  if (!(relitBoundPerUnitLight(m) <= 1e20))
-    throw UserError(concat(ctx, ": values out of range (relit values could overflow)"));
-  return m;
-}
-
-}  // namespace acpca
-
-namespace acpca {
-
-ModelSizes readModelClusterSizes(const std::string& path, int globalBases) {
-  const h5::Handle file = h5::openFileReadOnly(path);
-  const hid_t f = file.get();
-  if (!h5::hasAttribute(f, "format") ||
-      h5::readStringAttribute(f, "format", path) != kClustersFormat)
-    throw UserError(concat(path, ": not a file of model clusters"));
-  const auto length = [&](const char* name) {
-    const auto shape = h5::datasetShape(f, name, path);
-    if (shape.size() != 1) throw UserError(concat(path, ": dataset '", name, "' is not 1-D"));
-    return static_cast<long long>(shape[0]);
-  };
-  ModelSizes s{h5::readIntAttribute(f, "clusters", path), length("cluster_rows"), length("bases"),
-               length("coefficients")};
-  if (h5::readIntAttribute(f, "global_bases", path) != globalBases || s.clusters < 0)
-    throw UserError(concat(path, ": clusters of another model"));
-  return s;
-}
-
-Model readModelClusters(const std::string& path, const Model& head,
-                        std::map<std::string, double>* extra) {
-  const std::string& ctx = path;
-  const h5::Handle file = h5::openFileReadOnly(path);
-  const hid_t f = file.get();
-  if (!h5::hasAttribute(f, "format") ||
-      h5::readStringAttribute(f, "format", ctx) != kClustersFormat)
-    throw UserError(concat(ctx, ": not a file of model clusters"));
-  if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
-    throw UserError(concat(ctx, ": the file is incomplete"));
-  const long long n = h5::readIntAttribute(f, "global_bases", ctx);
-  const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
-  if (n != head.globalBases() ||
-      h5::readStringAttribute(f, "coeffs", ctx) != coeffPrecisionName(head.precision) ||
-      h5::readStringAttribute(f, "bases", ctx) != coeffPrecisionName(head.basisPrecision) ||
-      (h5::readIntAttribute(f, "has_mean", ctx) != 0) != head.hasMean)
-    throw UserError(concat(ctx, ": clusters of another model (global bases or precisions differ)"));
-  const auto shape = h5::datasetShape(f, "cluster_rows", ctx);
-  if (clusters < 0 || shape.size() != 1 || clusters > static_cast<long long>(shape[0]) + 1)
-    throw UserError(concat(ctx, ": sizes do not add up"));
-  Model m;
-  m.hasMean = head.hasMean;
-  m.precision = head.precision;
-  m.basisPrecision = head.basisPrecision;
-  readClusterArrays(f, m, static_cast<long long>(shape[0]), n, clusters, ctx);
-  m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
-  m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
-  if (extra)
-    for (auto& [name, value] : *extra) value = h5::readDoubleAttribute(f, name, ctx);
+  checkModelValues(m, ctx);
   return m;
 }
 
