@@ -190,11 +190,12 @@ class Relighter {
       };
       relightInGroups(static_cast<size_t>(frames), lightingOf,
                       [&](size_t first, const std::vector<LatticeLighting>& lightings) {
-                        if (source_.model) {  // into the array, frame by frame
+                        if (source_.model) {  // one projection, then into the array
+                          source_.model->lightGroup(lightings);
                           for (size_t k = 0; k < lightings.size(); ++k) {
                             const auto [env, rotation] = frameOf(first + k);
-                            relightModelInto(lightings[k], *env, rotation, bg, exposure,
-                                             images.mutable_data() + (first + k) * frameValues);
+                            shadeModelFrameInto(k, *env, rotation, bg, exposure,
+                                                images.mutable_data() + (first + k) * frameValues);
                           }
                           return;
                         }
@@ -255,6 +256,14 @@ class Relighter {
                         float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
+    applyExposure(exposure, bg, pixels);
+  }
+
+  /// Frame k of the group the model's relighter last lit, into its image.
+  void shadeModelFrameInto(size_t k, const Environment& env, const EnvRotation& rotation,
+                           Background bg, double exposure, float* pixels) const {
+    composer_->background(bg, env, rotationMatrix(rotation), pixels);
+    source_.model->shadeFrameInto(k, pixels, ImageComposer::channels(bg));
     applyExposure(exposure, bg, pixels);
   }
 

@@ -44,6 +44,18 @@ class ModelRelighter {
   /// weighted by 1 - coverage, there first (ImageComposer::background).
   void relightInto(const LatticeLighting& lighting, float* pixels, int channels);
 
+  /// A group of frames: lightGroup projects every lighting onto the global
+  /// basis and the cluster bases at once, reading V_g and the bases once for
+  /// the group instead of once a frame (what dominates small images); then
+  /// shadeFrame / shadeFrameInto shade frame k of the group, as relight /
+  /// relightInto would, bit for bit. A rank limit set in between applies from
+  /// the next group.
+  void lightGroup(const std::vector<LatticeLighting>& lightings);
+  void lightGroup(const LatticeLighting* const* lightings, size_t frames);
+  size_t groupFrames() const { return groupFrames_; }
+  void shadeFrame(size_t frame, float* rgb) const;
+  void shadeFrameInto(size_t frame, float* pixels, int channels) const;
+
   /// Bases each cluster uses at the current rank limit.
   const std::vector<int>& activeRanks() const { return activeRanks_; }
   const TransportHeader& geometry() const { return m_.geometry; }
@@ -62,26 +74,31 @@ class ModelRelighter {
     int stride;
     bool image;  ///< add coverage-weighted values at pixel indices, else set rows
   };
-  void lightGlobal(const LatticeLighting& lighting);
+  void reserveGroup(size_t frames);
+  void lightGlobal(const LatticeLighting* const* lightings, size_t frames);
   template <typename B>
-  void lightCluster(int c, const HugePageVector<B>& bases);
+  void lightCluster(int c, const HugePageVector<B>& bases, size_t frames);
+  template <typename B>
+  void lightClusters(const HugePageVector<B>& bases, size_t frames);
   template <typename T>
-  void shadeSpan(long long span, const HugePageVector<T>& coefficients, const Output& out) const;
-  template <typename B, typename T>
-  void shadeAll(const HugePageVector<B>& bases, const HugePageVector<T>& coefficients,
-                const Output& out);
-  void shadeAll(const Output& out);
+  void shadeSpan(long long span, const HugePageVector<T>& coefficients, const Output& out,
+                 size_t frame) const;
+  template <typename T>
+  void shadeSpans(const HugePageVector<T>& coefficients, const Output& out, size_t frame) const;
+  void shadeFrame(size_t frame, const Output& out) const;
 
   std::shared_ptr<const PackedModel> packed_;
   const PackedModel& m_;
   std::vector<int> activeRanks_;
+  size_t lightStride_;  ///< floats of one frame's light_, a multiple of 16
 
-  // Per-frame scratch, sized once.
-  std::vector<float> light_;              ///< 3 x |seen|, channel-major
-  std::vector<float> globalLighting_;     ///< 3 x N, channel-major
-  std::vector<float> globalLightingRgb_;  ///< N x 3, interleaved
-  std::vector<float> clusterLighting_;    ///< per cluster n_i x 3, interleaved
-  std::vector<float> meanTerm_;           ///< 3 per cluster
+  // Per-frame scratch for a group of frames, sized for the largest group yet.
+  size_t groupCapacity_ = 0, groupFrames_ = 0;
+  std::vector<float> light_;              ///< per frame 3 x |seen|, channel-major
+  std::vector<float> globalLighting_;     ///< per frame 3 x N, channel-major
+  std::vector<float> globalLightingRgb_;  ///< per frame N x 3, interleaved
+  std::vector<float> clusterLighting_;    ///< per frame, per cluster n_i x 3, interleaved
+  std::vector<float> meanTerm_;           ///< per frame 3 per cluster
 };
 
 }  // namespace acpca

@@ -23,15 +23,17 @@ struct RelightSource {
   /// The model's relighter (null for a transport): its rank limit may change.
   std::shared_ptr<ModelRelighter> model;
   /// Relights the group (per frame: 3 floats per occupied row, albedo
-  /// applied); ms[k] is the time spent on frame k. A transport relights the
-  /// whole group in one pass over T.
+  /// applied); ms[k] is the time spent on frame k (its share of what the group
+  /// shares, and its own). A transport relights the whole group in one pass
+  /// over T, a model projects the group's lightings at once.
   std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
                                                 std::vector<double>& ms)>
       relight;
 };
 
 /// Frames a batch relights together: a transport shares one pass over T among
-/// them; a model relights them one by one (the group bounds the lightings held).
+/// them, a model one projection onto its bases (ModelRelighter::lightGroup);
+/// the group bounds the lightings held.
 inline constexpr size_t kFramesPerGroup = 32;
 
 /// Frames [0, count) of a batch in groups of kFramesPerGroup, in order:

@@ -256,6 +256,45 @@ TEST(ModelRelighter, ShadingInImageBandsGivesEveryRowAndPixelItsValue) {
   }
 }
 
+/// Frame k of a group against relight() of its lighting alone: equal bit for bit.
+void expectGroupEqualsSingleFrames(ModelRelighter& relighter,
+                                   const std::vector<LatticeLighting>& lightings,
+                                   const std::string& what) {
+  std::vector<std::vector<float>> single;
+  for (const auto& l : lightings) single.push_back(relighter.relight(l));
+  relighter.lightGroup(lightings);
+  ASSERT_EQ(relighter.groupFrames(), lightings.size());
+  // Frames shaded in any order read only their own projections.
+  for (size_t k = lightings.size(); k-- > 0;) {
+    std::vector<float> rgb(3 * relighter.rows());
+    relighter.shadeFrame(k, rgb.data());
+    EXPECT_EQ(rgb, single[k]) << what << ", frame " << k << " of " << lightings.size();
+  }
+  const size_t pixels = static_cast<size_t>(relighter.geometry().camera.size.pixels());
+  std::vector<float> image(pixels * 4, 0.5f), expected = image;
+  relighter.relightInto(lightings.back(), expected.data(), 4);
+  relighter.lightGroup(lightings);
+  relighter.shadeFrameInto(lightings.size() - 1, image.data(), 4);
+  EXPECT_EQ(image, expected) << what << ", into an image";
+}
+
+TEST(ModelRelighter, AGroupOfFramesEqualsEachFrameAloneBitForBit) {
+  std::vector<LatticeLighting> lightings;
+  for (unsigned seed = 0; seed < 5; ++seed) lightings.push_back(randomLighting(24, 40 + seed));
+  for (CoeffPrecision p : {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8}) {
+    ModelRelighter spans(bandedModel(p, 5));
+    expectGroupEqualsSingleFrames(spans, lightings, coeffPrecisionName(p));
+    spans.setMaxRank(2);
+    expectGroupEqualsSingleFrames(spans, lightings,
+                                  std::string(coeffPrecisionName(p)) + ", rank <= 2");
+    ModelRelighter small(randomModel(p, true, 9));
+    // A group larger than any before, then a smaller one in the same scratch.
+    expectGroupEqualsSingleFrames(small, lightings, std::string(coeffPrecisionName(p)) + " 5");
+    expectGroupEqualsSingleFrames(small, {lightings[1], lightings[3]},
+                                  std::string(coeffPrecisionName(p)) + " 2");
+  }
+}
+
 TEST(ModelRelighter, MaxRankEqualsTheTruncatedModel) {
   const Model m = randomModel(CoeffPrecision::F32, true, 11);
   const LatticeLighting lighting = randomLighting(24, 5);
@@ -334,6 +373,8 @@ TEST(RelightBouncedPlant, RgbRowsKeptWholeRelightAsTheDenseTransport) {
       EXPECT_LT(relativeL2(reference[k], dense[k]), 1e-4) << methodName(method);
       EXPECT_LT(relativeL2(relighter.relight(all[k]), dense[k]), 1e-4) << methodName(method);
     }
+    // R, G and B rows: each channel's third of V_g meets the group's lightings too.
+    expectGroupEqualsSingleFrames(relighter, all, methodName(method));
   }
 }
 
