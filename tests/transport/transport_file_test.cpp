@@ -62,6 +62,32 @@ TEST(Half, RoundTripsWithinHalfAnUlp) {
   EXPECT_EQ(out.back(), kHalfMax);
 }
 
+TEST(Half, DatasetsReadAsFloatsEqualHdf5sOwnConversion) {
+  // Every one of the 65,536 half bit patterns but NaNs, stored as a half
+  // dataset; read as floats (the library converts them itself) and as
+  // doubles (HDF5's converter): the same numbers, subnormals and Inf included.
+  TempDir dir;
+  const std::string path = dir.file("halves.h5");
+  std::vector<std::uint16_t> all;
+  for (std::uint32_t bits = 0; bits < 65536; ++bits)
+    if ((bits & 0x7c00) != 0x7c00 || (bits & 0x03ff) == 0) all.push_back(std::uint16_t(bits));
+  {
+    h5::Handle f = h5::createFile(path, path);
+    const h5::Handle half = h5::halfType();
+    h5::writeTyped(f.get(), "values", {all.size()}, half.get(), all.data(), path);
+    h5::closeWrittenFile(f, path);
+  }
+  const h5::Handle f = h5::openFileReadOnly(path);
+  std::vector<float> floats(all.size());
+  std::vector<double> doubles(all.size());
+  h5::readDataset(f.get(), "values", floats.data(), path);
+  h5::readTyped(f.get(), "values", H5T_NATIVE_DOUBLE, doubles.data(), path);
+  for (size_t i = 0; i < all.size(); ++i)
+    ASSERT_EQ(floats[i], static_cast<float>(doubles[i])) << "half bits " << all[i];
+  EXPECT_EQ(floats[1], std::ldexp(1.0f, -24)) << "the smallest subnormal";
+  EXPECT_TRUE(std::isinf(floats[0x7c00]));
+}
+
 class TransportRoundTrip : public ::testing::TestWithParam<Precision> {};
 
 TEST_P(TransportRoundTrip, WritesInBlocksAndReadsBack) {
