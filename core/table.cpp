@@ -34,25 +34,33 @@ nlohmann::json finiteOrNull(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nullptr;
 }
 
-std::string Table::csv() const {
+std::string Table::csvHeader() const {
   std::string out;
   for (size_t c = 0; c < columns_.size(); ++c) {
     if (c) out += ",";
     out += csvField(columns_[c]);
   }
-  out += "\n";
-  for (const auto& row : rows_) {
-    for (size_t c = 0; c < row.size(); ++c) {
-      if (c) out += ",";
-      if (const auto* d = std::get_if<double>(&row[c]))
-        out += csvNumber(*d);
-      else if (const auto* i = std::get_if<long long>(&row[c]))
-        out += std::to_string(*i);
-      else
-        out += csvField(std::get<std::string>(row[c]));
-    }
-    out += "\n";
+  return out + "\n";
+}
+
+std::string Table::csvRow(size_t i) const {
+  std::string out;
+  const auto& row = rows_.at(i);
+  for (size_t c = 0; c < row.size(); ++c) {
+    if (c) out += ",";
+    if (const auto* d = std::get_if<double>(&row[c]))
+      out += csvNumber(*d);
+    else if (const auto* n = std::get_if<long long>(&row[c]))
+      out += std::to_string(*n);
+    else
+      out += csvField(std::get<std::string>(row[c]));
   }
+  return out + "\n";
+}
+
+std::string Table::csv() const {
+  std::string out = csvHeader();
+  for (size_t i = 0; i < rows_.size(); ++i) out += csvRow(i);
   return out;
 }
 

@@ -25,6 +25,9 @@ class Table {
 
   /// Header line and rows; text is quoted where it holds a comma, space, quote or newline.
   std::string csv() const;
+  /// The header line alone, and row i's line alone (each with its newline).
+  std::string csvHeader() const;
+  std::string csvRow(size_t i) const;
   /// [{column: value, ...}, ...].
   nlohmann::json json() const;
   /// Writes csv() atomically; throws WriteError naming the path.

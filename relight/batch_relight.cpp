@@ -1,14 +1,19 @@
 #include "relight/batch_relight.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <optional>
 
 #include "cluster/model.h"
 #include "cluster/model_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
+#include "core/ordered_writer.h"
 #include "core/rank_gather.h"
 #include "core/ranks.h"
 #include "core/resources.h"
@@ -16,6 +21,7 @@
 #include "core/stopwatch.h"
 #include "core/table.h"
 #include "core/text.h"
+#include "relight/batch_manifest.h"
 #include "relight/dense_relight.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
@@ -34,6 +40,12 @@ struct EnvInput {
   std::string spec;
   std::unique_ptr<Environment> env;
   std::string error;  // non-empty: could not be loaded
+};
+
+/// One frame of the batch: a lighting under a rotation.
+struct Frame {
+  const EnvInput* input;
+  EnvRotation rotation;
 };
 
 std::string extensionOf(ImageFormat f) {
@@ -109,6 +121,135 @@ std::vector<std::vector<float>> relightTimed(const RelightSource& source,
   return results;
 }
 
+/// Frames encoded, written or waiting for their turn to commit at once: the
+/// memory a batch holds beyond the group it relights.
+constexpr size_t kFramesInFlight = 8;
+
+/// Writing threads beside the relighter's: half the cores it may use.
+int writingThreads() {
+  return std::max(1, tbb::this_task_arena::max_concurrency() / 2);
+}
+
+ImageEncoding encodingFor(const BatchRelightOptions& a, bool batch) {
+  ImageEncoding e;
+  e.exrFloat = a.exrFloat;
+  e.exrCompression = a.exrCompression.value_or(batch ? kBatchExrCompression : ExrCompression::Zips);
+  e.pngLevel = a.pngLevel;
+  return e;
+}
+
+/// One group relit into composed images (`backgroundOf(k, pixels)` puts frame
+/// k's background there first), each handed to `done` with its relight time
+/// (which may move the pixels away). A model shades its frames straight into
+/// their images after one projection of the group; a transport's rows (and
+/// timing mode's) are added onto the background.
+void relightGroupImages(const RelightSource& source, const ImageComposer& composer,
+                        const std::vector<LatticeLighting>& lightings, int channels,
+                        const std::function<void(size_t, float*)>& backgroundOf, int timingRepeats,
+                        std::vector<double>& msPerFrame,
+                        const std::function<void(size_t, std::vector<float>&, double)>& done) {
+  const size_t values = static_cast<size_t>(source.header.camera.size.pixels()) * channels;
+  if (source.model && timingRepeats == 0) {
+    const Stopwatch group;
+    source.model->lightGroup(lightings);
+    const double shared = group.milliseconds() / static_cast<double>(lightings.size());
+    for (size_t k = 0; k < lightings.size(); ++k) {
+      std::vector<float> pixels(values);
+      backgroundOf(k, pixels.data());
+      const Stopwatch watch;
+      source.model->shadeFrameInto(k, pixels.data(), channels);
+      const double ms = shared + watch.milliseconds();
+      if (ranks::rank() == 0) msPerFrame.push_back(ms);
+      done(k, pixels, ms);
+    }
+    return;
+  }
+  std::vector<double> frameMs;
+  std::vector<std::vector<float>> rows =
+      relightTimed(source, lightings, timingRepeats, frameMs, msPerFrame);
+  for (size_t k = 0; k < lightings.size(); ++k) {
+    std::vector<float> pixels(values);
+    backgroundOf(k, pixels.data());
+    composer.addRows(rows[k].data(), pixels.data(), channels);
+    std::vector<float>().swap(rows[k]);
+    done(k, pixels, frameMs[k]);
+  }
+}
+
+/// Rank 0's writing: every frame encoded and written on writing threads of
+/// its own while the next frames relight, each committed in frame order (its
+/// files renamed into place, then its manifest row, so a batch killed midway
+/// leaves a manifest listing exactly the frames in place). No times in the
+/// manifest: equal runs write equal files (frame times go to the JSON report).
+class FrameWriting {
+ public:
+  FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
+               const std::vector<ImageFormat>& formats, bool batch)
+      : a_(a),
+        frames_(frames),
+        formats_(formats),
+        batch_(batch),
+        encoding_(encodingFor(a, batch)),
+        writer_(writingThreads(), kFramesInFlight) {
+    if (batch)
+      manifest_.emplace(
+          (fs::path(a.out) / "manifest.csv").string(),
+          std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure", "output"});
+  }
+
+  /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
+  void submit(size_t i, Image&& image, double ms) {
+    writer_.submit([this, i, ms, image = std::move(image)] { return encode(i, image, ms); });
+  }
+  void finish() { writer_.finish(); }
+  const nlohmann::json& outputs() const { return outputs_; }
+
+ private:
+  /// Frame i's files under temporary names; returns what puts them in place.
+  OrderedWriter::Commit encode(size_t i, const Image& image, double ms) {
+    const Frame& f = frames_[i];
+    const fs::path out(a_.out);
+    auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
+    std::vector<std::string> paths;
+    for (ImageFormat format : formats_) {
+      fs::path path = out;
+      if (batch_)
+        path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
+      else if (formats_.size() > 1)
+        path = out.parent_path() / (out.stem().string() + extensionOf(format));
+      files->push_back(std::make_unique<AtomicOutput>(path.string()));
+      encodeImage(image, files->back()->tempPath(), path.string(), format, a_.exposure, encoding_);
+      paths.push_back(path.string());
+    }
+    return [this, i, ms, files, paths] {
+      for (auto& file : *files) file->commit();
+      const Frame& f = frames_[i];
+      std::string joined;
+      for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
+      if (manifest_)
+        manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
+                           f.rotation.roll, a_.exposure, joined});
+      outputs_.push_back({{"env", f.input->spec},
+                          {"yaw", f.rotation.yaw},
+                          {"pitch", f.rotation.pitch},
+                          {"roll", f.rotation.roll},
+                          {"paths", paths},
+                          {"ms", ms}});
+      if (a_.progress)
+        a_.progress(static_cast<long long>(i + 1), static_cast<long long>(frames_.size()));
+    };
+  }
+
+  const BatchRelightOptions& a_;
+  const std::vector<Frame>& frames_;
+  const std::vector<ImageFormat>& formats_;
+  const bool batch_;
+  const ImageEncoding encoding_;
+  std::optional<BatchManifest> manifest_;
+  nlohmann::json outputs_ = nlohmann::json::array();
+  OrderedWriter writer_;  ///< last: its threads stop before what they use goes
+};
+
 /// The batch's times and bytes per frame, in words and as JSON.
 void summarize(BatchRelightResult& result, const BatchRelightOptions& a,
                const RelightSource& source, size_t frames, std::vector<double> msPerFrame) {
@@ -182,6 +323,8 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.envs.empty()) throw ParameterError("environment", "", "give at least one lighting");
   if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
   requireFinite(a.exposure, "exposure");
+  if (a.pngLevel < 0 || a.pngLevel > 9)
+    throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
   const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, a.batch());
   // No frame may replace the model, the transport or a lighting it reads.
   std::vector<std::string> inputs = a.envs;
@@ -213,50 +356,19 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
 
   // Frames in groups: each group streams T once; memory stays flat for any count.
-  struct Frame {
-    const EnvInput* input;
-    EnvRotation rotation;
-  };
   std::vector<Frame> frames;
   for (const auto& in : inputs)
     if (in.env)
       for (const auto& r : rotations) frames.push_back({&in, r});
-  // No times in the manifest: equal runs write equal files (frame times go
-  // to the JSON report).
-  Table manifest({"input", "env", "yaw", "pitch", "roll", "exposure", "output"});
+  const int rank = ranks::rank();
+  std::optional<FrameWriting> writing;
+  if (rank == 0) writing.emplace(a, frames, formats, batch);
   std::vector<double> msPerFrame;
-  nlohmann::json outputs = nlohmann::json::array();
-  // Rank 0 writes every frame (images, manifest row), in frame order.
-  const auto writeFrame = [&](size_t i, const Image& image, double ms) {
-    const Frame& f = frames[i];
-    std::vector<std::string> paths;
-    for (ImageFormat format : formats) {
-      fs::path path = out;
-      if (batch)
-        path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
-      else if (formats.size() > 1)
-        path = out.parent_path() / (out.stem().string() + extensionOf(format));
-      writeImage(image, path.string(), format, a.exposure, a.exrFloat);
-      paths.push_back(path.string());
-    }
-    std::string joined;
-    for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
-    manifest.add({a.input, f.input->spec, f.rotation.yaw, f.rotation.pitch, f.rotation.roll,
-                  a.exposure, joined});
-    outputs.push_back({{"env", f.input->spec},
-                       {"yaw", f.rotation.yaw},
-                       {"pitch", f.rotation.pitch},
-                       {"roll", f.rotation.roll},
-                       {"paths", paths},
-                       {"ms", ms}});
-    if (a.progress)
-      a.progress(static_cast<long long>(i + 1), static_cast<long long>(frames.size()));
-  };
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
   // memory stays bounded): the same files for any K.
-  const int rank = ranks::rank();
   const int channels = ImageComposer::channels(a.background);
+  const ImageSize size = source.header.camera.size;
   // Another rank's frame arrives with its time as one more value; rank 0's
   // own frames come as they are (no copy of the image to append it), their
   // time in ownMs.
@@ -266,9 +378,8 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     ACPCA_CHECK(own || !pixels.empty(), "frame ", i, " arrived empty");
     const double ms = own ? ownMs : pixels.back();
     if (!own) pixels.pop_back(), msPerFrame.push_back(ms);  // rank 0's own are counted below
-    const Image image{source.header.camera.size.width, source.header.camera.size.height, channels,
-                      std::move(pixels)};
-    writeFrame(static_cast<size_t>(i), image, ms);
+    writing->submit(static_cast<size_t>(i),
+                    Image{size.width, size.height, channels, std::move(pixels)}, ms);
   };
   ranks::Gather<float> gather(static_cast<long long>(frames.size()), ranks::GatherOrder::ItemOrder,
                               deliver);
@@ -279,38 +390,36 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     const Frame& f = frames[mine[k]];
     return computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
   };
+  const ImageComposer composer(source.header);
   relightInGroups(
       mine.size(), lightingOf, [&](size_t g, const std::vector<LatticeLighting>& lightings) {
-        const size_t count = lightings.size();
-        std::vector<double> frameMs;
-        const std::vector<std::vector<float>> results =
-            relightTimed(source, lightings, a.timingRepeats, frameMs, msPerFrame);
-        for (size_t k = 0; k < count; ++k) {
-          const size_t i = mine[g + k];
-          Image image = composeImage(source.header, results[k], a.background, *frames[i].input->env,
-                                     rotationMatrix(frames[i].rotation));
-          if (rank == 0)
-            ownMs = frameMs[k];
-          else
-            image.pixels.push_back(static_cast<float>(frameMs[k]));
-          gather.put(static_cast<long long>(i), image.pixels);
-        }
+        const auto backgroundOf = [&](size_t k, float* pixels) {
+          const Frame& f = frames[mine[g + k]];
+          composer.background(a.background, *f.input->env, rotationMatrix(f.rotation), pixels);
+        };
+        relightGroupImages(source, composer, lightings, channels, backgroundOf, a.timingRepeats,
+                           msPerFrame, [&](size_t k, std::vector<float>& pixels, double ms) {
+                             if (rank == 0)
+                               ownMs = ms;
+                             else
+                               pixels.push_back(static_cast<float>(ms));
+                             gather.put(static_cast<long long>(mine[g + k]), pixels);
+                           });
       });
   gather.finish();
+  if (writing) writing->finish();
   if (rank != 0) {  // rank 0 wrote the images and reports
     BatchRelightResult result;
     result.method = source.method;
     result.frames = static_cast<long long>(frames.size());
     return result;
   }
-  if (batch) manifest.writeCsv((out / "manifest.csv").string());
-
   BatchRelightResult result;
   std::vector<std::string>& failed = result.failed;
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
   summarize(result, a, source, frames.size(), std::move(msPerFrame));
-  result.json["outputs"] = outputs;
+  result.json["outputs"] = writing->outputs();
   result.json["failed"] = failed;
   return result;
 }

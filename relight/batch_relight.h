@@ -4,6 +4,7 @@
 // directory with one image per pair and a manifest.csv), with optional timing.
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,11 @@ void applyRankLimit(const std::string& text, ModelRelighter& relighter);
 std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
                                          bool batch);
 
+/// What a batch writes unless told otherwise: codecs that keep up with the
+/// relighter (docs/architecture.md, "Batches"; measured in docs/results.md).
+inline constexpr ExrCompression kBatchExrCompression = ExrCompression::Rle;
+inline constexpr int kBatchPngLevel = 1;
+
 struct BatchRelightOptions {
   std::string input;              ///< model or transport file
   std::vector<std::string> envs;  ///< lighting specs or image files
@@ -34,9 +40,12 @@ struct BatchRelightOptions {
   RotationMode rotationMode = RotationMode::Exact;
   double exposure = 0;
   bool exrFloat = false;
-  std::string maxRank;    ///< see applyRankLimit; models only
-  int timingRepeats = 0;  ///< > 0: after a warm-up, time that many repeats
-  bool force = false;     ///< write even when the frames look too large for the disk
+  /// The EXR codec; unset: zips for one image, kBatchExrCompression for a batch.
+  std::optional<ExrCompression> exrCompression;
+  int pngLevel = kBatchPngLevel;  ///< PNG deflate level, 0-9
+  std::string maxRank;            ///< see applyRankLimit; models only
+  int timingRepeats = 0;          ///< > 0: after a warm-up, time that many repeats
+  bool force = false;             ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
   std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
   bool batch() const { return envs.size() > 1 || rotations.size() > 1; }

@@ -37,9 +37,11 @@ class Environment {
 /// anything OpenImageIO reads). Throws UserError naming the argument.
 std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
 /// Negative values are ringing from filtering when they hold at most this share
-/// of a map's summed magnitude (all channels): they are clamped to 0 with a
-/// warning. Debian's blender-data world maps hold up to a few millionths.
+/// of a map's summed magnitude (all channels): they are clamped to 0, with a
+/// warning above kSilentNegativeShare. Debian's blender-data world maps hold up
+/// to 6e-7, which no relit value can show (below half an f16 step).
 inline constexpr double kMaxNegativeShare = 0.01;
+inline constexpr double kSilentNegativeShare = 1e-6;
 
 /// Loads an environment image (OpenImageIO): RGB, finite; tiny negative values
 /// clamped (kMaxNegativeShare); a horizontal cube cross when its aspect is 4:3,

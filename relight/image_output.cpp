@@ -136,41 +136,63 @@ void ImageComposer::addRows(const float* rowRgb, float* pixels, int channels) co
                     });
 }
 
-void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
-                bool exrFloat) {
+namespace {
+
+/// 8-bit values as PNG into `file` (errors name `path`).
+void encodePng8(int width, int height, int channels, const unsigned char* values,
+                const std::string& file, const std::string& path, int level) {
+  auto out = OIIO::ImageOutput::create(file);
+  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
+  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+  spec.attribute("png:compressionLevel", std::clamp(level, 0, 9));
+  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT8, values) && out->close()))
+    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+}
+
+}  // namespace
+
+void encodeImage(const Image& image, const std::string& file, const std::string& path,
+                 ImageFormat format, double exposureEv, const ImageEncoding& encoding) {
   if (format != ImageFormat::Exr) {
     const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv).encode(image);
-    return writePng8(image.width, image.height, image.channels, bytes.data(), path);
+    return encodePng8(image.width, image.height, image.channels, bytes.data(), file, path,
+                      encoding.pngLevel);
   }
-  AtomicOutput output(path);
-  auto out = OIIO::ImageOutput::create(output.tempPath());
+  auto out = OIIO::ImageOutput::create(file);
   if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
   const float scale = static_cast<float>(std::exp2(exposureEv));
   const size_t values = image.pixels.size();
   OIIO::ImageSpec spec(image.width, image.height, image.channels,
-                       exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
-  spec.attribute("compression", "zips");
+                       encoding.exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
+  spec.attribute("compression", kExrCompressionNames.name(encoding.exrCompression));
   // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
   // the same inputs must give the same bytes (datasets are compared by hash).
   spec.attribute("DateTime", "");
-  std::vector<float> scaled(values);
-  for (size_t i = 0; i < values; ++i)
-    scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
-  if (!(out->open(output.tempPath(), spec) &&
-        out->write_image(OIIO::TypeDesc::FLOAT, scaled.data()) && out->close()))
+  std::vector<float> scaled;
+  const float* pixels = image.pixels.data();
+  if (scale != 1) {
+    scaled.resize(values);
+    for (size_t i = 0; i < values; ++i)
+      scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
+    pixels = scaled.data();
+  }
+  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels) && out->close()))
     throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+}
+
+void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
+                bool exrFloat) {
+  AtomicOutput output(path);  // the temporary name keeps the extension that picks the codec
+  ImageEncoding encoding;
+  encoding.exrFloat = exrFloat;
+  encodeImage(image, output.tempPath(), path, format, exposureEv, encoding);
   output.commit();
 }
 
 void writePng8(int width, int height, int channels, const unsigned char* values,
                const std::string& path) {
-  AtomicOutput output(path);  // the temporary name keeps the .png that picks the codec
-  auto out = OIIO::ImageOutput::create(output.tempPath());
-  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
-  const OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  if (!(out->open(output.tempPath(), spec) && out->write_image(OIIO::TypeDesc::UINT8, values) &&
-        out->close()))
-    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  AtomicOutput output(path);
+  encodePng8(width, height, channels, values, output.tempPath(), path, ImageEncoding{}.pngLevel);
   output.commit();
 }
 

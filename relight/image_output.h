@@ -61,10 +61,32 @@ class ImageComposer {
   std::vector<float> coverage_;          ///< per pixel, 0 for background
 };
 
+/// EXR codecs (all lossless), by OpenEXR's names.
+enum class ExrCompression { None, Rle, Zips, Zip, Piz };
+inline constexpr EnumNames<ExrCompression, 5> kExrCompressionNames{
+    "EXR compression",
+    {{{ExrCompression::None, "none"},
+      {ExrCompression::Rle, "rle"},
+      {ExrCompression::Zips, "zips"},
+      {ExrCompression::Zip, "zip"},
+      {ExrCompression::Piz, "piz"}}}};
+
+/// How an image file is encoded: EXR values in half or float and their codec,
+/// PNG's deflate level (0-9; zlib's 6 unless told).
+struct ImageEncoding {
+  bool exrFloat = false;
+  ExrCompression exrCompression = ExrCompression::Zips;
+  int pngLevel = 6;
+};
+
 /// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
 /// EXR output is also scaled by 2^exposure. Throws UserError naming the path.
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
                 bool exrFloat = false);
+/// The same into `file` (a temporary name the caller renames; errors name
+/// `path`), encoded as told.
+void encodeImage(const Image& image, const std::string& file, const std::string& path,
+                 ImageFormat format, double exposureEv, const ImageEncoding& encoding);
 
 /// Writes 8-bit values (rows top to bottom, channels interleaved) as PNG,
 /// atomically; throws UserError naming the path.

@@ -137,8 +137,9 @@ std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where,
       throw UserError(concat(where, ": ", negatives, " negative values (down to ", mostNegative,
                              ") hold ", 100 * share, "% of the map's summed magnitude; more than ",
                              100 * kMaxNegativeShare, "% is not ringing but a broken map"));
-    warn(concat(where, ": ", negatives, " negative values clamped to 0 (the most negative ",
-                mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
+    if (share > kSilentNegativeShare)
+      warn(concat(where, ": ", negatives, " negative values clamped to 0 (the most negative ",
+                  mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
   }
   // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
   if (width * 3 == height * 4 && width % 4 == 0)

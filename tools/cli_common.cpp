@@ -12,11 +12,15 @@
 #include "core/error.h"
 #include "core/input_guard.h"
 #include "core/ranks.h"
+#include "core/warning.h"
 
 namespace acpca::cli {
 
 void CommonOptions::add(CLI::App& app, bool withThreads) {
-  app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
+  // Quiet: errors alone on stderr, so warnings go too.
+  app.add_flag("-q,--quiet", quiet, "Nothing on stderr but errors")->each([](const std::string&) {
+    setWarningHandler({});
+  });
   app.add_option("--json", jsonPath, "Write machine-readable results to FILE (- for stdout)");
   if (withThreads)
     app.add_option("--threads", threads, "Worker threads (0: all cores)")

@@ -14,6 +14,7 @@ namespace {
 
 struct RelightArgs {
   CommonOptions common;
+  std::string exrCompression;
   std::string background = "env";
   std::vector<std::string> envs, rotations;
   bool fastRotation = false;
@@ -32,6 +33,7 @@ void run(RelightArgs& a) {
   if (o.rotations.empty()) o.rotations.push_back({});
   o.envs = expandEnvironmentSpecs(a.envs);
   o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
+  if (!a.exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(a.exrCompression);
   validateBatchRelight(o);
   {
     std::vector<std::string> inputs = o.envs;
@@ -44,8 +46,8 @@ void run(RelightArgs& a) {
   const bool lead = ranks::rank() == 0;
   Progress progress("relight", "frames", a.common.quiet || !lead);
   o.progress = [&](long long done, long long total) { progress.update(done, total); };
-  o.warn = [lead](const std::string& text) {
-    if (lead) std::cerr << "adaptive-cpca: " << text << "\n";
+  o.warn = [lead, quiet = a.common.quiet](const std::string& text) {
+    if (lead && !quiet) std::cerr << "adaptive-cpca: " << text << "\n";
   };
   const BatchRelightResult result = relightBatch(o);
   progress.finish();
@@ -86,6 +88,12 @@ void registerRelight(CLI::App& app) {
   sub->add_flag("--fast-rotation", args->fastRotation,
                 "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
+  sub->add_option("--exr-compression", args->exrCompression,
+                  "EXR codec: none, rle, zips, zip or piz (default: zips for one image, " +
+                      std::string(kExrCompressionNames.name(kBatchExrCompression)) +
+                      " for a batch)");
+  sub->add_option("--png-level", args->options.pngLevel, "PNG deflate level, 0 (fastest) to 9")
+      ->capture_default_str();
   sub->add_flag("--force", args->options.force,
                 "Write even when the frames look too large for the disk");
   args->common.add(*sub);
@@ -93,6 +101,8 @@ void registerRelight(CLI::App& app) {
                         {"--rotate", {"rotation"}},
                         {"--format", {"image format"}},
                         {"--frames", {"timing frames"}},
+                        {"--exr-compression", {"EXR compression"}},
+                        {"--png-level", {"PNG level"}},
                         {"--max-rank", {"maximum rank"}},
                         {"--out", {"output path"}}});
   sub->callback([args] { run(*args); });

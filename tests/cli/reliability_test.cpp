@@ -4,6 +4,12 @@
 // moments, removing its unfinished files, exit 130 / 143.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include <fstream>
+
+#include <set>
+
 #include <nlohmann/json.hpp>
 
 #include "tests/cli/stop_cli.h"
@@ -244,11 +250,49 @@ TEST(Signals, AKilledRunsLeftoverIsRemovedAndReported) {
   // A live writer's temporary (this test's own pid) is left alone.
   const std::string live = dir.file(".t.partial-" + std::to_string(getpid()) + "-0.h5");
   test::writeFile(live, "being written");
-  const RunResult r = runCli("precompute " + kSmall + " --out " + dir.file("t.h5"));
+  // Not quiet: the removal is a warning, which --quiet leaves out.
+  const RunResult r =
+      runCli("precompute --scene plant --size 40x40 --cubemap 8 --spp 1 --out " + dir.file("t.h5"));
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_FALSE(fs::exists(stale));
   EXPECT_NE(r.output.find("removed " + stale), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(live));
+}
+
+TEST(Signals, AKilledBatchLeavesWholeFramesAndAManifestListingExactlyThem) {
+  TempDir dir;
+  const std::string t = dir.file("t.h5"), m = dir.file("m.h5"), out = dir.file("frames");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + t).status, 0);
+  ASSERT_EQ(runCli("compress " + t + " --method adaptive-quad --quiet --out " + m).status, 0);
+  const auto rowsOf = [&] {
+    const std::string text = test::readFile(out + "/manifest.csv");
+    return std::count(text.begin(), text.end(), '\n') - 1;
+  };
+  // 2,880 frames: killed once a few are listed, long before the last.
+  const test::Stopped s = test::stopWhen(
+      {"relight", m, "--env", "sky", "--env", "constant:1", "--rotate", "0:360:0.25", "--format",
+       "both", "--quiet", "--out", out},
+      [&] { return fs::exists(out + "/manifest.csv") && rowsOf() >= 5; }, SIGKILL, dir.file("log"));
+  ASSERT_TRUE(s.signalled) << s.output;
+  std::set<std::string> onDisk, listed;
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string name = e.path().filename().string();
+    if (name[0] != '.' && name != "manifest.csv") onDisk.insert(name);  // not the partials
+  }
+  std::ifstream manifest(out + "/manifest.csv");
+  std::string line;
+  std::getline(manifest, line);
+  while (std::getline(manifest, line)) {
+    const std::string outputs = line.substr(line.rfind(',') + 1);  // "a.exr;a.png"
+    for (const std::string& path :
+         {outputs.substr(0, outputs.find(';')), outputs.substr(outputs.find(';') + 1)})
+      listed.insert(fs::path(path).filename().string());
+  }
+  EXPECT_GE(listed.size(), 10u);
+  EXPECT_LT(listed.size(), 2 * 2880u);
+  EXPECT_EQ(listed, onDisk);
+  for (const auto& name : onDisk)  // every frame listed reads back whole
+    EXPECT_TRUE(test::readFile(out + "/" + name).size() > 100) << name;
 }
 
 TEST(Resources, AnImpossibleSizeIsRefusedBeforeAnyWorkWithBothFigures) {

@@ -190,6 +190,22 @@ TEST(Environment, TinyNegativeTexelsAreClampedWithOneWarning) {
             computeLighting(*loadEnvironment(clean), lattice, {}));
 }
 
+TEST(Environment, NegativeTexelsBelowAMillionthOfTheMapAreClampedSilently) {
+  test::TempDir dir;
+  // The stock maps' case: a few values far below a millionth of the magnitude.
+  const std::string ringing = writeSmallMap(dir, "faint.exr", {{5, -1e-8f}, {201, -2e-8f}});
+  const std::string clean = writeSmallMap(dir, "clean.exr", {{5, 0}, {201, 0}});
+  std::vector<std::string> warnings;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string& w) { warnings.push_back(w); });
+  const auto env = loadEnvironment(ringing);
+  setWarningHandler(previous);
+  EXPECT_TRUE(warnings.empty()) << (warnings.empty() ? "" : warnings[0]);
+  const CubeLattice lattice(4);
+  EXPECT_EQ(computeLighting(*env, lattice, {}),
+            computeLighting(*loadEnvironment(clean), lattice, {}));
+}
+
 TEST(Environment, MapsWhoseNegativeValuesHoldRealEnergyAreRefused) {
   test::TempDir dir;
   std::vector<std::pair<int, float>> changes;
