@@ -3,6 +3,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -146,18 +147,22 @@ ImageEncoding encodingFor(const BatchRelightOptions& a, bool batch) {
 void relightGroupImages(const RelightSource& source, const ImageComposer& composer,
                         const std::vector<LatticeLighting>& lightings, int channels,
                         const std::function<void(size_t, float*)>& backgroundOf, int timingRepeats,
-                        std::vector<double>& msPerFrame,
+                        std::vector<double>& msPerFrame, BatchStages& stages,
                         const std::function<void(size_t, std::vector<float>&, double)>& done) {
   const size_t values = static_cast<size_t>(source.header.camera.size.pixels()) * channels;
   if (source.model && timingRepeats == 0) {
     const Stopwatch group;
     source.model->lightGroup(lightings);
+    stages.projection += group.seconds();
     const double shared = group.milliseconds() / static_cast<double>(lightings.size());
     for (size_t k = 0; k < lightings.size(); ++k) {
+      const Stopwatch background;
       std::vector<float> pixels(values);
       backgroundOf(k, pixels.data());
+      stages.background += background.seconds();
       const Stopwatch watch;
       source.model->shadeFrameInto(k, pixels.data(), channels);
+      stages.shading += watch.seconds();
       const double ms = shared + watch.milliseconds();
       if (ranks::rank() == 0) msPerFrame.push_back(ms);
       done(k, pixels, ms);
@@ -165,12 +170,16 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
     return;
   }
   std::vector<double> frameMs;
+  const Stopwatch relit;
   std::vector<std::vector<float>> rows =
       relightTimed(source, lightings, timingRepeats, frameMs, msPerFrame);
+  stages.shading += relit.seconds();
   for (size_t k = 0; k < lightings.size(); ++k) {
+    const Stopwatch background;
     std::vector<float> pixels(values);
     backgroundOf(k, pixels.data());
     composer.addRows(rows[k].data(), pixels.data(), channels);
+    stages.background += background.seconds();
     std::vector<float>().swap(rows[k]);
     done(k, pixels, frameMs[k]);
   }
@@ -199,10 +208,23 @@ class FrameWriting {
 
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
   void submit(size_t i, Image&& image, double ms) {
-    writer_.submit([this, i, ms, image = std::move(image)] { return encode(i, image, ms); });
+    const Stopwatch waiting;
+    writer_.submit([this, i, ms, image = std::move(image)] {
+      const Stopwatch busy;
+      OrderedWriter::Commit commit = encode(i, image, ms);
+      addWriting(busy.seconds());
+      return commit;
+    });
+    waiting_ += waiting.seconds();
   }
-  void finish() { writer_.finish(); }
+  void finish() {
+    const Stopwatch waiting;
+    writer_.finish();
+    waiting_ += waiting.seconds();
+  }
   const nlohmann::json& outputs() const { return outputs_; }
+  double writingSeconds() const { return writing_.load(); }
+  double waitingSeconds() const { return waiting_; }
 
  private:
   /// Frame i's files under temporary names; returns what puts them in place.
@@ -222,6 +244,7 @@ class FrameWriting {
       paths.push_back(path.string());
     }
     return [this, i, ms, files, paths] {
+      const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
       std::string joined;
@@ -237,7 +260,13 @@ class FrameWriting {
                           {"ms", ms}});
       if (a_.progress)
         a_.progress(static_cast<long long>(i + 1), static_cast<long long>(frames_.size()));
+      addWriting(busy.seconds());
     };
+  }
+
+  void addWriting(double seconds) {
+    for (double seen = writing_; !writing_.compare_exchange_weak(seen, seen + seconds);)
+      ;
   }
 
   const BatchRelightOptions& a_;
@@ -247,6 +276,8 @@ class FrameWriting {
   const ImageEncoding encoding_;
   std::optional<BatchManifest> manifest_;
   nlohmann::json outputs_ = nlohmann::json::array();
+  std::atomic<double> writing_{0};
+  double waiting_ = 0;
   OrderedWriter writer_;  ///< last: its threads stop before what they use goes
 };
 
@@ -257,12 +288,14 @@ void summarize(BatchRelightResult& result, const BatchRelightOptions& a,
   const auto [lowest, highest] = std::minmax_element(msPerFrame.begin(), msPerFrame.end());
   const double fastest = msPerFrame.empty() ? 0 : *lowest,
                slowest = msPerFrame.empty() ? 0 : *highest;
-  // Dense passes share one read of T among the frames of a group; the model is
-  // read once per frame.
-  const double bytesPerFrame = frames == 0 ? 0
-                               : source.dense
-                                   ? double(source.bytesPerPass) / std::min(kFramesPerGroup, frames)
-                                   : double(source.bytesPerPass);
+  // The frames of a group share one read of T (dense), or of V_g and the
+  // bases (a model); groups hold frames / ceil(frames / 32) frames on average.
+  const double groupFrames =
+      frames == 0 ? 1 : double(frames) / double((frames + kFramesPerGroup - 1) / kFramesPerGroup);
+  const double bytesPerFrame =
+      frames == 0    ? 0
+      : source.dense ? double(source.bytesPerPass) / groupFrames
+                     : double(source.model->bytesPerFrame(static_cast<size_t>(groupFrames)));
   const double gbPerSecond = med > 0 ? bytesPerFrame / (med * 1e6) : 0;
   result.summary =
       concat("relit ", frames, " frame(s) from ", a.input, " (", source.method,
@@ -284,6 +317,24 @@ void summarize(BatchRelightResult& result, const BatchRelightOptions& a,
 }
 
 }  // namespace
+
+nlohmann::json BatchStages::json(long long frames) const {
+  nlohmann::json j = nlohmann::json::object();
+  const auto stage = [&](const char* name, double seconds) {
+    j[name] = {{"seconds", seconds},
+               {"share_of_wall", wall > 0 ? seconds / wall : 0.0},
+               {"ms_per_frame", frames > 0 ? 1e3 * seconds / frames : 0.0}};
+  };
+  stage("open", open);
+  stage("lighting", lighting);
+  stage("projection", projection);
+  stage("shading", shading);
+  stage("background", background);
+  stage("writing", writing);
+  stage("waiting_for_writing", waitingForWriting);
+  stage("wall", wall);
+  return j;
+}
 
 void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
   if (text.empty()) return;
@@ -348,7 +399,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const fs::path out(a.out);
   const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, batch);
   const std::vector<EnvRotation>& rotations = a.rotations;
+  const Stopwatch wall;
+  BatchStages stages;
   const RelightSource source = openRelightSource(a.input, a.maxRank);
+  stages.open = wall.seconds();
   const CubeLattice lattice(source.header.cubemapResolution);
   requireFrameSpace(a, source.header.camera.size, formats, batch);
   if (batch) createOutputDirectory(a.out);
@@ -388,7 +442,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     mine.push_back(static_cast<size_t>(i));
   const auto lightingOf = [&](size_t k) {
     const Frame& f = frames[mine[k]];
-    return computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
+    const Stopwatch watch;
+    LatticeLighting lighting = computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
+    stages.lighting += watch.seconds();
+    return lighting;
   };
   const ImageComposer composer(source.header);
   relightInGroups(
@@ -398,7 +455,8 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
           composer.background(a.background, *f.input->env, rotationMatrix(f.rotation), pixels);
         };
         relightGroupImages(source, composer, lightings, channels, backgroundOf, a.timingRepeats,
-                           msPerFrame, [&](size_t k, std::vector<float>& pixels, double ms) {
+                           msPerFrame, stages,
+                           [&](size_t k, std::vector<float>& pixels, double ms) {
                              if (rank == 0)
                                ownMs = ms;
                              else
@@ -418,7 +476,15 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   std::vector<std::string>& failed = result.failed;
   for (const auto& in : inputs)
     if (!in.env) failed.push_back(in.error);
+  stages.writing = writing->writingSeconds();
+  stages.waitingForWriting = writing->waitingSeconds();
+  stages.wall = wall.seconds();
   summarize(result, a, source, frames.size(), std::move(msPerFrame));
+  result.stages = stages;
+  result.json["stages"] = stages.json(static_cast<long long>(frames.size()));
+  result.json["frames_per_second"] = stages.wall > 0 ? frames.size() / stages.wall : 0.0;
+  result.summary += concat("; ", frames.size(), " frame(s) written in ", stages.wall, " s (",
+                           stages.wall > 0 ? frames.size() / stages.wall : 0.0, " frames/s)");
   result.json["outputs"] = writing->outputs();
   result.json["failed"] = failed;
   return result;

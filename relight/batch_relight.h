@@ -51,14 +51,30 @@ struct BatchRelightOptions {
   bool batch() const { return envs.size() > 1 || rotations.size() > 1; }
 };
 
+/// Where a batch's time went (seconds, on this rank). Writing runs on threads
+/// of its own beside the relight: `writing` is their busy time, and
+/// `waitingForWriting` the time the relight stood still for a full queue.
+struct BatchStages {
+  double open = 0;        ///< opening the model or transport
+  double lighting = 0;    ///< the lightings integrated onto the lattice (rotation included)
+  double projection = 0;  ///< V_g and the bases met by a group's lightings (models)
+  double shading = 0;     ///< pixels relit (a transport: its pass over T)
+  double background = 0;  ///< the background composed under each frame
+  double writing = 0;     ///< frames encoded and written (writing threads)
+  double waitingForWriting = 0;
+  double wall = 0;  ///< the whole batch
+  nlohmann::json json(long long frames) const;
+};
+
 struct BatchRelightResult {
   std::string method;  ///< the model's, or "dense"
   long long frames = 0;
   std::vector<double> msPerFrame;  ///< every timed frame
   double bytesPerFrame = 0;
   std::vector<std::string> failed;  ///< maps that could not be loaded (batch only)
-  nlohmann::json json;              ///< what `relight --json` writes
-  std::string summary;              ///< one line: frames, median ms, bytes, GB/s
+  BatchStages stages;
+  nlohmann::json json;  ///< what `relight --json` writes
+  std::string summary;  ///< one line: frames, median ms, bytes, GB/s
 };
 
 /// Checks the options that cost nothing to check (ParameterError).

@@ -100,6 +100,18 @@ ImageComposer::ImageComposer(const TransportHeader& header)
       rowCoverage_(header.coverage),
       coverage_(static_cast<size_t>(header.camera.size.pixels()), 0.0f) {
   for (long long r = 0; r < header.rows(); ++r) coverage_[header.pixels[r]] = header.coverage[r];
+  // The pixels that show some environment, and their camera rays.
+  const int width = camera_.size.width, height = camera_.size.height;
+  backgroundRowStart_.push_back(0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t pixel = static_cast<size_t>(y) * width + x;
+      if (coverage_[pixel] >= 1) continue;
+      backgroundPixel_.push_back(pixel);
+      backgroundRay_.push_back(camera_.rayDirection(x + 0.5, y + 0.5));
+    }
+    backgroundRowStart_.push_back(backgroundPixel_.size());
+  }
 }
 
 void ImageComposer::background(Background background, const Environment& env,
@@ -108,18 +120,23 @@ void ImageComposer::background(Background background, const Environment& env,
   const int width = camera.size.width, height = camera.size.height;
   const int channels = ImageComposer::channels(background);
   const Eigen::Matrix3d inverse = rotation.transpose();
-  // Background pixels evaluate the environment, the costly part: rows in parallel.
+  // Background pixels evaluate the environment, the costly part: rows in
+  // parallel, each through the camera ray worked out once (backgroundRay_).
   tbb::parallel_for(0, height, [&](int y) {
     for (int x = 0; x < width; ++x) {
       const size_t pixel = static_cast<size_t>(y) * width + x;
       float* out = pixels + pixel * channels;
       const float cov = coverage_[pixel];
       for (int c = 0; c < 3; ++c) out[c] = 0;
-      if (background == Background::Env && cov < 1) {
-        const Rgb bg = env.radiance(inverse * camera.rayDirection(x + 0.5, y + 0.5));
-        for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
-      }
       if (background == Background::Alpha) out[3] = cov;
+    }
+    if (background != Background::Env) return;
+    for (size_t i = backgroundRowStart_[y]; i < backgroundRowStart_[y + 1]; ++i) {
+      const size_t pixel = backgroundPixel_[i];
+      const Rgb bg = env.radiance(inverse * backgroundRay_[i]);
+      const float cov = coverage_[pixel];
+      float* out = pixels + pixel * channels;
+      for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
     }
   });
 }

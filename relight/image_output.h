@@ -59,6 +59,9 @@ class ImageComposer {
   std::vector<std::int32_t> rowPixels_;  ///< pixel of each row
   std::vector<float> rowCoverage_;       ///< coverage of each row
   std::vector<float> coverage_;          ///< per pixel, 0 for background
+  /// Pixels with coverage below 1 (row by row), and the camera ray through each.
+  std::vector<size_t> backgroundPixel_, backgroundRowStart_;
+  std::vector<Vec3> backgroundRay_;
 };
 
 /// EXR codecs (all lossless), by OpenEXR's names.

@@ -62,16 +62,18 @@ void ModelRelighter::setRankFraction(double fraction) {
   activeRanks_ = std::move(active);
 }
 
-long long ModelRelighter::bytesPerFrame() const {
+long long ModelRelighter::bytesPerFrame(size_t groupFrames) const {
   const long long elementBytes = m_.precision == CoeffPrecision::F32   ? 4
                                  : m_.precision == CoeffPrecision::F16 ? 2
                                                                        : 1;
   const long long basisBytes = m_.basisPrecision == CoeffPrecision::F16 ? 2 : 4;
-  long long bytes = static_cast<long long>(m_.globalBasis.size()) * 4;
+  // V_g, the bases and the means: read once a group.
+  long long shared = static_cast<long long>(m_.globalBasis.size()) * 4;
   for (size_t c = 0; c < activeRanks_.size(); ++c)
-    bytes += (activeRanks_[c] + kChunkRows - 1) / kChunkRows * kChunkRows *
-                 static_cast<long long>(m_.globalBases) * basisBytes +
-             (m_.hasMean ? m_.globalBases * 4LL : 0);
+    shared += (activeRanks_[c] + kChunkRows - 1) / kChunkRows * kChunkRows *
+                  static_cast<long long>(m_.globalBases) * basisBytes +
+              (m_.hasMean ? m_.globalBases * 4LL : 0);
+  long long bytes = shared / static_cast<long long>(std::max<size_t>(1, groupFrames));
   for (const PackedModel::Chunk& chunk : m_.chunks)
     bytes += activeRanks_[chunk.cluster] * kChunkRows * elementBytes;
   // Row indices and albedo of every chunk.

@@ -63,7 +63,8 @@ class ModelRelighter {
   const std::shared_ptr<const PackedModel>& packed() const { return packed_; }
   /// Bytes of model data one frame reads at the current rank limit: bases,
   /// coefficients (with chunk padding), row indices and albedo.
-  long long bytesPerFrame() const;
+  /// In a group of frames (lightGroup), V_g and the bases count once a group.
+  long long bytesPerFrame(size_t groupFrames = 1) const;
   /// Multiply-adds per pixel at the current rank limit (eq. 18, per channel).
   double costPerPixel() const;
 

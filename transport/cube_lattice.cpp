@@ -58,39 +58,9 @@ Vec3 CubeLattice::faceDirection(int face, double sc, double tc) {
   }
 }
 
-void CubeLattice::faceCoordinates(const Vec3& d, int& face, double& sc, double& tc) {
-  const double ax = std::abs(d.x()), ay = std::abs(d.y()), az = std::abs(d.z());
-  double ma;
-  if (ax >= ay && ax >= az) {
-    ma = ax;
-    face = d.x() >= 0 ? 0 : 1;
-    sc = d.x() >= 0 ? -d.z() : d.z();
-    tc = -d.y();
-  } else if (ay >= az) {
-    ma = ay;
-    face = d.y() >= 0 ? 2 : 3;
-    sc = d.x();
-    tc = d.y() >= 0 ? d.z() : -d.z();
-  } else {
-    ma = az;
-    face = d.z() >= 0 ? 4 : 5;
-    sc = d.z() >= 0 ? d.x() : -d.x();
-    tc = -d.y();
-  }
-  ACPCA_CHECK(ma > 0 && std::isfinite(ma), "direction has no major axis: ", d.transpose());
-  sc /= ma;
-  tc /= ma;
-}
-
-int CubeLattice::texelOf(const Vec3& d) const {
-  int face;
-  double sc, tc;
-  faceCoordinates(d, face, sc, tc);
-  const auto cell = [&](double c) {
-    const int i = static_cast<int>(std::floor((c + 1) * 0.5 * resolution_));
-    return std::clamp(i, 0, resolution_ - 1);  // c = +1 exactly belongs to the last texel
-  };
-  return texelIndex({face, cell(tc), cell(sc)});
+void CubeLattice::refuseDirection(const Vec3& d) {
+  failCheck("ma > 0 && std::isfinite(ma)", __FILE__, __LINE__,
+            concat("direction has no major axis: ", d.transpose()));
 }
 
 std::array<BilinearTap, 4> CubeLattice::bilinearTaps(const Vec3& d) const {

@@ -4,7 +4,9 @@
 // table, used literally; texel j = face*R*R + row*R + col.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -49,7 +51,17 @@ class CubeLattice {
   const std::vector<double>& solidAngles() const { return solidAngles_; }
 
   /// The texel whose footprint contains direction d (d need not be normalised).
-  int texelOf(const Vec3& d) const;
+  /// Inline: the lighting of every map pixel of every frame goes through it.
+  int texelOf(const Vec3& d) const {
+    int face;
+    double sc, tc;
+    faceCoordinates(d, face, sc, tc);
+    const auto cell = [&](double c) {
+      const int i = static_cast<int>(std::floor((c + 1) * 0.5 * resolution_));
+      return std::clamp(i, 0, resolution_ - 1);  // c = +1 exactly belongs to the last texel
+    };
+    return texelIndex({face, cell(tc), cell(sc)});
+  }
 
   /// Bilinear interpolation weights between texel centres, continuous across face
   /// seams: taps that fall off the face are moved to the neighbouring face.
@@ -61,11 +73,35 @@ class CubeLattice {
   /// OpenGL table; values outside [-1, 1] extend the face plane).
   static Vec3 faceDirection(int face, double sc, double tc);
   /// Face and face coordinates (sc, tc in [-1, 1]) of a direction.
-  static void faceCoordinates(const Vec3& d, int& face, double& sc, double& tc);
+  static void faceCoordinates(const Vec3& d, int& face, double& sc, double& tc) {
+    const double ax = std::abs(d.x()), ay = std::abs(d.y()), az = std::abs(d.z());
+    double ma;
+    if (ax >= ay && ax >= az) {
+      ma = ax;
+      face = d.x() >= 0 ? 0 : 1;
+      sc = d.x() >= 0 ? -d.z() : d.z();
+      tc = -d.y();
+    } else if (ay >= az) {
+      ma = ay;
+      face = d.y() >= 0 ? 2 : 3;
+      sc = d.x();
+      tc = d.y() >= 0 ? d.z() : -d.z();
+    } else {
+      ma = az;
+      face = d.z() >= 0 ? 4 : 5;
+      sc = d.z() >= 0 ? d.x() : -d.x();
+      tc = -d.y();
+    }
+    if (!(ma > 0 && std::isfinite(ma))) refuseDirection(d);
+    sc /= ma;
+    tc /= ma;
+  }
   /// Exact solid angle of the face-plane rectangle [x0, x1] x [y0, y1] (unit cube).
   static double rectangleSolidAngle(double x0, double y0, double x1, double y1);
 
  private:
+  [[noreturn]] static void refuseDirection(const Vec3& d);  ///< one without a major axis
+
   int resolution_;
   std::vector<Vec3> directions_;
   std::vector<double> solidAngles_;

@@ -266,6 +266,29 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
     EXPECT_GT(t[key].get<double>(), 0) << key;
   EXPECT_EQ(t["method"], "adaptive-quad");
 
+  // A batch says where its time went: stages on the relighting thread fit in
+  // the wall time, writing ran beside them, and frames / wall is the rate.
+  const RunResult staged = runCli(relight + "--env sky --env constant:1 --rotate 0:360:60 --out " +
+                                  out.file("staged") + " --json " + out.file("s.json"));
+  ASSERT_EQ(staged.status, 0) << staged.output;
+  const auto stages = nlohmann::json::parse(std::ifstream(out.file("s.json")));
+  const auto seconds = [&](const char* stage) {
+    return stages["stages"][stage]["seconds"].get<double>();
+  };
+  const double wall = seconds("wall");
+  double onRelightThread = 0;
+  for (const char* stage :
+       {"open", "lighting", "projection", "shading", "background", "waiting_for_writing"}) {
+    EXPECT_GE(seconds(stage), 0) << stage;
+    onRelightThread += seconds(stage);
+  }
+  EXPECT_GT(seconds("shading"), 0);
+  EXPECT_GT(seconds("writing"), 0);
+  EXPECT_LE(onRelightThread, wall * 1.001);
+  EXPECT_NEAR(stages["frames_per_second"].get<double>() * wall, 12, 1e-6);
+  EXPECT_NEAR(stages["stages"]["shading"]["share_of_wall"].get<double>(), seconds("shading") / wall,
+              1e-9);
+
   // No bases (and no means in this model): every object pixel is black, while
   // the background still shows the environment.
   ASSERT_EQ(runCli(relight + "--env constant:1 --background black --max-rank 0 --out " +
