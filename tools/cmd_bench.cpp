@@ -57,6 +57,7 @@ void registerBench(CLI::App& app) {
   rays->callback([args] { runRays(*args); });
   registerBenchMethods(*bench);
   registerBenchRelight(*bench);
+  registerBenchBatch(*bench);
   registerBenchScaling(*bench);
   registerBenchQuantization(*bench);
 }

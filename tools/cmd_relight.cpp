@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "core/ranks.h"
+#include "core/resources.h"
 #include "relight/batch_relight.h"
 #include "relight/environment.h"
 #include "tools/cli_common.h"
@@ -53,7 +54,9 @@ void run(RelightArgs& a) {
   progress.finish();
   if (!lead) return;
   if (!a.common.quiet) std::cerr << result.summary << "\n";
-  writeJson(a.common.jsonPath, result.json);
+  nlohmann::json report = result.json;
+  report["peak_memory_bytes"] = peakMemoryBytes();
+  writeJson(a.common.jsonPath, report);
   if (!result.failed.empty()) {
     std::string list;
     for (const auto& f : result.failed) list += "\n  " + f;

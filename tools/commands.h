@@ -18,6 +18,7 @@ void registerAnalyze(CLI::App& app);
 // `bench` groups these (cmd_bench_*.cpp).
 void registerBenchMethods(CLI::App& bench);
 void registerBenchRelight(CLI::App& bench);
+void registerBenchBatch(CLI::App& bench);
 void registerBenchScaling(CLI::App& bench);
 void registerBenchQuantization(CLI::App& bench);
 

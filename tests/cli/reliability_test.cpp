@@ -295,6 +295,31 @@ TEST(Signals, AKilledBatchLeavesWholeFramesAndAManifestListingExactlyThem) {
     EXPECT_TRUE(test::readFile(out + "/" + name).size() > 100) << name;
 }
 
+TEST(Resources, ABatchOfTenThousandFramesHoldsWhatABatchOfAHundredHolds) {
+  TempDir dir;
+  const std::string t = dir.file("t.h5"), m = dir.file("m.h5");
+  ASSERT_EQ(runCli("precompute --scene plant --size 32x32 --cubemap 8 --quiet --out " + t).status,
+            0);
+  ASSERT_EQ(runCli("compress " + t + " --method adaptive-quad --quiet --out " + m).status, 0);
+  const auto peakOf = [&](const std::string& step, const std::string& name) {
+    const RunResult r =
+        runCli("relight " + m + " --env sky --rotate 0:360:" + step + " --quiet --out " +
+               dir.file(name) + " --json " + dir.file(name + ".json"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(test::readFile(dir.file(name + ".json")))["peak_memory_bytes"]
+        .get<double>();
+  };
+  const double hundred = peakOf("3.6", "f100"), tenThousand = peakOf("0.036", "f10k");
+  const std::string manifest = test::readFile(dir.file("f10k") + "/manifest.csv");
+  EXPECT_EQ(std::count(manifest.begin(), manifest.end(), '\n'), 10001);
+#if !defined(__SANITIZE_ADDRESS__)  // its quarantine keeps freed memory on purpose
+  // The queue of frames is bounded; what grows is a few hundred bytes a frame
+  // of report (measured: 8.5 MB more for 9,900 more frames).
+  EXPECT_LT(tenThousand - hundred, 32.0 * (1 << 20)) << hundred << " -> " << tenThousand;
+#endif
+  EXPECT_GT(hundred, 0);
+}
+
 TEST(Resources, AnImpossibleSizeIsRefusedBeforeAnyWorkWithBothFigures) {
   TempDir dir;
   const std::string out = dir.file("t.h5");

@@ -199,6 +199,31 @@ TEST_F(Reports, RelightBenchSetsEachFrameBesideItsOwnStreamingPass) {
   EXPECT_LT(first["relative_l2_vs_dense"].get<double>(), 0.2);
 }
 
+TEST_F(Reports, BatchBenchSaysWhereABatchsTimeWent) {
+  TempDir out;
+  const std::string model = out.file("m.h5");
+  ASSERT_EQ(
+      runCli("compress " + transport() + " --method adaptive-quad --quiet --out " + model).status,
+      0);
+  const RunResult r =
+      runCli("bench batch " + model + " --env sky --env constant:1 --rotate 0:360:30" +
+             " --format png --stream-gib 0.05 --out " + out.file("frames") + " --json " +
+             out.file("bench.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* line :
+       {"projection", "writing (own threads)", "frames/s end to end", "streaming read"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+  const auto json = nlohmann::json::parse(std::ifstream(out.file("bench.json")));
+  EXPECT_EQ(json["frames"].get<int>(), 24);
+  const double endToEnd = json["frames_per_second"],
+               alone = json["relight_alone_frames_per_second"];
+  EXPECT_GT(endToEnd, 0);
+  EXPECT_GE(alone, endToEnd) << "the relight alone is part of the batch";
+  EXPECT_GT(json["streaming_read_gb_per_s"].get<double>(), 0);
+  EXPECT_EQ(json["batch"]["outputs"].size(), 24u);
+  EXPECT_TRUE(fs::exists(out.file("frames") + "/manifest.csv"));
+}
+
 TEST_F(Reports, RelightBenchRefusesFilesOfAnotherImageByName) {
   TempDir out;
   const std::string model = out.file("m.h5"), other = out.file("other.h5");
