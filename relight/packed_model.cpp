@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <type_traits>
 
@@ -48,10 +49,14 @@ PackedModel::PackedModel(const Model& m)
 void PackedModel::packGlobalBasis(const Model& m) {
   const int n = globalBases;
   const long long l = m.globalBasis.rows();
-  // Directions no pixel sees have zero rows in V_g: leave them out.
+  // Directions no pixel sees have zero rows in V_g: leave them out. V_g is
+  // stored column by column: walk it so, not row by row across 4 KB strides.
+  std::vector<float> rowMax(static_cast<size_t>(l), 0.0f);
+  for (int k = 0; k < n; ++k)
+    for (long long j = 0; j < l; ++j)
+      rowMax[j] = std::max(rowMax[j], std::abs(m.globalBasis(j, k)));
   for (long long j = 0; j < l; ++j)
-    if (n > 0 && m.globalBasis.row(j).cwiseAbs().maxCoeff() > 0)
-      seenTexels.push_back(static_cast<int>(j));
+    if (n > 0 && rowMax[j] > 0) seenTexels.push_back(static_cast<int>(j));
   const long long seen = static_cast<long long>(seenTexels.size());
   for (int c = 0; c <= 3; ++c)
     partStart[c] = static_cast<int>(std::lower_bound(seenTexels.begin(), seenTexels.end(),
