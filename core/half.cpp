@@ -24,6 +24,17 @@ void floatToHalf(const float* in, std::uint16_t* out, std::size_t count) {
         Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(std::clamp(in[i], -kHalfMax, kHalfMax)));
 }
 
+void floatToHalfIeee(const float* in, std::uint16_t* out, std::size_t count) {
+  std::size_t i = 0;
+#if defined(__F16C__)
+  for (; i + 8 <= count; i += 8)
+    _mm_storeu_si128(
+        reinterpret_cast<__m128i*>(out + i),
+        _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+#endif
+  for (; i < count; ++i) out[i] = Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(in[i]));
+}
+
 void halfToFloat(const std::uint16_t* in, float* out, std::size_t count) {
   std::size_t i = 0;
 #if defined(__F16C__)

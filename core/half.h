@@ -10,6 +10,9 @@ namespace acpca {
 constexpr float kHalfMax = 65504.0f;
 
 void floatToHalf(const float* in, std::uint16_t* out, std::size_t count);
+/// IEEE conversion as image files take it (OpenEXR's half): rounded to
+/// nearest even, magnitudes past the largest half become Inf, NaN stays NaN.
+void floatToHalfIeee(const float* in, std::uint16_t* out, std::size_t count);
 void halfToFloat(const std::uint16_t* in, float* out, std::size_t count);
 
 }  // namespace acpca

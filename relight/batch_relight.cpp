@@ -126,9 +126,11 @@ std::vector<std::vector<float>> relightTimed(const RelightSource& source,
 /// memory a batch holds beyond the group it relights.
 constexpr size_t kFramesInFlight = 8;
 
-/// Writing threads beside the relighter's: half the cores it may use.
+/// Writing threads beside the relighter's, as many as it may use: the system shares the
+/// cores, and writing fills what the relighter leaves (138-141 frames/s at
+/// 256x256 on 2 cores, against 124 with one writing thread).
 int writingThreads() {
-  return std::max(1, tbb::this_task_arena::max_concurrency() / 2);
+  return std::max(1, tbb::this_task_arena::max_concurrency());
 }
 
 ImageEncoding encodingFor(const BatchRelightOptions& a, bool batch) {

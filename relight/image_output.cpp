@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/half.h"
 
 namespace acpca {
 
@@ -193,7 +194,18 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
       scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
     pixels = scaled.data();
   }
-  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels) && out->close()))
+  bool written = out->open(file, spec);
+  if (encoding.exrFloat) {
+    written = written && out->write_image(OIIO::TypeDesc::FLOAT, pixels);
+  } else {
+    // Halves made by the CPU's instruction: OpenImageIO converts value by
+    // value in software, a third of a 1024x1024 frame's writing. The same
+    // IEEE rounding, so the same file.
+    std::vector<std::uint16_t> halves(values);
+    floatToHalfIeee(pixels, halves.data(), values);
+    written = written && out->write_image(OIIO::TypeDesc::HALF, halves.data());
+  }
+  if (!(written && out->close()))
     throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
 }
 

@@ -41,7 +41,11 @@ class LatLongEnvironment : public Environment {
     Rgb sum = Rgb::Zero();
     for (int dy = 0; dy <= 1; ++dy)
       for (int dx = 0; dx <= 1; ++dx) {
-        const int px = ((x0 + dx) % width_ + width_) % width_;
+        // Wrap in u; x0 + dx lies in [-1, width] but at the seam, so the
+        // divisions of the general wrap are rarely needed (every background
+        // pixel of every frame comes through here).
+        int px = x0 + dx;
+        if (px < 0 || px >= width_) px = (px % width_ + width_) % width_;
         const int py = std::min(y0 + dy, height_ - 1);
         const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
         sum += w * pixel(px, py);

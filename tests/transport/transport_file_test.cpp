@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <random>
 
 #include "core/error.h"
@@ -60,6 +62,23 @@ TEST(Half, RoundTripsWithinHalfAnUlp) {
   for (size_t i = 0; i + 1 < in.size(); ++i)
     EXPECT_NEAR(out[i], in[i], std::abs(in[i]) * (1.0 / 2048) + 1e-7) << in[i];
   EXPECT_EQ(out.back(), kHalfMax);
+}
+
+TEST(Half, ImageConversionRoundsAsIeeeAndOverflowsToInf) {
+  // Against Eigen's software half (rounding to nearest even), on values
+  // around every half exponent, halfway cases, subnormals and past the range.
+  std::vector<float> in;
+  std::mt19937 rng(5);
+  for (int e = -26; e <= 17; ++e)
+    for (int i = 0; i < 200; ++i)
+      in.push_back(std::ldexp(1.0f + float(rng() % 4096) / 4096, e) * (i % 2 ? -1.0f : 1.0f));
+  in.insert(in.end(), {65504.0f, 65519.0f, 65520.0f, 1e6f, -1e6f, 0.0f, -0.0f,
+                       std::numeric_limits<float>::infinity()});
+  std::vector<std::uint16_t> out(in.size());
+  floatToHalfIeee(in.data(), out.data(), in.size());
+  for (size_t i = 0; i < in.size(); ++i)
+    ASSERT_EQ(out[i], Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(in[i]))) << in[i];
+  EXPECT_EQ(out[in.size() - 5], 0x7c00) << "1e6 is Inf in an image, unlike in our files";
 }
 
 TEST(Half, DatasetsReadAsFloatsEqualHdf5sOwnConversion) {
