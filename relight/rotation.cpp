@@ -82,4 +82,14 @@ std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   return {r};
 }
 
+std::vector<EnvRotation> parseRotationSpecs(const std::vector<std::string>& specs) {
+  std::vector<EnvRotation> all;
+  for (const auto& spec : specs) {
+    const auto parsed = parseRotationSpec(spec);
+    all.insert(all.end(), parsed.begin(), parsed.end());
+  }
+  if (all.empty()) all.push_back({});
+  return all;
+}
+
 }  // namespace acpca

@@ -24,5 +24,7 @@ void validateRotation(const EnvRotation& r);
 /// Parses one --rotate SPEC: "YAW[,PITCH,ROLL]" or "A:B:S" (yaw from A inclusive
 /// to B exclusive in steps of S). Throws UserError naming the spec.
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec);
+/// Every spec's rotations in order; no spec: the identity alone.
+std::vector<EnvRotation> parseRotationSpecs(const std::vector<std::string>& specs);
 
 }  // namespace acpca

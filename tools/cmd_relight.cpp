@@ -6,6 +6,7 @@
 #include "core/resources.h"
 #include "relight/batch_relight.h"
 #include "relight/environment.h"
+#include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -15,9 +16,8 @@ namespace {
 
 struct RelightArgs {
   CommonOptions common;
-  std::string exrCompression;
   std::string background = "env";
-  std::vector<std::string> envs, rotations;
+  BatchFlags batch;
   bool fastRotation = false;
   BatchRelightOptions options;
 };
@@ -26,21 +26,8 @@ void run(RelightArgs& a) {
   // Everything cheap is checked before any work.
   BatchRelightOptions& o = a.options;
   o.background = parseBackground(a.background);
-  o.rotations.clear();
-  for (const auto& spec : a.rotations) {
-    const auto parsed = parseRotationSpec(spec);
-    o.rotations.insert(o.rotations.end(), parsed.begin(), parsed.end());
-  }
-  if (o.rotations.empty()) o.rotations.push_back({});
-  o.envs = expandEnvironmentSpecs(a.envs);
   o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
-  if (!a.exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(a.exrCompression);
-  validateBatchRelight(o);
-  {
-    std::vector<std::string> inputs = o.envs;
-    inputs.push_back(o.input);
-    refuseOutputsOverInputs(inputs, {a.common.jsonPath});
-  }
+  a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
   // Under mpirun the ranks share the frames; rank 0 writes and reports.
@@ -73,16 +60,8 @@ void registerRelight(CLI::App& app) {
       "relight", "Relight a model, or a transport file (dense ground truth), under lightings");
   sub->add_option("input", args->options.input, "Model (M_FILE) or transport file (T_FILE)")
       ->required();
-  sub->add_option("--env", args->envs,
-                  "Lighting: image (.exr/.hdr lat-long), directory of them, constant:V, "
-                  "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)")
-      ->required();
-  sub->add_option("--out", args->options.out, "Output image, or directory for several")->required();
-  sub->add_option("--rotate", args->rotations,
-                  "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
+  args->batch.add(*sub, args->options, "Output image, or directory for several");
   sub->add_option("--exposure", args->options.exposure, "Exposure in stops applied to the outputs");
-  sub->add_option("--format", args->options.format,
-                  "exr, png or both (default: from --out, exr in batch)");
   sub->add_option("--background", args->background, "env, black or alpha");
   sub->add_option("--frames", args->options.timingRepeats,
                   "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
@@ -91,23 +70,10 @@ void registerRelight(CLI::App& app) {
   sub->add_flag("--fast-rotation", args->fastRotation,
                 "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
-  sub->add_option("--exr-compression", args->exrCompression,
-                  "EXR codec: none, rle, zips, zip or piz (default: zips for one image, " +
-                      std::string(kExrCompressionNames.name(kBatchExrCompression)) +
-                      " for a batch)");
-  sub->add_option("--png-level", args->options.pngLevel, "PNG deflate level, 0 (fastest) to 9")
-      ->capture_default_str();
   sub->add_flag("--force", args->options.force,
                 "Write even when the frames look too large for the disk");
   args->common.add(*sub);
-  nameParameters(*sub, {{"--env", {"environment"}},
-                        {"--rotate", {"rotation"}},
-                        {"--format", {"image format"}},
-                        {"--frames", {"timing frames"}},
-                        {"--exr-compression", {"EXR compression"}},
-                        {"--png-level", {"PNG level"}},
-                        {"--max-rank", {"maximum rank"}},
-                        {"--out", {"output path"}}});
+  nameParameters(*sub, {{"--frames", {"timing frames"}}, {"--max-rank", {"maximum rank"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -1,0 +1,24 @@
+#pragma once
+// The flags `relight` and `bench batch` share: which frames (--env, --rotate),
+// where and how they are written (--out, --format, the codecs), bound to
+// BatchRelightOptions.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "relight/batch_relight.h"
+
+namespace acpca::cli {
+
+struct BatchFlags {
+  std::vector<std::string> envs, rotations;
+  std::string exrCompression;
+
+  /// Declares the flags on `command`, bound to `options` (and this).
+  void add(CLI::App& command, BatchRelightOptions& options, const std::string& outHelp);
+  /// Puts the parsed maps, rotations and codec into `options` and checks them
+  /// (and that no output replaces an input, the JSON report included).
+  void apply(BatchRelightOptions& options, const std::string& jsonPath) const;
+};
+
+}  // namespace acpca::cli
