@@ -1,5 +1,8 @@
 #include "eval/batch_benchmark.h"
 
+#include <algorithm>
+#include <string>
+
 #include "core/error.h"
 #include "core/statistics.h"
 #include "core/text.h"
@@ -19,19 +22,13 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
       s.projection + s.shading > 0 ? frames / (s.projection + s.shading) : 0;
 
   std::string text = formatted("%-22s %10s %9s %11s\n", "stage", "seconds", "of wall", "ms/frame");
-  const auto row = [&](const char* name, double seconds) {
-    text += formatted("%-22s %10.3f %8.1f%% %11.3f\n", name, seconds,
+  for (const auto& [name, seconds] : s.named()) {
+    std::string label = std::string(name) == "writing" ? "writing (own threads)" : name;
+    std::replace(label.begin(), label.end(), '_', ' ');  // the JSON key, in words
+    text += formatted("%-22s %10.3f %8.1f%% %11.3f\n", label.c_str(), seconds,
                       s.wall > 0 ? 100 * seconds / s.wall : 0.0,
                       frames > 0 ? 1e3 * seconds / frames : 0.0);
-  };
-  row("open", s.open);
-  row("lighting", s.lighting);
-  row("projection", s.projection);
-  row("shading", s.shading);
-  row("background", s.background);
-  row("writing (own threads)", s.writing);
-  row("waiting for writing", s.waitingForWriting);
-  row("wall", s.wall);
+  }
   text += formatted(
       "%lld frame(s) of %s (%s): %.1f frames/s end to end, %.1f frames/s relight alone "
       "(end to end / relight alone: %.3f)\n",

@@ -320,21 +320,23 @@ void summarize(BatchRelightResult& result, const BatchRelightOptions& a,
 
 }  // namespace
 
+std::vector<std::pair<const char*, double>> BatchStages::named() const {
+  return {{"open", open},
+          {"lighting", lighting},
+          {"projection", projection},
+          {"shading", shading},
+          {"background", background},
+          {"writing", writing},
+          {"waiting_for_writing", waitingForWriting},
+          {"wall", wall}};
+}
+
 nlohmann::json BatchStages::json(long long frames) const {
   nlohmann::json j = nlohmann::json::object();
-  const auto stage = [&](const char* name, double seconds) {
+  for (const auto& [name, seconds] : named())
     j[name] = {{"seconds", seconds},
                {"share_of_wall", wall > 0 ? seconds / wall : 0.0},
                {"ms_per_frame", frames > 0 ? 1e3 * seconds / frames : 0.0}};
-  };
-  stage("open", open);
-  stage("lighting", lighting);
-  stage("projection", projection);
-  stage("shading", shading);
-  stage("background", background);
-  stage("writing", writing);
-  stage("waiting_for_writing", waitingForWriting);
-  stage("wall", wall);
   return j;
 }
 

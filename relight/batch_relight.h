@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "relight/image_output.h"
@@ -63,6 +64,8 @@ struct BatchStages {
   double writing = 0;     ///< frames encoded and written (writing threads)
   double waitingForWriting = 0;
   double wall = 0;  ///< the whole batch
+  /// Each stage by its JSON key, in the order they come, wall last.
+  std::vector<std::pair<const char*, double>> named() const;
   nlohmann::json json(long long frames) const;
 };
 

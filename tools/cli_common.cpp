@@ -99,4 +99,10 @@ void printStudy(const StudyOutput& output, const CommonOptions& common) {
   writeJson(common.jsonPath, output.json);
 }
 
+void printBenchmark(const StudyOutput& output, const CommonOptions& common) {
+  CommonOptions loud = common;
+  loud.quiet = false;
+  printStudy(output, loud);
+}
+
 }  // namespace acpca::cli

@@ -56,5 +56,7 @@ StudyLog stderrLog(const std::string& prefix, bool quiet);
 
 /// Prints a study's summary on stdout (unless quiet) and writes its JSON.
 void printStudy(const StudyOutput& output, const CommonOptions& common);
+/// The same for a benchmark, whose table is its result: printed even when quiet.
+void printBenchmark(const StudyOutput& output, const CommonOptions& common);
 
 }  // namespace acpca::cli

@@ -19,9 +19,7 @@ void run(BatchBenchArgs& a) {
   a.batch.apply(a.options.batch, a.common.jsonPath);
   ThreadLimit limit(a.common.threads);
   StudyOutput out = runBatchBenchmark(a.options);
-  CommonOptions loud = a.common;
-  loud.quiet = false;  // the table is the result
-  printStudy(out, loud);
+  printBenchmark(out, a.common);
 }
 
 }  // namespace

@@ -28,9 +28,7 @@ void run(RelightBenchArgs& a) {
   ThreadLimit limit(a.common.threads);
   a.options.threads = limit.threads();
   StudyOutput out = runRelightBenchmark(a.options);
-  CommonOptions loud = a.common;
-  loud.quiet = false;  // the table is the result
-  printStudy(out, loud);
+  printBenchmark(out, a.common);
 }
 
 }  // namespace
