@@ -2,7 +2,8 @@
 // A batch's manifest.csv (docs/formats.md, "Batch manifest"), written as the
 // frames land: the header at once, then one row per frame in frame order, each
 // appended with one write after the frame's files are in place, so a batch
-// killed midway leaves a manifest that lists exactly the frames on disk.
+// killed midway leaves a manifest that lists the frames on disk: all of them
+// but, at most, the one whose files were being renamed into place.
 #include <string>
 #include <vector>
 

@@ -190,7 +190,8 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 /// Rank 0's writing: every frame encoded and written on writing threads of
 /// its own while the next frames relight, each committed in frame order (its
 /// files renamed into place, then its manifest row, so a batch killed midway
-/// leaves a manifest listing exactly the frames in place). No times in the
+/// leaves a manifest listing the frames in place, all but at most the one
+/// whose commit it interrupted). No times in the
 /// manifest: equal runs write equal files (frame times go to the JSON report).
 class FrameWriting {
  public:
