@@ -33,7 +33,7 @@ unsigned char srgbCode(float scaled) {
 }
 }  // namespace
 
-SrgbEncoder::SrgbEncoder(double exposureEv) : scale_(static_cast<float>(std::exp2(exposureEv))) {
+SrgbEncoder::Tables::Tables() {
   // Non-negative floats order like their bit patterns, so each threshold is
   // found by bisection over the bits: the smallest x with srgbCode(x) > b.
   for (int b = 0; b < 255; ++b) {
@@ -45,12 +45,22 @@ SrgbEncoder::SrgbEncoder(double exposureEv) : scale_(static_cast<float>(std::exp
       else
         lo = mid + 1;
     }
-    thresholds_[b] = std::bit_cast<float>(lo);
+    thresholds[b] = std::bit_cast<float>(lo);
   }
-  thresholds_[255] = std::numeric_limits<float>::infinity();
-  for (size_t k = 0; k < bucketCode_.size(); ++k)
-    bucketCode_[k] =
+  thresholds[255] = std::numeric_limits<float>::infinity();
+  for (size_t k = 0; k < bucketCode.size(); ++k)
+    bucketCode[k] =
         srgbCode(std::bit_cast<float>(kFirstBucket + (std::uint32_t(k) << (23 - kBucketBits))));
+}
+
+// The tables hold scaled values, so one set serves every exposure; built once
+// (7,650 pow calls), not once a frame.
+SrgbEncoder::SrgbEncoder(double exposureEv)
+    : scale_(static_cast<float>(std::exp2(exposureEv))), tables_(tables()) {}
+
+const SrgbEncoder::Tables& SrgbEncoder::tables() {
+  static const Tables shared;
+  return shared;
 }
 
 unsigned char SrgbEncoder::operator()(float linear) const {
@@ -58,8 +68,9 @@ unsigned char SrgbEncoder::operator()(float linear) const {
   if (!(scaled > 0)) return 0;  // negative, zero or NaN
   if (scaled >= 1) return 255;
   const std::uint32_t bits = std::bit_cast<std::uint32_t>(scaled);
-  int code = bits < kFirstBucket ? 0 : bucketCode_[(bits - kFirstBucket) >> (23 - kBucketBits)];
-  while (scaled >= thresholds_[code]) ++code;  // thresholds_[255] is infinite
+  int code =
+      bits < kFirstBucket ? 0 : tables_.bucketCode[(bits - kFirstBucket) >> (23 - kBucketBits)];
+  while (scaled >= tables_.thresholds[code]) ++code;  // thresholds[255] is infinite
   return static_cast<unsigned char>(code);
 }
 

@@ -111,14 +111,20 @@ class SrgbEncoder {
   std::vector<unsigned char> encode(const Image& image) const;
 
  private:
-  float scale_;
-  std::array<float, 256> thresholds_;  ///< [b]: smallest scaled value whose code is b + 1
-  /// Code at the start of each bucket of scaled values in [2^-kBucketExponents, 1),
-  /// a bucket per exponent and top kBucketBits mantissa bits; the exact code is
-  /// at most a step or two above it.
   static constexpr int kBucketExponents = 16, kBucketBits = 7;
   static constexpr std::uint32_t kFirstBucket = std::uint32_t(127 - kBucketExponents) << 23;
-  std::array<unsigned char, (kBucketExponents << kBucketBits)> bucketCode_;
+  struct Tables {
+    Tables();
+    std::array<float, 256> thresholds;  ///< [b]: smallest scaled value whose code is b + 1
+    /// Code at the start of each bucket of scaled values in [2^-kBucketExponents, 1),
+    /// a bucket per exponent and top kBucketBits mantissa bits; the exact code is
+    /// at most a step or two above it.
+    std::array<unsigned char, (kBucketExponents << kBucketBits)> bucketCode;
+  };
+  static const Tables& tables();
+
+  float scale_;
+  const Tables& tables_;
 };
 
 }  // namespace acpca

@@ -21,6 +21,28 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr long long kMaxPixels = 1LL << 28;  // 16k x 16k
 
+/// acc[3 j + c] += omega * p[c] for each cell of a row in turn (j its texel, p
+/// its map pixel). Neighbouring cells mostly share a texel: its sums stay in
+/// registers over the run, the same additions in the same order.
+void addRow(const float* pixels, int sub, int cells, const int* texel, double omega,
+            std::vector<double>& acc) {
+  int current = -1;
+  double sum[3] = {0, 0, 0};
+  for (int i = 0; i < cells; ++i) {
+    const float* p = pixels + 3 * (i / sub);
+    if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
+    if (texel[i] != current) {
+      if (current >= 0)
+        for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
+      current = texel[i];
+      for (int c = 0; c < 3; ++c) sum[c] = acc[3 * current + c];
+    }
+    for (int c = 0; c < 3; ++c) sum[c] += omega * p[c];
+  }
+  if (current >= 0)
+    for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
+}
+
 class LatLongEnvironment : public Environment {
  public:
   LatLongEnvironment(std::string name, int width, int height, std::vector<float> rgb)
@@ -75,19 +97,21 @@ class LatLongEnvironment : public Environment {
     tbb::parallel_for(0, chunks, [&](int chunk) {
       auto& acc = partial[chunk];
       acc.assign(lighting.size(), 0.0);
+      std::vector<double> x(subW), y(subW), z(subW);
+      std::vector<int> texel(subW);
       for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
         const double theta0 = kPi * r / subH, theta1 = kPi * (r + 1) / subH;
         const double omega = (std::cos(theta0) - std::cos(theta1)) * dPhi;
         const double theta = 0.5 * (theta0 + theta1);
         const double sinT = std::sin(theta), cosT = std::cos(theta);
         const int py = r / sub;
+        // The row's cells under the rotation, then their texels in SIMD lanes.
         for (int i = 0; i < subW; ++i) {
-          const float* p = &rgb_[3 * (static_cast<size_t>(py) * width_ + i / sub)];
-          if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
-          const Vec3 w(sinT * sinPhi[i], cosT, -sinT * cosPhi[i]);
-          const int j = lattice.texelOf(rotation * w);
-          for (int c = 0; c < 3; ++c) acc[3 * j + c] += omega * p[c];
+          const Vec3 d = rotation * Vec3(sinT * sinPhi[i], cosT, -sinT * cosPhi[i]);
+          x[i] = d.x(), y[i] = d.y(), z[i] = d.z();
         }
+        lattice.texelsOf(x.data(), y.data(), z.data(), subW, texel.data());
+        addRow(&rgb_[3 * static_cast<size_t>(py) * width_], sub, subW, texel.data(), omega, acc);
       }
     });
     for (const auto& acc : partial)

@@ -1,6 +1,7 @@
 #include "transport/cube_lattice.h"
 
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 
@@ -61,6 +62,34 @@ Vec3 CubeLattice::faceDirection(int face, double sc, double tc) {
 void CubeLattice::refuseDirection(const Vec3& d) {
   failCheck("ma > 0 && std::isfinite(ma)", __FILE__, __LINE__,
             concat("direction has no major axis: ", d.transpose()));
+}
+
+void CubeLattice::texelsOf(const double* __restrict x, const double* __restrict y,
+                           const double* __restrict z, int count, int* __restrict texels) const {
+  // faceCoordinates and texelOf's cell, written as selects: each value is made
+  // by the same IEEE operations, so every texel equals texelOf's.
+  const double r = resolution_, last = resolution_ - 1;
+  bool allFinite = true;
+  for (int i = 0; i < count; ++i) {
+    const double ax = std::abs(x[i]), ay = std::abs(y[i]), az = std::abs(z[i]);
+    const bool xMajor = ax >= ay && ax >= az, yMajor = !xMajor && ay >= az;
+    const double ma = xMajor ? ax : yMajor ? ay : az;
+    const double face = xMajor   ? (x[i] >= 0 ? 0 : 1)
+                        : yMajor ? (y[i] >= 0 ? 2 : 3)
+                                 : (z[i] >= 0 ? 4 : 5);
+    const double sc = xMajor   ? (x[i] >= 0 ? -z[i] : z[i])
+                      : yMajor ? x[i]
+                               : (z[i] >= 0 ? x[i] : -x[i]);
+    const double tc = yMajor ? (y[i] >= 0 ? z[i] : -z[i]) : -y[i];
+    allFinite &= ma > 0 && ma <= std::numeric_limits<double>::max();
+    // Small integers are exact in doubles: the index is formed there and
+    // converted once.
+    const double row = std::clamp(std::floor((tc / ma + 1) * 0.5 * r), 0.0, last);
+    const double col = std::clamp(std::floor((sc / ma + 1) * 0.5 * r), 0.0, last);
+    texels[i] = static_cast<int>((face * r + row) * r + col);
+  }
+  if (!allFinite)
+    for (int i = 0; i < count; ++i) texels[i] = texelOf(Vec3(x[i], y[i], z[i]));  // throws
 }
 
 std::array<BilinearTap, 4> CubeLattice::bilinearTaps(const Vec3& d) const {

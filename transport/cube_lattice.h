@@ -63,6 +63,11 @@ class CubeLattice {
     return texelIndex({face, cell(tc), cell(sc)});
   }
 
+  /// texelOf for `count` directions given as coordinate arrays, into texels:
+  /// the same operations without branches, so the loop runs in SIMD lanes (a
+  /// lat-long map integrated under a rotation sends every map cell through it).
+  void texelsOf(const double* x, const double* y, const double* z, int count, int* texels) const;
+
   /// Bilinear interpolation weights between texel centres, continuous across face
   /// seams: taps that fall off the face are moved to the neighbouring face.
   std::array<BilinearTap, 4> bilinearTaps(const Vec3& d) const;

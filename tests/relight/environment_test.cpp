@@ -6,12 +6,14 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "core/error.h"
 #include "core/warning.h"
 #include "relight/envmap_export.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/rotation.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -107,6 +109,42 @@ TEST(Environment, FastLatticeRotationIsMeasurablyWorseOnSmallSuns) {
   }
   EXPECT_GT(worstFast, 1e-3);
   EXPECT_LT(worstFast, 0.5);
+}
+
+TEST(Environment, LatLongTexelsHoldExactlyTheCellsTheRotationSendsThem) {
+  // Each sub-cell of a map pixel (radiance x its exact solid angle) belongs to
+  // the texel holding its rotated centre: summed here cell by cell, plainly.
+  const int w = 256, h = 128;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> value(0, 2);
+  std::vector<float> rgb(3 * w * h);
+  for (size_t k = 0; k < rgb.size(); ++k) rgb[k] = k % 7 == 0 ? 0.0f : value(rng);
+  for (int p = 0; p < 40; ++p) rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = 0;  // black pixels
+  const auto map = makeLatLongEnvironment("m", w, h, rgb);
+  for (int r : {8, 32}) {
+    const CubeLattice lattice(r);
+    const int sub = r == 8 ? 1 : 4;  // sub-cells at most 1/8 of a texel across
+    for (const EnvRotation& rot : {EnvRotation{}, EnvRotation{15, 0, 0}, EnvRotation{37, 11, -5}}) {
+      const Eigen::Matrix3d m = rotationMatrix(rot);
+      std::vector<double> expected(3 * lattice.size(), 0.0);
+      for (int row = 0; row < h * sub; ++row) {
+        const double t0 = kPi * row / (h * sub), t1 = kPi * (row + 1) / (h * sub);
+        const double omega = (std::cos(t0) - std::cos(t1)) * 2 * kPi / (w * sub);
+        for (int col = 0; col < w * sub; ++col) {
+          const Vec3 d =
+              directionFromAngles(0.5 * (t0 + t1), 2 * kPi * ((col + 0.5) / (w * sub) - 0.5));
+          const int j = lattice.texelOf(m * d);
+          for (int c = 0; c < 3; ++c)
+            expected[3 * j + c] += omega * rgb[3 * ((row / sub) * w + col / sub) + c];
+        }
+      }
+      LatticeLighting lighting(3 * lattice.size(), 0.0);
+      map->integrate(lattice, m, lighting);
+      for (size_t k = 0; k < lighting.size(); ++k)
+        ASSERT_NEAR(lighting[k], expected[k], 1e-12 * (1 + expected[k]))
+            << "R " << r << " yaw " << rot.yaw << " value " << k;
+    }
+  }
 }
 
 TEST(Environment, LatLongIsReadWithTheDesignOrientation) {

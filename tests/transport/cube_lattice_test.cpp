@@ -112,6 +112,35 @@ TEST(CubeLattice, BilinearReproducesTexelCentresAndIsContinuousAcrossSeams) {
   }
 }
 
+TEST(CubeLattice, TexelsOfManyDirectionsEqualTexelOfEach) {
+  // Random directions, then the cases where a select could differ from a
+  // branch: ties between axes, signed zeros, face edges and corners.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  std::vector<Vec3> dirs;
+  for (int i = 0; i < 20000; ++i) dirs.emplace_back(normal(rng), normal(rng), normal(rng));
+  for (double a : {-1.0, -0.0, 0.0, 0.5, 1.0})
+    for (double b : {-1.0, -0.0, 0.0, 0.5, 1.0})
+      for (double c : {-1.0, -0.0, 0.0, 0.5, 1.0})
+        if (a != 0 || b != 0 || c != 0) dirs.emplace_back(a, b, c);
+  for (int r : {1, 7, 32}) {
+    const CubeLattice lattice(r);
+    // Texel boundaries in face coordinates, 2 k / R - 1, sit exactly on an edge.
+    for (int k = 0; k <= r; ++k) dirs.emplace_back(1.0, 2.0 * k / r - 1, 0.25);
+    std::vector<double> x, y, z;
+    for (const Vec3& d : dirs) x.push_back(d.x()), y.push_back(d.y()), z.push_back(d.z());
+    std::vector<int> texels(dirs.size(), -1);
+    lattice.texelsOf(x.data(), y.data(), z.data(), static_cast<int>(dirs.size()), texels.data());
+    for (size_t i = 0; i < dirs.size(); ++i)
+      ASSERT_EQ(texels[i], lattice.texelOf(dirs[i])) << "R " << r << " " << dirs[i].transpose();
+  }
+  const CubeLattice lattice(8);
+  const double zero = 0, nan = std::nan("");
+  int texel;
+  EXPECT_ANY_THROW(lattice.texelsOf(&zero, &zero, &zero, 1, &texel));
+  EXPECT_ANY_THROW(lattice.texelsOf(&nan, &zero, &zero, 1, &texel));
+}
+
 TEST(CubeLattice, RefusesBadResolutions) {
   EXPECT_THROW(CubeLattice(0), UserError);
   EXPECT_THROW(CubeLattice(-3), UserError);
