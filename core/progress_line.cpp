@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <optional>
 
 namespace acpca {
 
@@ -46,6 +48,16 @@ void Progress::update(long long done, long long total) {
 
 void Progress::finish() {
   if (!quiet_ && printed_ && tty_) std::cerr << "\n";
+}
+
+std::function<void(long long, long long)> stageProgress(std::string label, std::string unit,
+                                                        bool quiet) {
+  auto line = std::make_shared<std::optional<Progress>>();
+  return [=](long long done, long long total) {
+    if (!*line) line->emplace(label, unit, quiet);
+    (*line)->update(done, total);
+    if (done == total) (*line)->finish();
+  };
 }
 
 }  // namespace acpca

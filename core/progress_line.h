@@ -1,6 +1,7 @@
 #pragma once
 // The progress line long commands print: done/total, rate, elapsed and ETA.
 // Libraries report progress through callbacks; the CLI shows it with this.
+#include <functional>
 #include <string>
 
 #include "core/stopwatch.h"
@@ -21,5 +22,10 @@ class Progress {
   Stopwatch sinceStart_, sinceLastPrint_;
   bool printed_ = false;
 };
+
+/// A progress callback for a stage that may never run: its line starts at the
+/// first report and finishes when done reaches total.
+std::function<void(long long done, long long total)> stageProgress(std::string label,
+                                                                   std::string unit, bool quiet);
 
 }  // namespace acpca

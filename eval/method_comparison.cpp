@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 
 #include "core/error.h"
@@ -94,6 +95,19 @@ std::string methodComparisonText(const std::vector<SweepResult>& rows,
               rows[j].costPerPixel, rows[i].costPerPixel / rows[j].costPerPixel, rows[i].imageError,
               rows[j].imageError);
   return out;
+}
+
+StudyOutput runMethodComparison(const TransportReader& transport,
+                                const std::vector<std::string>& envs, SweepSettings settings,
+                                const std::string& outDir) {
+  const EvaluationData data = loadEvaluationData(transport, envs);
+  const std::vector<SweepResult> rows = sweepMethods(data, settings);
+  std::filesystem::create_directories(outDir);
+  const std::string csv = (std::filesystem::path(outDir) / "methods.csv").string();
+  const Table table = methodsTable(rows);
+  table.writeCsv(csv);
+  return {table.json(),
+          methodComparisonText(rows, settings.cpcaClusters) + "\nall settings: " + csv + "\n"};
 }
 
 }  // namespace acpca

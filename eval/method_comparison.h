@@ -8,6 +8,7 @@
 
 #include "core/table.h"
 #include "eval/method_sweep.h"
+#include "eval/study_output.h"
 
 namespace acpca {
 
@@ -19,5 +20,12 @@ Table methodsTable(const std::vector<SweepResult>& rows);
 /// cluster counts to set against adaptive-binary.
 std::string methodComparisonText(const std::vector<SweepResult>& rows,
                                  const std::vector<int>& cpcaClusters);
+
+/// `bench methods`: sweeps settings.methods (all when empty) over the
+/// transport under `envs` (the evaluation set when empty), writes
+/// OUT/methods.csv; the rows as JSON, the comparison as the summary.
+StudyOutput runMethodComparison(const TransportReader& transport,
+                                const std::vector<std::string>& envs, SweepSettings settings,
+                                const std::string& outDir);
 
 }  // namespace acpca

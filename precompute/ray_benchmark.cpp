@@ -258,10 +258,15 @@ std::string RayBenchmarkReport::table() const {
   return out;
 }
 
-Table RayBenchmarkReport::rawLoopTable() const {
-  Table t({"name", "rays", "rays_per_second"});
-  for (const auto& raw : rawLoops) t.add({raw.name, raw.rays, raw.raysPerSecond()});
-  return t;
+nlohmann::json RayBenchmarkReport::json() const {
+  Table loops({"name", "rays", "rays_per_second"});
+  for (const auto& raw : rawLoops) loops.add({raw.name, raw.rays, raw.raysPerSecond()});
+  return {{"triangles", triangles},
+          {"threads", threads},
+          {"precompute_rays_per_second", precompute.raysPerSecond()},
+          {"raw_loops", loops.json()},
+          {"best_raw_loop", bestRawLoop().name},
+          {"ratio_to_best", ratioToBest()}};
 }
 
 }  // namespace acpca

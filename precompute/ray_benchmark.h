@@ -27,8 +27,9 @@ struct RayBenchmarkReport {
   double ratioToBest() const;
   /// A row per loop (rays, M rays/s, per core) and the ratio, as text.
   std::string table() const;
-  /// The raw loops: name, rays, rays_per_second.
-  Table rawLoopTable() const;
+  /// What `bench rays --json` writes: threads, triangles, the precompute's rays
+  /// per second, the raw loops (name, rays, rays_per_second), the best and the ratio.
+  nlohmann::json json() const;
 };
 
 /// Runs each loop over the middle `imageRows` rows of the scene's image with

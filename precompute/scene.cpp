@@ -1,6 +1,7 @@
 #include "precompute/scene.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -49,6 +50,15 @@ void validateMaterial(const Material& m, const std::string& what) {
   }
 }
 }  // namespace
+
+Scene Scene::atWidth(int width) const {
+  Scene scaled = *this;
+  scaled.camera.size = {
+      width, std::max(1, static_cast<int>(
+                             std::lround(double(width) * camera.size.height / camera.size.width)))};
+  scaled.validate();
+  return scaled;
+}
 
 void Scene::validate() const {
   camera.validate();

@@ -77,6 +77,9 @@ struct Scene {
   /// Throws UserError naming the object and what is wrong: non-finite or
   /// out-of-range values, indices outside a mesh, an empty scene.
   void validate() const;
+  /// The same camera at a pixel grid `width` wide, its height following the
+  /// aspect (at least 1), validated.
+  Scene atWidth(int width) const;
 };
 
 /// Builders for the primitives that scenes are made of.

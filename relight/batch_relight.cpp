@@ -495,4 +495,12 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   return result;
 }
 
+void refuseFailedMaps(const BatchRelightResult& result, size_t maps) {
+  if (result.failed.empty()) return;
+  std::string list;
+  for (const auto& f : result.failed) list += "\n  " + f;
+  throw UserError(concat(result.failed.size(), " of ", maps,
+                         " environment maps could not be used (the others were written):", list));
+}
+
 }  // namespace acpca

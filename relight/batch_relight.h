@@ -91,4 +91,8 @@ void validateBatchRelight(const BatchRelightOptions& options);
 /// of the others are written.
 BatchRelightResult relightBatch(const BatchRelightOptions& options);
 
+/// Throws UserError listing the maps of a batch of `maps` that could not be
+/// used (the others were written); nothing when every map was.
+void refuseFailedMaps(const BatchRelightResult& result, size_t maps);
+
 }  // namespace acpca

@@ -82,6 +82,14 @@ std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   return {r};
 }
 
+EnvRotation parseSingleRotation(const std::string& spec, const std::string& flag) {
+  if (spec.empty()) return {};
+  const auto parsed = parseRotationSpec(spec);
+  if (parsed.size() != 1)
+    throw UserError(concat(flag, " takes one rotation here, not a sweep (", spec, ")"));
+  return parsed.front();
+}
+
 std::vector<EnvRotation> parseRotationSpecs(const std::vector<std::string>& specs) {
   std::vector<EnvRotation> all;
   for (const auto& spec : specs) {

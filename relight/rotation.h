@@ -24,6 +24,9 @@ void validateRotation(const EnvRotation& r);
 /// Parses one --rotate SPEC: "YAW[,PITCH,ROLL]" or "A:B:S" (yaw from A inclusive
 /// to B exclusive in steps of S). Throws UserError naming the spec.
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec);
+/// One rotation, "YAW[,PITCH,ROLL]" (empty: the identity); a sweep is refused,
+/// the UserError naming `flag`.
+EnvRotation parseSingleRotation(const std::string& spec, const std::string& flag);
 /// Every spec's rotations in order; no spec: the identity alone.
 std::vector<EnvRotation> parseRotationSpecs(const std::vector<std::string>& specs);
 

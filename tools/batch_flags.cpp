@@ -32,9 +32,7 @@ void BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) cons
   o.envs = expandEnvironmentSpecs(envs);
   if (!exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(exrCompression);
   validateBatchRelight(o);
-  std::vector<std::string> inputs = o.envs;
-  inputs.push_back(o.input);
-  refuseOutputsOverInputs(inputs, {jsonPath});
+  refuseOutputsOverInputs(joined(o.envs, {o.input}), {jsonPath});
 }
 
 }  // namespace acpca::cli

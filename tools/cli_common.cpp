@@ -36,12 +36,33 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
   writeTextFile(path, value.dump(2) + "\n");
 }
 
+std::vector<std::string> joined(std::vector<std::string> first,
+                                const std::vector<std::string>& more) {
+  first.insert(first.end(), more.begin(), more.end());
+  return first;
+}
+
+nlohmann::json sceneReport(const std::string& out, const Scene& scene) {
+  return {{"out", out},
+          {"scene", scene.name},
+          {"width", scene.camera.size.width},
+          {"height", scene.camera.size.height},
+          {"ranks", ranks::count()},
+          {"peak_memory_bytes", peakMemoryBytes()}};
+}
+
 void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
                              const std::vector<std::string>& outFiles,
                              const std::vector<std::string>& outDirs) {
   for (const auto& file : outFiles)
     if (file != "-") refuseOutputOverInputs(file, inputs);
   for (const auto& dir : outDirs) refuseDirectoryOverInputs(dir, inputs);
+}
+
+void addFastRotationFlag(CLI::App& command, RotationMode& mode) {
+  command.add_flag_callback(
+      "--fast-rotation", [&mode] { mode = RotationMode::FastLattice; },
+      "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
 }
 
 namespace {
@@ -91,7 +112,8 @@ std::function<void(long long)> faultInjection(const char* variable, const char* 
 
 StudyLog stderrLog(const std::string& prefix, bool quiet) {
   if (quiet) return {};
-  return [prefix](const std::string& line) { std::cerr << prefix << ": " << line << std::endl; };
+  // One write per line: under mpirun the ranks share stderr.
+  return [prefix](const std::string& line) { std::cerr << (prefix + ": " + line + "\n"); };
 }
 
 void printStudy(const StudyOutput& output, const CommonOptions& common) {

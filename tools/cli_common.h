@@ -15,6 +15,8 @@
 #include "core/text.h"
 #include "core/thread_limit.h"
 #include "eval/study_output.h"
+#include "precompute/scene.h"
+#include "relight/lighting.h"
 
 namespace acpca::cli {
 
@@ -29,6 +31,14 @@ struct CommonOptions {
 /// Writes JSON to a file (atomically) or to stdout for "-"; nothing when empty.
 void writeJson(const std::string& path, const nlohmann::json& value);
 
+/// `first` followed by `more` (a command's lightings and the files it reads).
+std::vector<std::string> joined(std::vector<std::string> first,
+                                const std::vector<std::string>& more);
+
+/// The --json report's opening of a command that renders `scene` into `out`:
+/// out, scene, width, height, ranks and peak_memory_bytes.
+nlohmann::json sceneReport(const std::string& out, const Scene& scene);
+
 /// Refuses, before any work, an output that would replace one of `inputs`
 /// (core/input_guard.h): the files `outFiles` (--json's "-" is none) and the
 /// directories `outDirs`.
@@ -42,6 +52,9 @@ void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
 void nameParameters(CLI::App& command,
                     const std::map<std::string, std::vector<std::string>>& flagParameters);
 
+/// --fast-rotation: sets `mode` to RotationMode::FastLattice.
+void addFastRotationFlag(CLI::App& command, RotationMode& mode);
+
 /// ParameterError's message with the flag of the command that ran (`app`'s
 /// parsed subcommand) that sets the parameter in place of the library's name
 /// for it; the message as is for parameters without a flag.
@@ -51,7 +64,8 @@ std::string messageWithFlag(const ParameterError& error, const CLI::App& app);
 /// says so and kills this process (SIGKILL) as it starts `item` N; else none.
 std::function<void(long long)> faultInjection(const char* variable, const char* item);
 
-/// A log callback printing "PREFIX: line" on stderr; none when quiet.
+/// A log callback printing "PREFIX: line" on stderr, one write a line; none
+/// when quiet.
 StudyLog stderrLog(const std::string& prefix, bool quiet);
 
 /// Prints a study's summary on stdout (unless quiet) and writes its JSON.

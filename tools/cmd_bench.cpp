@@ -29,14 +29,9 @@ void runRays(const RaysArgs& a) {
               scene.name.c_str(), r.triangles, a.size.c_str(), a.rows, a.cubemap, a.cubemap,
               r.threads);
   std::printf("%s", r.table().c_str());
-  writeJson(a.common.jsonPath, {{"scene", scene.name},
-                                {"triangles", r.triangles},
-                                {"threads", r.threads},
-                                {"cubemap", a.cubemap},
-                                {"precompute_rays_per_second", r.precompute.raysPerSecond()},
-                                {"raw_loops", r.rawLoopTable().json()},
-                                {"best_raw_loop", r.bestRawLoop().name},
-                                {"ratio_to_best", r.ratioToBest()}});
+  nlohmann::json report = r.json();
+  report.update({{"scene", scene.name}, {"cubemap", a.cubemap}});
+  writeJson(a.common.jsonPath, report);
 }
 
 }  // namespace

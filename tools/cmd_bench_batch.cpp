@@ -18,8 +18,7 @@ struct BatchBenchArgs {
 void run(BatchBenchArgs& a) {
   a.batch.apply(a.options.batch, a.common.jsonPath);
   ThreadLimit limit(a.common.threads);
-  StudyOutput out = runBatchBenchmark(a.options);
-  printBenchmark(out, a.common);
+  printBenchmark(runBatchBenchmark(a.options), a.common);
 }
 
 }  // namespace

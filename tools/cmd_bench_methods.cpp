@@ -1,7 +1,4 @@
 // `adaptive-cpca bench methods`: every method's cost at equal image error.
-#include <filesystem>
-#include <iostream>
-
 #include "eval/method_comparison.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -20,21 +17,11 @@ struct MethodsArgs {
 void run(MethodsArgs& a) {
   if (a.settings.methods.empty()) a.settings.methods = sweepMethodNames();
   checkSweepMethods(a.settings.methods);
-  {
-    std::vector<std::string> inputs = a.envs;
-    inputs.push_back(a.input);
-    refuseOutputsOverInputs(inputs, {a.common.jsonPath}, {a.out});
-  }
+  refuseOutputsOverInputs(joined(a.envs, {a.input}), {a.common.jsonPath}, {a.out});
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   a.settings.log = stderrLog("bench methods", a.common.quiet);
-  const EvaluationData data = loadEvaluationData(transport, a.envs);
-  const std::vector<SweepResult> rows = sweepMethods(data, a.settings);
-  std::filesystem::create_directories(a.out);
-  const std::string csv = (std::filesystem::path(a.out) / "methods.csv").string();
-  methodsTable(rows).writeCsv(csv);
-  std::cout << methodComparisonText(rows, a.settings.cpcaClusters) << "\nall settings: " << csv
-            << "\n";
+  printBenchmark(runMethodComparison(transport, a.envs, a.settings, a.out), a.common);
 }
 
 }  // namespace

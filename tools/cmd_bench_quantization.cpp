@@ -20,11 +20,7 @@ void run(QuantizationArgs& a) {
   QuantizationOptions& o = a.options;
   for (int n : o.shOrders) shBandsOf(n, "SH orders");
   for (const auto& m : o.methods) parseMethod(m);
-  {
-    std::vector<std::string> inputs = o.envs;
-    inputs.push_back(a.input);
-    refuseOutputsOverInputs(inputs, {a.common.jsonPath}, {a.out});
-  }
+  refuseOutputsOverInputs(joined(o.envs, {a.input}), {a.common.jsonPath}, {a.out});
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   o.log = stderrLog("bench quantization", a.common.quiet);

@@ -1,6 +1,5 @@
 // `adaptive-cpca bench relight`: relighter ms/frame and GB/s against the
 // streaming-read bandwidth, a dense relight and baseline models.
-#include "cluster/model_file.h"
 #include "eval/relight_benchmark.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -16,19 +15,12 @@ struct RelightBenchArgs {
 
 void run(RelightBenchArgs& a) {
   validateRelightBenchmarkOptions(a.options);
-  {
-    std::vector<std::string> inputs = a.options.envs;
-    inputs.insert(inputs.end(), a.options.baselines.begin(), a.options.baselines.end());
-    inputs.push_back(a.options.model);
-    inputs.push_back(a.options.transport);
-    refuseOutputsOverInputs(inputs, {a.common.jsonPath});
-  }
-  if (!isModelFile(a.options.model))
-    throw UserError(concat(a.options.model, ": not an adaptive-cpca model file"));
+  const RelightBenchmarkOptions& o = a.options;
+  refuseOutputsOverInputs(joined(joined(o.envs, o.baselines), {o.model, o.transport}),
+                          {a.common.jsonPath});
   ThreadLimit limit(a.common.threads);
   a.options.threads = limit.threads();
-  StudyOutput out = runRelightBenchmark(a.options);
-  printBenchmark(out, a.common);
+  printBenchmark(runRelightBenchmark(a.options), a.common);
 }
 
 }  // namespace

@@ -1,8 +1,5 @@
 // `adaptive-cpca bench scaling`: cost and time against resolution, with the
 // paper's 4 mu^2 prediction.
-#include <algorithm>
-#include <cmath>
-
 #include "eval/scaling_study.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
@@ -26,18 +23,11 @@ void run(ScalingArgs& a) {
   o.sceneName = scene.name;
   o.log = stderrLog("bench scaling", a.common.quiet);
   ThreadLimit limit(a.common.threads);
-  // The same camera at a finer pixel grid; the aspect follows the scene's.
   o.precompute = [&scene, &limit](int width, int cubemap, const std::string& path) {
-    Scene scaled = scene;
-    const ImageSize base = scene.camera.size;
-    scaled.camera.size = {
-        width,
-        std::max(1, static_cast<int>(std::lround(double(width) * base.height / base.width)))};
-    scaled.validate();
     PrecomputeOptions p;
     p.cubemapResolution = cubemap;
     p.threads = limit.threads();
-    precomputeTransport(scaled, path, p);
+    precomputeTransport(scene.atWidth(width), path, p);
   };
   validateScalingOptions(o);
   printStudy(runScalingStudy(o, a.out), a.common);

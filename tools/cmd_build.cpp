@@ -20,25 +20,18 @@ struct BuildArgs {
   RenderFlags render;
   CompressFlags compress;
   std::string out;
-  bool resume = false;
-  int tilesInFlight = 3, tile = 0;
-  std::string groundTruth, keepTransport;
+  BuildOptions options;  ///< the flags that set a field of it directly
   std::vector<std::string> envs;
 };
 
 void run(const BuildArgs& a) {
   // Reject bad options before any work.
-  BuildOptions o;
+  BuildOptions o = a.options;
   o.render = a.render.options(a.common.threads);
   o.compress = a.compress.options();
-  o.resume = a.resume;
   o.resumeAdvice = "the same build with --resume continues";
-  o.tilesInFlight = a.tilesInFlight;
-  o.tileSide = a.tile;
-  o.groundTruthDir = a.groundTruth;
-  o.keepTransport = a.keepTransport;
-  o.groundTruth = a.envs.empty() && !a.groundTruth.empty() ? defaultEvaluationSet()
-                                                           : expandEnvironmentSpecs(a.envs);
+  o.groundTruth = a.envs.empty() && !o.groundTruthDir.empty() ? defaultEvaluationSet()
+                                                              : expandEnvironmentSpecs(a.envs);
   const Scene scene = a.render.loadScene();
   refuseOutputsOverInputs(scene.files, {a.common.jsonPath});
   if (ranks::rank() == 0)
@@ -50,26 +43,20 @@ void run(const BuildArgs& a) {
   const bool lead = ranks::rank() == 0;
   Progress progress("build " + scene.name, "rows", a.common.quiet || !lead);
   o.progress = [&](long long done, long long total) { progress.update(done, total); };
-  if (!a.common.quiet)  // one write per line: the ranks share mpirun's stderr
-    o.log = [](const std::string& s) { std::cerr << ("build: " + s + "\n"); };
+  o.log = stderrLog("build", a.common.quiet);
   o.beforeTile = faultInjection("ACPCA_FAULT_TILE", "tile");
   const BuildStats s = buildStreamed(scene, a.out, o);
   progress.finish();
   if (!lead) return;
   for (const auto& [name, error] : s.imageErrors)
     if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
-  if (!a.groundTruth.empty() && !a.common.quiet)
-    std::cerr << "ground-truth images (dense relight, EXR) in " << a.groundTruth << "\n";
+  if (!o.groundTruthDir.empty() && !a.common.quiet)
+    std::cerr << "ground-truth images (dense relight, EXR) in " << o.groundTruthDir << "\n";
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << ": " << methodName(o.compress.method) << ", "
               << describeInWords(s) << "\n";
-  nlohmann::json report = {{"out", a.out},
-                           {"scene", scene.name},
-                           {"width", scene.camera.size.width},
-                           {"height", scene.camera.size.height},
-                           {"method", methodName(o.compress.method)},
-                           {"ranks", ranks::count()},
-                           {"peak_memory_bytes", peakMemoryBytes()}};
+  nlohmann::json report = sceneReport(a.out, scene);
+  report["method"] = methodName(o.compress.method);
   report.update(toJson(s));
   writeJson(a.common.jsonPath, report);
 }
@@ -84,24 +71,25 @@ void registerBuild(CLI::App& app) {
   args->render.add(*sub);
   sub->add_option("--out", args->out, "Model file to write (HDF5)")->required();
   args->compress.add(*sub, true);
-  sub->add_flag("--resume", args->resume,
+  sub->add_flag("--resume", args->options.resume,
                 "Continue an interrupted build of the same scene and settings from its finished "
                 "tiles (kept in OUT.tiles/)");
-  sub->add_option("--ground-truth", args->groundTruth,
+  sub->add_option("--ground-truth", args->options.groundTruthDir,
                   "Directory for the dense relight of every --env (EXR): the ground truth no "
                   "transport file holds, computed from the rendered rows; the model's image error "
                   "against it is reported");
-  sub->add_option("--keep-transport", args->keepTransport,
+  sub->add_option("--keep-transport", args->options.keepTransport,
                   "Also write the dense transport to this file, as precompute would (one "
                   "process; about a tile row's transport rows in memory; the disk must hold it)");
   sub->add_option("--env", args->envs,
                   "Lightings of the ground truth and image errors (default with --ground-truth: "
                   "the evaluation set)");
-  sub->add_option("--tile", args->tile,
+  sub->add_option("--tile", args->options.tileSide,
                   "cpca, adaptive-binary: side of the pixel groups clustered on their own "
                   "(default 256)");
-  sub->add_option("--tiles-in-flight", args->tilesInFlight,
-                  "Tiles rendered and compressed at once (default 3; each holds its rows)");
+  sub->add_option("--tiles-in-flight", args->options.tilesInFlight,
+                  "Tiles rendered and compressed at once (each holds its rows)")
+      ->capture_default_str();
   args->common.add(*sub);
   nameParameters(*sub,
                  {{"--tile", {"tile side"}}, {"--env", {"environment", "ground-truth lightings"}}});

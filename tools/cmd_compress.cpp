@@ -22,7 +22,7 @@ struct CompressArgs {
 void run(const CompressArgs& a) {
   CompressOptions o = a.compress.options();
   refuseOutputsOverInputs({a.input}, {a.out, a.common.jsonPath});
-  if (!a.common.quiet) o.log = [](const std::string& s) { std::cerr << "compress: " << s << "\n"; };
+  o.log = stderrLog("compress", a.common.quiet);
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   Model model = compressTransport(transport, o);

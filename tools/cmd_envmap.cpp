@@ -14,22 +14,16 @@ struct EnvmapArgs {
   CommonOptions common;
   std::string env, out, cross, rotate, size = "2048x1024";
   int cubemap = 32;
-  bool fastRotation = false;
+  RotationMode rotationMode = RotationMode::Exact;
 };
 
 void run(const EnvmapArgs& a) {
   const ImageSize size = parseImageSize(a.size, "--size");
-  EnvRotation rotation;
-  if (!a.rotate.empty()) {
-    const auto parsed = parseRotationSpec(a.rotate);
-    if (parsed.size() != 1) throw UserError("--rotate: envmap takes one rotation, not a sweep");
-    rotation = parsed.front();
-  }
+  const EnvRotation rotation = parseSingleRotation(a.rotate, "--rotate");
   refuseOutputsOverInputs({a.env}, {a.out, a.cross, a.common.jsonPath});
   const CubeLattice lattice(a.cubemap);
   const auto env = loadEnvironment(a.env);
-  const LatticeLighting lighting = computeLighting(
-      *env, lattice, rotation, a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+  const LatticeLighting lighting = computeLighting(*env, lattice, rotation, a.rotationMode);
   writeImage(latticeToLatLong(lighting, lattice, size.width, size.height), a.out, ImageFormat::Exr,
              0, true);
   if (!a.cross.empty())
@@ -58,7 +52,7 @@ void registerEnvmap(CLI::App& app) {
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
   sub->add_option("--rotate", args->rotate, "YAW[,PITCH,ROLL] in degrees");
   sub->add_option("--size", args->size, "Lat-long size WxH");
-  sub->add_flag("--fast-rotation", args->fastRotation, "Bilinear lattice rotation (fast mode)");
+  addFastRotationFlag(*sub, args->rotationMode);
   args->common.add(*sub, false);
   nameParameters(*sub, {{"--cubemap", {"cube-map resolution"}}, {"--rotate", {"rotation"}}});
   sub->callback([args] { run(*args); });

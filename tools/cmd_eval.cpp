@@ -13,7 +13,7 @@ namespace {
 struct EvalArgs {
   CommonOptions common;
   std::string input, out;
-  std::vector<std::string> shFits{"uls", "cls", "ceb"};
+  std::vector<std::string> shFits;  ///< none given: the library's default
   bool quick = false;
   EvalOptions options;
   CLI::App* command = nullptr;
@@ -37,14 +37,10 @@ void applyQuickSweep(EvalArgs& a) {
 void run(EvalArgs& a) {
   if (a.quick) applyQuickSweep(a);
   EvalOptions& o = a.options;
-  o.shFits.clear();
+  if (!a.shFits.empty()) o.shFits.clear();
   for (const auto& f : a.shFits) o.shFits.push_back(parseShFit(f));
   validateEvalOptions(o);
-  {
-    std::vector<std::string> inputs = o.envs;
-    inputs.push_back(a.input);
-    refuseOutputsOverInputs(inputs, {a.common.jsonPath}, {a.out});
-  }
+  refuseOutputsOverInputs(joined(o.envs, {a.input}), {a.common.jsonPath}, {a.out});
   ThreadLimit limit(a.common.threads);
   const TransportReader transport(a.input);
   o.log = stderrLog("eval", a.common.quiet);

@@ -15,22 +15,19 @@ struct InfoArgs {
   std::string file, jsonPath;
 };
 
-/// The JSON where --json says; the description in words on stdout unless
-/// that is where the JSON went.
-template <typename File>
-void describe(const InfoArgs& a, const File& file, const nlohmann::json& json) {
-  writeJson(a.jsonPath, json);
-  if (a.jsonPath != "-") std::cout << describeInWords(file, a.file);
-}
-
 void run(const InfoArgs& a) {
   refuseOutputsOverInputs({a.file}, {a.jsonPath});
+  // The JSON where --json says; the words on stdout unless the JSON went there.
+  const auto describe = [&a](const auto& file, const nlohmann::json& json) {
+    writeJson(a.jsonPath, json);
+    if (a.jsonPath != "-") std::cout << describeInWords(file, a.file);
+  };
   if (isModelFile(a.file)) {
     const Model model = readModel(a.file);
-    return describe(a, model, describeModel(model, a.file));
+    return describe(model, describeModel(model, a.file));
   }
   const TransportReader transport(a.file);
-  describe(a, transport, describeTransport(transport));
+  describe(transport, describeTransport(transport));
 }
 
 }  // namespace

@@ -1,6 +1,5 @@
 // `adaptive-cpca precompute`: scene -> transport file (Embree).
 #include <iostream>
-#include <optional>
 
 #include "core/ranks.h"
 #include "precompute/precompute_report.h"
@@ -35,23 +34,10 @@ void run(const PrecomputeArgs& a) {
   const bool lead = ranks::rank() == 0;
   const bool quiet = a.common.quiet || !lead;
   Progress progress("precompute " + scene.name, "rows", quiet);
-  std::optional<Progress> cacheProgress, cacheFillProgress;
-  options.cacheProgress = [&](long long done, long long total) {
-    if (!cacheProgress) cacheProgress.emplace("indirect cache: paths", "image rows", quiet);
-    cacheProgress->update(done, total);
-    if (done == total) cacheProgress->finish();
-  };
-  options.cacheFillProgress = [&](long long done, long long total) {
-    if (!cacheFillProgress)
-      cacheFillProgress.emplace("indirect cache: visibility", "points", quiet);
-    cacheFillProgress->update(done, total);
-    if (done == total) cacheFillProgress->finish();
-  };
+  options.cacheProgress = stageProgress("indirect cache: paths", "image rows", quiet);
+  options.cacheFillProgress = stageProgress("indirect cache: visibility", "points", quiet);
   options.progress = [&](long long done, long long total) { progress.update(done, total); };
-  options.log = [&](const std::string& line) {
-    // One write per line: the ranks share mpirun's stderr.
-    if (!a.common.quiet) std::cerr << ("precompute: " + line + "\n");
-  };
+  options.log = stderrLog("precompute", a.common.quiet);
   options.beforeImageRow = faultInjection("ACPCA_FAULT_ROW", "image row");
   const PrecomputeStats stats = precomputeTransport(scene, a.out, options);
   progress.finish();
@@ -59,12 +45,7 @@ void run(const PrecomputeArgs& a) {
 
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << ": " << describeInWords(stats, options, scene.camera.size);
-  nlohmann::json report = {{"out", a.out},
-                           {"scene", scene.name},
-                           {"width", scene.camera.size.width},
-                           {"height", scene.camera.size.height},
-                           {"ranks", ranks::count()},
-                           {"peak_memory_bytes", peakMemoryBytes()}};
+  nlohmann::json report = sceneReport(a.out, scene);
   report.update(toJson(options));
   report.update(toJson(stats));
   writeJson(a.common.jsonPath, report);

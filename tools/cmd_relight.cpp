@@ -18,7 +18,6 @@ struct RelightArgs {
   CommonOptions common;
   std::string background = "env";
   BatchFlags batch;
-  bool fastRotation = false;
   BatchRelightOptions options;
 };
 
@@ -26,7 +25,6 @@ void run(RelightArgs& a) {
   // Everything cheap is checked before any work.
   BatchRelightOptions& o = a.options;
   o.background = parseBackground(a.background);
-  o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
   a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -44,12 +42,7 @@ void run(RelightArgs& a) {
   nlohmann::json report = result.json;
   report["peak_memory_bytes"] = peakMemoryBytes();
   writeJson(a.common.jsonPath, report);
-  if (!result.failed.empty()) {
-    std::string list;
-    for (const auto& f : result.failed) list += "\n  " + f;
-    throw UserError(concat(result.failed.size(), " of ", o.envs.size(),
-                           " environment maps could not be used (the others were written):", list));
-  }
+  refuseFailedMaps(result, o.envs.size());
 }
 
 }  // namespace
@@ -67,8 +60,7 @@ void registerRelight(CLI::App& app) {
                   "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
   sub->add_option("--max-rank", args->options.maxRank,
                   "Models: use each cluster's first K bases, or a fraction (0.5 or 50%)");
-  sub->add_flag("--fast-rotation", args->fastRotation,
-                "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
+  addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
                 "Write even when the frames look too large for the disk");

@@ -14,27 +14,18 @@ namespace acpca::cli {
 namespace {
 
 struct ViewArgs {
-  std::string model, background = "env", script, screenshot, saveDir = ".";
+  ViewerOptions options;  ///< the flags that set a field of it directly
+  std::string background = "env", script, rotate;
   std::vector<std::string> envs;
-  std::string rotate;
-  double exposure = 0, rotateStep = 0;
-  int rankPercent = 100, frames = 0, threads = 0;
-  bool fastRotation = false, quiet = false;
+  int threads = 0;
+  bool quiet = false;
 };
 
 void run(const ViewArgs& a) {
-  ViewerOptions o;
-  o.modelPath = a.model;
+  ViewerOptions o = a.options;
   if (!a.envs.empty()) o.envSpecs = expandEnvironmentSpecs(a.envs);
   o.background = parseBackground(a.background);
   if (!a.rotate.empty()) o.initial = parseViewerRotation(a.rotate, o.initial);
-  o.initial.exposure = a.exposure;
-  o.initial.rankPercent = a.rankPercent;
-  o.rotationMode = a.fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
-  o.frames = a.frames;
-  o.rotateStep = a.rotateStep;
-  o.screenshot = a.screenshot;
-  o.saveDir = a.saveDir;
   o.log = stderrLog("view", a.quiet);
   if (!a.script.empty()) o.script = readViewerScript(a.script);
   validateViewerOptions(o);
@@ -54,25 +45,26 @@ void registerView(CLI::App& app) {
       "Relight a model live in a window: drag to turn the lighting (keys: n/p env map, c cluster "
       "boundaries, h rank heat map, l lighting inset, a/d yaw, r reset, +/- exposure, s save, q "
       "quit)");
-  sub->add_option("model", args->model, "Model file (M_FILE)")->required();
+  sub->add_option("model", args->options.modelPath, "Model file (M_FILE)")->required();
   sub->add_option("--env", args->envs,
                   "Lighting (as relight takes it; repeatable; default: sky and a sun)");
   sub->add_option("--rotate", args->rotate, "Initial YAW[,PITCH] in degrees");
-  sub->add_option("--exposure", args->exposure, "Initial exposure in stops");
-  sub->add_option("--rank-percent", args->rankPercent,
+  sub->add_option("--exposure", args->options.initial.exposure, "Initial exposure in stops");
+  sub->add_option("--rank-percent", args->options.initial.rankPercent,
                   "Initial share of each cluster's bases, 0..100 (the quality/speed trackbar)");
   sub->add_option("--background", args->background, "env or black");
-  sub->add_option("--save-dir", args->saveDir, "Where the s key writes EXR + PNG (default .)");
+  sub->add_option("--save-dir", args->options.saveDir,
+                  "Where the s key writes EXR + PNG (default .)");
   sub->add_option("--script", args->script,
                   "Drive the window from a file of events (key, drag, rotate, exposure, rank, "
                   "env, save, screenshot, wait), then quit");
-  sub->add_option("--frames", args->frames,
+  sub->add_option("--frames", args->options.frames,
                   "Self-driving: show N frames, turning the yaw by --rotate-step each, then quit");
-  sub->add_option("--rotate-step", args->rotateStep, "Degrees of yaw per frame with --frames");
-  sub->add_option("--screenshot", args->screenshot,
+  sub->add_option("--rotate-step", args->options.rotateStep,
+                  "Degrees of yaw per frame with --frames");
+  sub->add_option("--screenshot", args->options.screenshot,
                   "PNG of the window's last frame (image and status line), written on quitting");
-  sub->add_flag("--fast-rotation", args->fastRotation,
-                "Rotate by bilinear lookup on the lattice (fast, not energy-preserving)");
+  addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_option("--threads", args->threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("-q,--quiet", args->quiet, "No messages on stderr");

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <iostream>
 #include <new>
+#include <set>
 
 #include "core/error.h"
 #include "core/interrupt_cleanup.h"
@@ -38,11 +39,10 @@ void refuseUnknownSubcommand(const CLI::App& app, int argc, char** argv) {
 /// Under `mpirun -np K` with K > 1 only the commands that deal their work over
 /// ranks may run; any other would run K times and race for its outputs.
 void refuseUndistributedCommand(int argc, char** argv) {
-  if (!ranks::distributed() || argc < 2) return;
+  static const std::set<std::string> spread{"precompute", "build", "relight",
+                                            "--help",     "-h",    "--version"};
+  if (!ranks::distributed() || argc < 2 || spread.count(argv[1])) return;
   const std::string word = argv[1];
-  if (word == "precompute" || word == "build" || word == "relight" || word == "--help" ||
-      word == "-h" || word == "--version")
-    return;
   throw UserError(concat("'", word, "' does not run over MPI ranks (this job has ", ranks::count(),
                          "); only precompute, build and relight do: run ", word,
                          " as one process"));
@@ -83,12 +83,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : fail(code);
-  } catch (const acpca::ParameterError& e) {
-    std::cerr << "adaptive-cpca: " << rank << "error: " << acpca::cli::messageWithFlag(e, app)
-              << "\n";
-    return fail(1);
   } catch (const acpca::UserError& e) {
-    std::cerr << "adaptive-cpca: " << rank << "error: " << e.what() << "\n";
+    const auto* parameter = dynamic_cast<const acpca::ParameterError*>(&e);
+    std::cerr << "adaptive-cpca: " << rank
+              << "error: " << (parameter ? acpca::cli::messageWithFlag(*parameter, app) : e.what())
+              << "\n";
     return fail(1);
   } catch (const std::bad_alloc&) {
     // Past the estimates (--force, or memory taken by others meanwhile).
