@@ -3,5 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+source scripts/compiler-cache.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${compiler_cache_flags[@]}" "$@" >/dev/null
 cmake --build build -j "$(nproc)"

@@ -5,9 +5,10 @@
 set -euo pipefail
 
 # What building the CLI and its libraries needs (the demo's set; Debian's
-# OpenImageIO CMake config refers to the binaries of openimageio-tools)...
+# OpenImageIO CMake config refers to the binaries of openimageio-tools; ccache
+# lets a later build, or CI's clone, reuse what was compiled)...
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ccache
   libembree-dev libtbb-dev libeigen3-dev
   libopenimageio-dev openimageio-tools libopencv-dev
   libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_SANITIZE=ON \
+source scripts/compiler-cache.sh
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_SANITIZE=ON "${compiler_cache_flags[@]}" \
   -DACPCA_BUILD_TESTS=ON -DACPCA_WERROR="${ACPCA_WERROR:-0}" >/dev/null
 cmake --build build-asan -j "$(nproc)"
 cd build-asan
