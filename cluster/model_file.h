@@ -12,9 +12,10 @@ namespace acpca {
 
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
 /// 2: one i8 scale per cluster basis; 3: no timing or memory figures (equal
-/// inputs give equal bytes). Version 2 files are read as well (their
+/// inputs give equal bytes); 4: each pixel's world position (local lights).
+/// Versions 2 and 3 are read as well (without positions; version 2's
 /// compress_seconds and peak_memory_bytes are ignored).
-inline constexpr int kModelVersion = 3;
+inline constexpr int kModelVersion = 4;
 inline constexpr int kOldestModelVersion = 2;
 
 /// What a file written by ModelFileWriter holds: a whole model, or only

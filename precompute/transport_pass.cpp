@@ -82,8 +82,11 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
       albedo /= float(hits);
       header.albedo.insert(header.albedo.end(), albedo.data(), albedo.data() + 3);
       header.coverage.push_back(float(hits) / options.samplesPerPixel);
-      const auto& n = gbuffer.at(x, y, first).normal;
-      header.normals.insert(header.normals.end(), n.data(), n.data() + 3);
+      const PixelSample& firstHit = gbuffer.at(x, y, first);
+      header.normals.insert(header.normals.end(), firstHit.normal.data(),
+                            firstHit.normal.data() + 3);
+      header.positions.insert(header.positions.end(), firstHit.origin.data(),
+                              firstHit.origin.data() + 3);
     }
   return header;
 }

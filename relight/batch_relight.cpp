@@ -64,9 +64,9 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
   for (ImageFormat f : formats)
     frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
   ResourceNeed need;
-  need.what =
-      concat(a.envs.size() * a.rotations.size(), " frame(s) of ", size.width, "x", size.height);
-  need.diskBytes = frameBytes * static_cast<long long>(a.envs.size() * a.rotations.size());
+  const size_t frames = std::max<size_t>(1, a.envs.size()) * a.rotations.size();
+  need.what = concat(frames, " frame(s) of ", size.width, "x", size.height);
+  need.diskBytes = frameBytes * static_cast<long long>(frames);
   need.largestFile = frameBytes;
   need.diskDirectory = batch ? a.out : (out.has_parent_path() ? out.parent_path().string() : ".");
   if (batch && !fs::exists(a.out)) need.diskDirectory = fs::path(a.out).parent_path().string();
@@ -203,10 +203,14 @@ class FrameWriting {
         batch_(batch),
         encoding_(encodingFor(a, batch)),
         writer_(writingThreads(), kFramesInFlight) {
+    for (const std::string& light : a.lights) {
+      if (!lightsText_.empty()) lightsText_ += ';';
+      lightsText_ += parseLocalLight(light).canonicalSpec();
+    }
     if (batch)
-      manifest_.emplace(
-          (fs::path(a.out) / "manifest.csv").string(),
-          std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure", "output"});
+      manifest_.emplace((fs::path(a.out) / "manifest.csv").string(),
+                        std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure",
+                                                 "lights", "output"});
   }
 
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
@@ -254,8 +258,9 @@ class FrameWriting {
       for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
       if (manifest_)
         manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
-                           f.rotation.roll, a_.exposure, joined});
+                           f.rotation.roll, a_.exposure, lightsText_, joined});
       outputs_.push_back({{"env", f.input->spec},
+                          {"lights", a_.lights},
                           {"yaw", f.rotation.yaw},
                           {"pitch", f.rotation.pitch},
                           {"roll", f.rotation.roll},
@@ -278,6 +283,7 @@ class FrameWriting {
   const bool batch_;
   const ImageEncoding encoding_;
   std::optional<BatchManifest> manifest_;
+  std::string lightsText_;  ///< the lights, canonical, ';'-separated (the manifest's column)
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;
@@ -326,6 +332,7 @@ std::vector<std::pair<const char*, double>> BatchStages::named() const {
           {"lighting", lighting},
           {"projection", projection},
           {"shading", shading},
+          {"local_lights", localLights},
           {"background", background},
           {"writing", writing},
           {"waiting_for_writing", waitingForWriting},
@@ -376,8 +383,12 @@ std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::s
 
 void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.timingRepeats < 0) throw ParameterError("timing frames", a.timingRepeats, "must be >= 0");
-  if (a.envs.empty()) throw ParameterError("environment", "", "give at least one lighting");
+  if (a.envs.empty() && a.lights.empty())
+    throw ParameterError("environment", "", "give at least one lighting (or a local light)");
   if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
+  if (a.envs.empty() && a.rotations.size() > 1)
+    throw ParameterError("rotation", "", "rotates environments: give one with it");
+  for (const std::string& light : a.lights) parseLocalLight(light);
   requireFinite(a.exposure, "exposure");
   if (a.pngLevel < 0 || a.pngLevel > 9)
     throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
@@ -412,7 +423,17 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   requireFrameSpace(a, source.header.camera.size, formats, batch);
   if (batch) createOutputDirectory(a.out);
 
-  const std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
+  std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
+  // Local lights alone: one frame over a black environment.
+  if (inputs.empty()) inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
+  std::vector<float> localRows;
+  if (!a.lights.empty()) {
+    std::vector<LocalLight> lights;
+    for (const std::string& spec : a.lights) lights.push_back(parseLocalLight(spec));
+    const Stopwatch watch;
+    localRows = source.relightLocal(lights);
+    stages.localLights = watch.seconds();
+  }
 
   // Frames in groups: each group streams T once; memory stays flat for any count.
   std::vector<Frame> frames;
@@ -462,6 +483,8 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
         relightGroupImages(source, composer, lightings, channels, backgroundOf, a.timingRepeats,
                            msPerFrame, stages,
                            [&](size_t k, std::vector<float>& pixels, double ms) {
+                             if (!localRows.empty())
+                               composer.addRows(localRows.data(), pixels.data(), channels);
                              if (rank == 0)
                                ownMs = ms;
                              else

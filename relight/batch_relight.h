@@ -33,7 +33,10 @@ inline constexpr int kBatchPngLevel = 1;
 
 struct BatchRelightOptions {
   std::string input;              ///< model or transport file
-  std::vector<std::string> envs;  ///< lighting specs or image files
+  std::vector<std::string> envs;  ///< lighting specs or image files (may be empty with lights)
+  /// Local lights (relight/local_light.h grammar), the same in every frame and
+  /// added to each; without envs they light the one frame alone.
+  std::vector<std::string> lights;
   std::vector<EnvRotation> rotations{EnvRotation{}};
   std::string out;     ///< an image, or a directory when batch
   std::string format;  ///< exr, png, both; empty: see imageFormatsFor
@@ -56,12 +59,13 @@ struct BatchRelightOptions {
 /// of its own beside the relight: `writing` is their busy time, and
 /// `waitingForWriting` the time the relight stood still for a full queue.
 struct BatchStages {
-  double open = 0;        ///< opening the model or transport
-  double lighting = 0;    ///< the lightings integrated onto the lattice (rotation included)
-  double projection = 0;  ///< V_g and the bases met by a group's lightings (models)
-  double shading = 0;     ///< pixels relit (a transport: its pass over T)
-  double background = 0;  ///< the background composed under each frame
-  double writing = 0;     ///< frames encoded and written (writing threads)
+  double open = 0;         ///< opening the model or transport
+  double lighting = 0;     ///< the lightings integrated onto the lattice (rotation included)
+  double projection = 0;   ///< V_g and the bases met by a group's lightings (models)
+  double shading = 0;      ///< pixels relit (a transport: its pass over T)
+  double localLights = 0;  ///< the local lights relit (once: the same in every frame)
+  double background = 0;   ///< the background composed under each frame
+  double writing = 0;      ///< frames encoded and written (writing threads)
   double waitingForWriting = 0;
   double wall = 0;  ///< the whole batch
   /// Each stage by its JSON key, in the order they come, wall last.

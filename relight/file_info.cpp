@@ -16,6 +16,12 @@ nlohmann::json cameraJson(const Camera& c) {
       {"eye", vec3(c.eye)}, {"target", vec3(c.target)}, {"up", vec3(c.up)}, {"fov", c.fovDegrees}};
 }
 
+std::string positionsInWords(const TransportHeader& h, const std::string& remedy) {
+  return h.hasPositions() ? "  positions    each pixel's world position (local lights)\n"
+                          : concat("  positions    none (written before positions were stored; ",
+                                   remedy, " for local lights)\n");
+}
+
 }  // namespace
 
 const char* rowLayoutName(int channels) {
@@ -50,6 +56,7 @@ nlohmann::json describeModel(const Model& m, const std::string& path) {
           {"bases", coeffPrecisionName(m.basisPrecision)},
           {"transport_error", m.transportError},
           {"rank_histogram", rankHistogramJson(m)},
+          {"positions", m.geometry.hasPositions()},
           {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
 
@@ -75,7 +82,8 @@ nlohmann::json describeTransport(const TransportReader& t) {
           {"bounces", h.bounces},
           {"indirect_samples", h.bounces > 0 ? nlohmann::json(h.indirectSamples) : nullptr},
           {"indirect_cache_cell", h.bounces > 0 ? nlohmann::json(h.indirectCacheCell) : nullptr},
-          {"stored_values", t.rows() * static_cast<long long>(t.rowLength())}};
+          {"stored_values", t.rows() * static_cast<long long>(t.rowLength())},
+          {"positions", h.hasPositions()}};
 }
 
 nlohmann::json describeFile(const std::string& path) {
@@ -100,7 +108,8 @@ std::string describeInWords(const Model& m, const std::string& path) {
       << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "
       << coeffPrecisionName(m.basisPrecision) << " bases, " << formatBytes(m.frameBytes())
       << " read per frame, " << formatBytes(double(bytes)) << " on disk\n"
-      << "  error        " << m.transportError << " relative to T (Frobenius)\n";
+      << "  error        " << m.transportError << " relative to T (Frobenius)\n"
+      << positionsInWords(m.geometry, "compress (or build) it again from a new transport");
   return out.str();
 }
 
@@ -130,8 +139,8 @@ std::string describeInWords(const TransportReader& t, const std::string& path) {
       << "\n"
       << "  storage      " << precisionName(h.precision) << ", " << storedValues << " values, "
       << formatBytes(t.fileBytes()) << " on disk\n"
-      << "  relight cost " << t.latticeSize()
-      << " multiply-adds of RGB triples per pixel (dense)\n";
+      << "  relight cost " << t.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
+      << positionsInWords(h, "precompute it again");
   return out.str();
 }
 

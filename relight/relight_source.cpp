@@ -7,6 +7,7 @@
 #include "core/stopwatch.h"
 #include "relight/batch_relight.h"
 #include "relight/dense_relight.h"
+#include "relight/local_relight.h"
 
 namespace acpca {
 
@@ -38,6 +39,10 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
       }
       return out;
     };
+    s.relightLocal = [relighter = s.model, path](const std::vector<LocalLight>& lights) {
+      requireLocalLightsApply(relighter->geometry(), path, true, lights);
+      return modelLocalRelight(*relighter, lights);
+    };
     return s;
   }
   if (!maxRank.empty())
@@ -54,6 +59,9 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     auto out = denseRelight(*transport, l);
     ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
     return out;
+  };
+  s.relightLocal = [transport](const std::vector<LocalLight>& lights) {
+    return denseLocalRelight(*transport, lights);
   };
   return s;
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "relight/environment.h"
+#include "relight/local_light.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
 
@@ -29,6 +30,10 @@ struct RelightSource {
   std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
                                                 std::vector<double>& ms)>
       relight;
+  /// The local lights alone (3 floats per occupied row, albedo applied): the
+  /// model's reconstruction or T under them (relight/local_relight.h); refuses
+  /// a file without positions and lights that enclose a pixel's position.
+  std::function<std::vector<float>(const std::vector<LocalLight>&)> relightLocal;
 };
 
 /// Frames a batch relights together: a transport shares one pass over T among

@@ -14,11 +14,12 @@ seconds="${1:-60}"
 seed="${ACPCA_FUZZ_SEED:-1}"
 bash scripts/setup.sh
 [ -x build/tools/adaptive-cpca ] || bash scripts/build.sh >/dev/null
+source scripts/compiler-cache.sh
 
 targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment
-  fuzz_mesh_file)
+  fuzz_mesh_file fuzz_light_spec)
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF "${compiler_cache_flags[@]}" \
   -DACPCA_WERROR="${ACPCA_WERROR:-0}" >/dev/null
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 
@@ -26,7 +27,7 @@ cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 cli=build/tools/adaptive-cpca
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment,fuzz_mesh_file}
+mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment,fuzz_mesh_file,fuzz_light_spec}
 "$cli" precompute --scene sphere --size 4x4 --cubemap 2 --quiet --out "$seeds/fuzz_transport_file/f16.h5"
 "$cli" precompute --scene step --size 3x3 --cubemap 1 --precision f32 --quiet \
   --out "$seeds/fuzz_transport_file/f32.h5"
@@ -35,6 +36,9 @@ mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_sc
 "$cli" compress "$seeds/fuzz_transport_file/f16.h5" --method cpca --clusters 2 --coeffs i8 \
   --quiet --out "$seeds/fuzz_model_file/cpca_i8.h5"
 cp data/scenes/*.json "$seeds/fuzz_scene_json/"
+printf 'point:1,2,3,4' >"$seeds/fuzz_light_spec/point"
+printf 'sphere:0,3,1,0.5,10,20,30' >"$seeds/fuzz_light_spec/sphere"
+printf 'spot:0,4,0,0,-1,0,30,5' >"$seeds/fuzz_light_spec/spot"
 "$cli" envmap sky --cubemap 2 --size 8x4 --quiet --out "$seeds/sky.exr"
 # The environment target's first byte picks the format: 1 is EXR.
 { printf '\001'; cat "$seeds/sky.exr"; } >"$seeds/fuzz_environment/sky"

@@ -8,8 +8,11 @@ namespace acpca::cli {
 void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& outHelp) {
   sub.add_option("--env", envs,
                  "Lighting: image (.exr/.hdr lat-long), directory of them, constant:V, "
-                 "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)")
-      ->required();
+                 "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)");
+  sub.add_option("--light", o.lights,
+                 "Local light, added to every frame: point:X,Y,Z,I, sphere:X,Y,Z,RADIUS,L or "
+                 "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I (I and L grey, or R,G,B; repeatable; "
+                 "docs/lighting.md)");
   sub.add_option("--out", o.out, outHelp)->required();
   sub.add_option("--rotate", rotations, "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
   sub.add_option("--format", o.format, "exr, png or both (default: from --out, exr in batch)");

@@ -114,6 +114,10 @@ bool hasAttribute(hid_t object, const std::string& name) {
   return H5Aexists(object, name.c_str()) > 0;
 }
 
+bool hasDataset(hid_t file, const std::string& name) {
+  return H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0;
+}
+
 namespace {
 
 void writeScalarAttribute(hid_t object, const std::string& name, hid_t type, const void* value,

@@ -52,6 +52,8 @@ void closeWrittenFile(Handle& file, const std::string& path);
 Handle openFileReadOnly(const std::string& path);
 
 bool hasAttribute(hid_t object, const std::string& name);
+/// True when the file holds a link of that name at its root.
+bool hasDataset(hid_t file, const std::string& name);
 void writeAttribute(hid_t object, const std::string& name, long long value, const std::string& ctx);
 void writeAttribute(hid_t object, const std::string& name, double value, const std::string& ctx);
 void writeAttribute(hid_t object, const std::string& name, const std::string& value,

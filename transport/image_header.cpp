@@ -1,5 +1,7 @@
 #include "transport/image_header.h"
 
+#include <cmath>
+
 #include "core/error.h"
 #include "transport/cube_lattice.h"
 #include "transport/hdf5_handles.h"
@@ -37,6 +39,7 @@ void writeImageHeader(hid_t f, const TransportHeader& h, bool withNormals, const
   h5::writeDataset(f, "albedo", {n, 3}, h.albedo.data(), ctx);
   h5::writeDataset(f, "coverage", {n}, h.coverage.data(), ctx);
   if (withNormals) h5::writeDataset(f, "normal", {n, 3}, h.normals.data(), ctx);
+  if (!h.positions.empty()) h5::writeDataset(f, "position", {n, 3}, h.positions.data(), ctx);
 }
 
 TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ctx) {
@@ -75,6 +78,8 @@ TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ct
   expectShape("albedo", {un, 3});
   expectShape("coverage", {un});
   if (withNormals) expectShape("normal", {un, 3});
+  const bool withPositions = h5::hasDataset(f, "position");
+  if (withPositions) expectShape("position", {un, 3});
   h.pixels.resize(n);
   h.albedo.resize(3 * n);
   h.coverage.resize(n);
@@ -83,6 +88,12 @@ TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ct
   h5::readDataset(f, "albedo", h.albedo.data(), ctx);
   h5::readDataset(f, "coverage", h.coverage.data(), ctx);
   if (withNormals) h5::readDataset(f, "normal", h.normals.data(), ctx);
+  if (withPositions) {
+    h.positions.resize(3 * n);
+    h5::readDataset(f, "position", h.positions.data(), ctx);
+    for (float x : h.positions)
+      if (!std::isfinite(x)) throw UserError(concat(ctx, ": dataset 'position' is not finite"));
+  }
   return h;
 }
 

@@ -12,12 +12,14 @@
 namespace acpca {
 
 /// Writes the shared attributes and per-pixel datasets; `withNormals` adds the
-/// "normal" dataset (transport files).
+/// "normal" dataset (transport files); "position" is written when the header
+/// holds positions (both kinds, from transport version 2 and model version 4).
 void writeImageHeader(hid_t file, const TransportHeader& header, bool withNormals,
                       const std::string& context);
 
 /// Reads what writeImageHeader wrote, checking every size against the image
-/// before allocating; without normals they are set to zero. Leaves the
+/// before allocating; without normals they are set to zero, and positions are
+/// left empty when the file has none (older files). Leaves the
 /// transport-only fields (samples, texel rays, precision) at their defaults.
 /// Throws UserError naming `context` (the file) and the field.
 TransportHeader readImageHeader(hid_t file, bool withNormals, const std::string& context);

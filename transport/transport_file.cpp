@@ -37,8 +37,11 @@ void TransportHeader::validate(const std::string& context) const {
                            camera.size.height, " image"));
   if (static_cast<long long>(albedo.size()) != 3 * n ||
       static_cast<long long>(coverage.size()) != n ||
-      static_cast<long long>(normals.size()) != 3 * n)
+      static_cast<long long>(normals.size()) != 3 * n ||
+      (!positions.empty() && static_cast<long long>(positions.size()) != 3 * n))
     throw UserError(concat(context, ": per-pixel arrays do not match the ", n, " rows"));
+  for (float x : positions)
+    if (!std::isfinite(x)) throw UserError(concat(context, ": pixel positions must be finite"));
   for (long long i = 0; i < n; ++i) {
     if (pixels[i] < 0 || pixels[i] >= camera.size.pixels() || (i > 0 && pixels[i] <= pixels[i - 1]))
       throw UserError(concat(context, ": pixel index of row ", i, " is out of order or range"));
@@ -158,9 +161,9 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
       h5::readStringAttribute(f, "format", ctx) != kTransportFormat)
     throw UserError(concat(ctx, ": not an adaptive-cpca transport file"));
   const long long version = h5::readIntAttribute(f, "version", ctx);
-  if (version != kTransportVersion)
+  if (version < kOldestTransportVersion || version > kTransportVersion)
     throw UserError(concat(ctx, ": transport format version ", version, ", this build reads ",
-                           kTransportVersion));
+                           kOldestTransportVersion, " to ", kTransportVersion));
   if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
     throw UserError(concat(ctx, ": the file is incomplete (its precompute did not finish)"));
 

@@ -21,7 +21,9 @@ Precision parsePrecision(const std::string& text);  // "f16" | "f32"
 const char* precisionName(Precision p);
 
 inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
-inline constexpr int kTransportVersion = 1;
+/// Version 2 added the per-pixel `position`; version 1 files are read without it.
+inline constexpr int kTransportVersion = 2;
+inline constexpr int kOldestTransportVersion = 1;
 
 /// Everything about a transport except its rows.
 struct TransportHeader {
@@ -46,6 +48,11 @@ struct TransportHeader {
   std::vector<float> albedo;         ///< 3 per row, linear RGB
   std::vector<float> coverage;       ///< 1 per row: fraction of pixel samples that hit
   std::vector<float> normals;        ///< 3 per row: shading normal (first hit sample)
+  /// 3 per row: the world point the first hit sample's shadow rays start from
+  /// (local lights are seen from there); empty in files made before version 2.
+  std::vector<float> positions;
+
+  bool hasPositions() const { return rows() == 0 || !positions.empty(); }
 
   long long rows() const { return static_cast<long long>(pixels.size()); }
   int latticeSize() const { return 6 * cubemapResolution * cubemapResolution; }

@@ -222,11 +222,17 @@ def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path,
     h5py = pytest.importorskip("h5py")
     current = ac.Relighter(model).relight(ac.Environment("sky"))
     with h5py.File(model, "r") as f:
-        assert f.attrs["version"] == 3
+        assert f.attrs["version"] == 4
+        assert f["position"].shape == f["albedo"].shape
         assert "compress_seconds" not in f.attrs and "peak_memory_bytes" not in f.attrs
-    # Version 2 held the compress's time and peak memory: read, those ignored.
-    old = tmp_path / "v2.h5"
+    # Version 3 had no pixel positions: read, and relit as before.
+    old = tmp_path / "v3.h5"
     old.write_bytes(open(model, "rb").read())
+    with h5py.File(old, "r+") as f:
+        f.attrs["version"] = 3
+        del f["position"]
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    # Version 2 also held the compress's time and peak memory: read, those ignored.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 2
         f.attrs["compress_seconds"] = 12.5

@@ -225,6 +225,60 @@ double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
   return d;
 }
 
+TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
+  TempDir out;
+  // The sphere scene: a unit sphere at the origin, seen from +Z.
+  const std::string lamp = "--light point:1.5,2.5,2,30 --light sphere:-2,1,1.5,0.3,60,50,40";
+  const std::string relight = "relight " + transport_ + " --quiet --exr-float ";
+  ASSERT_EQ(runCli(relight + lamp + " --out " + out.file("lamp.exr")).status, 0);
+  ASSERT_EQ(runCli(relight + "--env sky --out " + out.file("sky.exr")).status, 0);
+  const RunResult both = runCli(relight + lamp + " --env sky --out " + out.file("both.exr"));
+  ASSERT_EQ(both.status, 0) << both.output;
+  const auto alone = readPixels(out.file("lamp.exr")), sky = readPixels(out.file("sky.exr")),
+             sum = readPixels(out.file("both.exr"));
+  ASSERT_FALSE(alone.empty());
+  double peak = 0, lit = 0;
+  for (size_t i = 0; i < alone.size(); ++i) {
+    peak = std::max(peak, double(sum[i]));
+    lit += alone[i];
+    EXPECT_NEAR(sum[i], alone[i] + sky[i], 1e-6 * (alone[i] + sky[i]) + 1e-7) << i;
+  }
+  EXPECT_GT(lit, 0) << "the lamps light something";
+
+  // A batch lists the lights of its frames.
+  ASSERT_EQ(
+      runCli(relight + lamp + " --env sky --env constant:1 --out " + out.file("batch")).status, 0);
+  const std::string manifest = test::readFile(out.file("batch/manifest.csv"));
+  EXPECT_NE(manifest.find("exposure,lights,output"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("\"point:1.5,2.5,2,30;sphere:-2,1,1.5,0.3,60,50,40\""), std::string::npos)
+      << manifest;
+
+  // A model relights the lamps too, within its compression error.
+  const std::string model = out.file("m.h5");
+  ASSERT_EQ(
+      runCli("compress " + transport_ + " --method adaptive-quad --quiet --out " + model).status,
+      0);
+  ASSERT_EQ(runCli("relight " + model + " --quiet --exr-float " + lamp + " --out " +
+                   out.file("model.exr"))
+                .status,
+            0);
+  const auto fromModel = readPixels(out.file("model.exr"));
+  double err = 0, norm = 0;
+  for (size_t i = 0; i < alone.size(); ++i)
+    err += std::pow(fromModel[i] - alone[i], 2), norm += std::pow(alone[i], 2);
+  EXPECT_LT(std::sqrt(err / norm), 0.05);
+
+  expectFailure(relight + "--light point:1,2 --out " + out.file("x.exr"),
+                "--light 'point:1,2': has 2 numbers; write point:X,Y,Z,I");
+  expectFailure(relight + "--light sphere:0,0,0,1.5,1 --out " + out.file("x.exr"),
+                "--light 'sphere:0,0,0,1.5,1': encloses");
+  expectFailure(relight + "--light point:0,3,0,1 --rotate 0:360:90 --out " + out.file("x"),
+                "rotates environments");
+  expectFailure("relight " + transport_ + " --out " + out.file("x.exr"),
+                "give at least one lighting (or a local light)");
+  EXPECT_FALSE(test::fs::exists(out.file("x.exr")));
+}
+
 TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   TempDir out;
   const std::string model = out.file("m.h5");

@@ -21,6 +21,7 @@
 #include "relight/dense_relight.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/local_relight.h"
 #include "relight/relight_kernels.h"
 #include "tests/lighting_support.h"
 #include "tests/test_support.h"
@@ -119,6 +120,56 @@ TEST(ModelRelighter, MatchesThePlainReferenceOnEveryShapeAndPrecision) {
       EXPECT_LT(maxRelativeDifference(fast, reference), 1e-5)
           << coeffPrecisionName(p) << (mean ? " with mean" : "");
     }
+}
+
+TEST(ModelRelighter, LocalLightsMatchThePlainReferenceOnEveryShapeAndPrecision) {
+  // Each pixel sees the lights as its own lattice lighting: the reference
+  // relights the whole model under each pixel's and keeps that pixel.
+  const CubeLattice lattice(2);
+  const std::vector<LocalLight> lights{parseLocalLight("point:0.3,2,-0.5,3,2,1"),
+                                       parseLocalLight("sphere:-1,0.5,2,0.6,4"),
+                                       parseLocalLight("spot:0,-3,0,0.2,1,0,60,5")};
+  for (CoeffPrecision p : {CoeffPrecision::F32, CoeffPrecision::F16, CoeffPrecision::I8})
+    for (bool mean : {false, true}) {
+      Model m = randomModel(p, mean, 7);
+      for (long long r = 0; r < m.rows(); ++r)
+        m.geometry.positions.insert(m.geometry.positions.end(),
+                                    {0.1f * (r % 7) - 0.3f, 0.05f * (r % 5), -0.02f * r});
+      std::vector<float> reference(3 * m.rows());
+      for (long long r = 0; r < m.rows(); ++r) {
+        const Vec3 at(m.geometry.positions[3 * r], m.geometry.positions[3 * r + 1],
+                      m.geometry.positions[3 * r + 2]);
+        const auto image = relightModelReference(m, {localLighting(lights, lattice, at)})[0];
+        std::copy(image.begin() + 3 * r, image.begin() + 3 * r + 3, reference.begin() + 3 * r);
+      }
+      ModelRelighter relighter(m);
+      requireLocalLightsApply(relighter.geometry(), "random.h5", true, lights);
+      EXPECT_LT(maxRelativeDifference(modelLocalRelight(relighter, lights), reference), 1e-5)
+          << coeffPrecisionName(p) << (mean ? " with mean" : "");
+    }
+}
+
+TEST(ModelRelighter, LocalLightsNeedPositionsAndLightsOffTheSurfaces) {
+  Model m = randomModel(CoeffPrecision::F32, false, 3);
+  const std::vector<LocalLight> lamp{parseLocalLight("sphere:0,0,0,0.5,1")};
+  try {
+    requireLocalLightsApply(m.geometry, "old.h5", true, lamp);
+    FAIL() << "a model without positions was accepted";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("old.h5: has no pixel positions"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("compress (or build) it again"), std::string::npos);
+  }
+  m.geometry.positions.assign(3 * m.rows(), 2.0f);
+  std::fill_n(m.geometry.positions.begin() + 3 * 17, 3, 0.1f);  // row 17, pixel (7, 1): inside
+  try {
+    requireLocalLightsApply(m.geometry, "m.h5", true, lamp);
+    FAIL() << "a sphere around a pixel's position was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(e.parameter(), "light");
+    EXPECT_NE(e.problem().find("encloses 1 pixel position(s) of m.h5, the first at pixel (7, 1)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ModelRelighter, EveryKernelLevelGivesTheSameImageWithinRounding) {

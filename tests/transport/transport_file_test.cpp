@@ -29,6 +29,7 @@ TransportHeader smallHeader(Precision precision, int rows) {
     h.albedo.insert(h.albedo.end(), {0.1f * r, 0.5f, 0.25f});
     h.coverage.push_back(1.0f);
     h.normals.insert(h.normals.end(), {0.f, 1.f, 0.f});
+    h.positions.insert(h.positions.end(), {0.5f * r, -1.25f, 3.0f - r});
   }
   std::sort(h.pixels.begin(), h.pixels.end());
   return h;
@@ -126,6 +127,8 @@ TEST_P(TransportRoundTrip, WritesInBlocksAndReadsBack) {
   EXPECT_EQ(reader.rows(), 10);
   EXPECT_EQ(reader.header().pixels, header.pixels);
   EXPECT_EQ(reader.header().albedo, header.albedo);
+  EXPECT_EQ(reader.header().positions, header.positions);
+  EXPECT_TRUE(reader.header().hasPositions());
   EXPECT_EQ(reader.header().scene, "synthetic");
   EXPECT_EQ(reader.header().camera.size.width, 8);
   std::vector<float> back(rows.size());
@@ -273,6 +276,50 @@ TEST(TransportFile, HeaderValidationNamesTheProblem) {
   h = smallHeader(Precision::F16, 3);
   h.albedo[0] = NAN;
   EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.positions[4] = INFINITY;
+  EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.positions.pop_back();
+  EXPECT_THROW(h.validate("x"), UserError);
+}
+
+/// Turns a file written now into one as version 1 wrote it: no positions.
+void makeVersionOneFile(const std::string& path) {
+  h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  ASSERT_GE(file.get(), 0);
+  ASSERT_GE(H5Ldelete(file.get(), "position", H5P_DEFAULT), 0);
+  ASSERT_GE(H5Adelete(file.get(), "version"), 0);
+  h5::writeAttribute(file.get(), "version", 1LL, path);
+}
+
+TEST(TransportFile, VersionOneFilesAreReadWithoutPositions) {
+  TempDir dir;
+  const std::string path = dir.file("v1.h5");
+  const TransportHeader written = writeSmallTransport(path, Precision::F16, 5);
+  makeVersionOneFile(path);
+  const TransportReader reader(path);
+  EXPECT_FALSE(reader.header().hasPositions());
+  EXPECT_EQ(reader.header().albedo, written.albedo);
+  std::vector<float> rows(5 * reader.rowLength());
+  reader.readRows(0, 5, rows.data());  // the rows are as readable as before
+}
+
+TEST(TransportFile, VersionsOutsideTheReadRangeAreRefusedByNumber) {
+  TempDir dir;
+  const std::string path = dir.file("v9.h5");
+  writeSmallTransport(path, Precision::F16, 2);
+  {
+    h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    ASSERT_GE(H5Adelete(file.get(), "version"), 0);
+    h5::writeAttribute(file.get(), "version", 9LL, path);
+  }
+  try {
+    TransportReader reader(path);
+    FAIL() << "version 9 was read";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("version 9"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TransportFile, RefusesAnUnwritableDestination) {

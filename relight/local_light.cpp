@@ -1,0 +1,317 @@
+#include "relight/local_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.h"
+#include "relight/spec_parsing.h"
+
+namespace acpca {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr const char* kParameter = "light";
+
+std::string formatNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+std::vector<std::string> splitNumbers(const std::string& text) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    parts.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return parts;
+}
+
+/// Grey (one value) or RGB (three) emission from the numbers at `first`.
+Rgb emissionFrom(const std::vector<double>& v, size_t first) {
+  return v.size() == first + 1 ? Rgb::Constant(v[first])
+                               : Rgb(v[first], v[first + 1], v[first + 2]);
+}
+
+/// Spot falloff: 1 inside the inner cone, 0 outside the half angle, a
+/// smoothstep in the cosine over the outer kSpotFalloffShare between.
+double spotFalloff(const LocalLight& light, const Vec3& fromLight) {
+  const double half = light.halfAngleDegrees * kPi / 180;
+  const double cosOuter = std::cos(half), cosInner = std::cos((1 - kSpotFalloffShare) * half);
+  const double t =
+      std::clamp((light.axis.dot(fromLight) - cosOuter) / (cosInner - cosOuter), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+/// The four great circles bounding a texel, as inward unit normals: a
+/// direction w lies in the texel when every n . w >= 0, and a cap of angular
+/// radius alpha around w lies in it when every n . w >= sin(alpha).
+std::array<Vec3, 4> texelBoundaryNormals(const CubeLattice& lattice, int texel) {
+  const TexelCoord t = lattice.texelCoord(texel);
+  const double step = 2.0 / lattice.resolution();
+  const double s0 = -1 + t.col * step, s1 = s0 + step, t0 = -1 + t.row * step, t1 = t0 + step;
+  const Vec3 centre = lattice.direction(texel);
+  const auto plane = [&](const Vec3& a, const Vec3& b) {
+    Vec3 n = a.cross(b).normalized();
+    return n.dot(centre) >= 0 ? n : Vec3(-n);
+  };
+  const auto at = [&](double s, double tt) { return CubeLattice::faceDirection(t.face, s, tt); };
+  return {plane(at(s0, t0), at(s0, t1)), plane(at(s1, t0), at(s1, t1)),
+          plane(at(s0, t0), at(s1, t0)), plane(at(s0, t1), at(s1, t1))};
+}
+
+/// Samples of equal solid angle over a cap (rings uniform in cos theta), each
+/// to the texel holding it: for caps up to a couple of texels across.
+void capByRings(const CubeLattice& lattice, const Vec3& axis, double oneMinusCos, double alpha,
+                double texelAngle, std::vector<LightTap>& taps) {
+  const int rings = std::clamp(static_cast<int>(std::ceil(16 * alpha / texelAngle)), 8, 64);
+  const int segments = 2 * rings;
+  const Vec3 helper = std::abs(axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
+  const size_t start = taps.size();
+  for (int r = 0; r < rings; ++r) {
+    const double cosT = 1 - (r + 0.5) / rings * oneMinusCos;
+    const double sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2 * kPi * (s + 0.5 * (r & 1)) / segments;
+      const int j = lattice.texelOf(cosT * axis + sinT * (std::cos(phi) * u + std::sin(phi) * v));
+      // Consecutive samples mostly share a texel: add to the last tap of it.
+      if (taps.size() > start && taps.back().texel == j)
+        taps.back().weight += 1;
+      else
+        taps.push_back({j, 1});
+    }
+  }
+}
+
+/// A large cap texel by texel: texels whose corners are all inside take their
+/// exact solid angle, texels on its rim the solid angle of the 8x8 sub-cells
+/// whose centres are inside. The candidates are, per face, the box of the
+/// rim's points (and the centre and face corners inside) on it, one texel wider.
+void capByTexels(const CubeLattice& lattice, const Vec3& axis, double cosAlpha, double sinAlpha,
+                 std::vector<LightTap>& taps) {
+  const int res = lattice.resolution();
+  std::array<std::array<double, 4>, 6> box;  // per face: s min, s max, t min, t max
+  for (auto& b : box) b = {2, -2, 2, -2};
+  const auto addPoint = [&](int face, double s, double t) {
+    auto& b = box[face];
+    b = {std::min(b[0], s), std::max(b[1], s), std::min(b[2], t), std::max(b[3], t)};
+  };
+  const auto add = [&](const Vec3& d) {
+    int face;
+    double s, t;
+    CubeLattice::faceCoordinates(d, face, s, t);
+    addPoint(face, s, t);
+  };
+  add(axis);
+  const Vec3 helper = std::abs(axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
+  constexpr int kRimPoints = 256;
+  for (int i = 0; i < kRimPoints; ++i) {
+    const double phi = 2 * kPi * i / kRimPoints;
+    add(cosAlpha * axis + sinAlpha * (std::cos(phi) * u + std::sin(phi) * v));
+  }
+  const auto inside = [&](const Vec3& d) { return d.normalized().dot(axis) >= cosAlpha; };
+  for (int face = 0; face < 6; ++face)
+    for (double s : {-1.0, 1.0})
+      for (double t : {-1.0, 1.0})
+        if (inside(CubeLattice::faceDirection(face, s, t))) addPoint(face, s, t);
+
+  const double step = 2.0 / res;
+  constexpr int kSub = 8;
+  for (int face = 0; face < 6; ++face) {
+    const auto& b = box[face];
+    if (b[0] > b[1]) continue;
+    const auto cell = [&](double c) {
+      return std::clamp(static_cast<int>(std::floor((c + 1) / step)), 0, res - 1);
+    };
+    for (int row = std::max(0, cell(b[2]) - 1); row <= std::min(res - 1, cell(b[3]) + 1); ++row)
+      for (int col = std::max(0, cell(b[0]) - 1); col <= std::min(res - 1, cell(b[1]) + 1); ++col) {
+        const double s0 = -1 + col * step, t0 = -1 + row * step;
+        const int texel = lattice.texelIndex({face, row, col});
+        int cornersInside = 0;
+        for (int corner = 0; corner < 4; ++corner)
+          cornersInside += inside(CubeLattice::faceDirection(face, s0 + (corner & 1) * step,
+                                                             t0 + (corner >> 1) * step));
+        if (cornersInside == 4) {  // a cap under 90 degrees is convex: the texel is inside
+          taps.push_back({texel, lattice.solidAngle(texel)});
+          continue;
+        }
+        double covered = 0;
+        const double sub = step / kSub;
+        for (int a = 0; a < kSub; ++a)
+          for (int c = 0; c < kSub; ++c) {
+            const double s = s0 + (c + 0.5) * sub, t = t0 + (a + 0.5) * sub;
+            if (!inside(CubeLattice::faceDirection(face, s, t))) continue;
+            covered += CubeLattice::rectangleSolidAngle(s - 0.5 * sub, t - 0.5 * sub, s + 0.5 * sub,
+                                                        t + 0.5 * sub);
+          }
+        if (covered > 0) taps.push_back({texel, covered});
+      }
+  }
+}
+
+/// The disc of a sphere seen from a point: its solid angle, split over texels.
+bool appendSphereTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                      std::vector<LightTap>& taps) {
+  const Vec3 toLight = light.position - point;
+  const double d = toLight.norm();
+  if (!(d > light.radius)) return false;
+  const Vec3 axis = toLight / d;
+  const double sinAlpha = light.radius / d;
+  const double cosAlpha = std::sqrt(std::max(0.0, 1 - sinAlpha * sinAlpha));
+  const double oneMinusCos = sinAlpha * sinAlpha / (1 + cosAlpha);  // no cancellation
+  const double solidAngle = 2 * kPi * oneMinusCos;
+  const double alpha = std::asin(sinAlpha);
+  const double texelAngle = 0.5 * kPi / lattice.resolution();
+
+  const int centreTexel = lattice.texelOf(axis);
+  if (alpha < texelAngle) {
+    const auto normals = texelBoundaryNormals(lattice, centreTexel);
+    if (std::all_of(normals.begin(), normals.end(),
+                    [&](const Vec3& n) { return n.dot(axis) >= sinAlpha; })) {
+      taps.push_back({centreTexel, solidAngle});  // the whole disc in one texel: exact
+      return true;
+    }
+  }
+  const size_t start = taps.size();
+  if (alpha <= 2 * texelAngle)
+    capByRings(lattice, axis, oneMinusCos, alpha, texelAngle, taps);
+  else
+    capByTexels(lattice, axis, cosAlpha, sinAlpha, taps);
+  // Shares of the exact solid angle: the energy is exact whatever the sampling.
+  double sum = 0;
+  for (size_t i = start; i < taps.size(); ++i) sum += taps[i].weight;
+  if (!(sum > 0)) {
+    taps.resize(start);
+    taps.push_back({centreTexel, solidAngle});
+    return true;
+  }
+  for (size_t i = start; i < taps.size(); ++i) taps[i].weight *= solidAngle / sum;
+  return true;
+}
+
+}  // namespace
+
+std::string LocalLight::canonicalSpec() const {
+  std::string text = kLocalLightKindNames.name(kind);
+  const auto add = [&](double v) {
+    if (text.back() != ':') text += ',';
+    text += formatNumber(v);
+  };
+  text += ":";
+  for (int i = 0; i < 3; ++i) add(position[i]);
+  if (kind == LocalLightKind::Sphere) add(radius);
+  if (kind == LocalLightKind::Spot) {
+    for (int i = 0; i < 3; ++i) add(axis[i]);
+    add(halfAngleDegrees);
+  }
+  if (emission.x() == emission.y() && emission.y() == emission.z())
+    add(emission.x());
+  else
+    for (int i = 0; i < 3; ++i) add(emission[i]);
+  return text;
+}
+
+LocalLight parseLocalLight(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  if (colon == std::string::npos)
+    throw ParameterError(
+        kParameter, spec,
+        concat("is not KIND:NUMBERS with KIND one of ", kLocalLightKindNames.list(),
+               " (docs/lighting.md, \"Local lights\")"));
+  LocalLight light;
+  try {
+    light.kind = kLocalLightKindNames.parse(spec.substr(0, colon));
+  } catch (const ParameterError& e) {
+    throw ParameterError(kParameter, spec, concat("'", e.value(), "' ", e.problem()));
+  }
+  std::vector<double> v;
+  for (const std::string& part : splitNumbers(spec.substr(colon + 1)))
+    v.push_back(parseFiniteNumber(part, kParameter, spec));
+  // Numbers before the emission, and the grammar to quote when the count is off.
+  const auto [before, grammar] = [&]() -> std::pair<size_t, const char*> {
+    switch (light.kind) {
+      case LocalLightKind::Sphere:
+        return {4, "sphere:X,Y,Z,RADIUS,L or sphere:X,Y,Z,RADIUS,R,G,B"};
+      case LocalLightKind::Spot:
+        return {7, "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I or ...,HALF_ANGLE_DEG,R,G,B"};
+      default:
+        return {3, "point:X,Y,Z,I or point:X,Y,Z,R,G,B"};
+    }
+  }();
+  if (v.size() != before + 1 && v.size() != before + 3)
+    throw ParameterError(kParameter, spec, concat("has ", v.size(), " numbers; write ", grammar));
+  light.position = Vec3(v[0], v[1], v[2]);
+  if (light.kind == LocalLightKind::Sphere) light.radius = v[3];
+  if (light.kind == LocalLightKind::Spot) {
+    light.axis = Vec3(v[3], v[4], v[5]);
+    light.halfAngleDegrees = v[6];
+  }
+  light.emission = emissionFrom(v, before);
+  light.spec = spec;
+  validateLocalLight(light);
+  return light;
+}
+
+void validateLocalLight(LocalLight& light) {
+  if (light.spec.empty()) light.spec = light.canonicalSpec();
+  const auto refuse = [&](const std::string& problem) {
+    throw ParameterError(kParameter, light.spec, problem);
+  };
+  // Bounds that keep every square and product of the relight finite in float.
+  if (!light.position.allFinite() || light.position.cwiseAbs().maxCoeff() > kMaxLightCoordinate)
+    refuse(concat("its position must be finite, within +-", kMaxLightCoordinate));
+  if (!light.emission.allFinite() || light.emission.minCoeff() < 0 ||
+      light.emission.maxCoeff() > kMaxLightEmission)
+    refuse(concat(light.kind == LocalLightKind::Sphere ? "its radiance" : "its intensity",
+                  " must be finite and in [0, ", kMaxLightEmission, "]"));
+  if (light.kind == LocalLightKind::Sphere &&
+      !(light.radius > 0 && light.radius <= kMaxLightCoordinate))
+    refuse(concat("its radius must be finite and in (0, ", kMaxLightCoordinate, "]"));
+  if (light.kind == LocalLightKind::Spot) {
+    if (!light.axis.allFinite() || !(light.axis.norm() > 0))
+      refuse("its direction DX,DY,DZ is zero or not finite");
+    light.axis.normalize();
+    if (!(light.halfAngleDegrees > 0 && light.halfAngleDegrees <= 90))
+      refuse("its half angle must be in (0, 90] degrees");
+  }
+}
+
+bool appendLightTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                     std::vector<LightTap>& taps) {
+  if (light.kind == LocalLightKind::Sphere) return appendSphereTaps(light, lattice, point, taps);
+  const Vec3 toLight = light.position - point;
+  const double d2 = toLight.squaredNorm();
+  if (!(d2 > 0)) return false;
+  double irradiance = 1 / d2;  // inverse square law, per unit intensity
+  if (!(irradiance <= kMaxIrradiancePerIntensity)) return false;  // on the point, to rounding
+  if (light.kind == LocalLightKind::Spot)
+    irradiance *= spotFalloff(light, -toLight / std::sqrt(d2));
+  if (irradiance == 0) return true;
+  for (const BilinearTap& tap : lattice.bilinearTaps(toLight))
+    if (tap.weight != 0) taps.push_back({tap.texel, tap.weight * irradiance});
+  return true;
+}
+
+LatticeLighting localLighting(const std::vector<LocalLight>& lights, const CubeLattice& lattice,
+                              const Vec3& point) {
+  LatticeLighting lighting(3 * static_cast<size_t>(lattice.size()), 0.0);
+  std::vector<LightTap> taps;
+  for (const LocalLight& light : lights) {
+    taps.clear();
+    if (!appendLightTaps(light, lattice, point, taps))
+      throw ParameterError(kParameter, light.spec, "encloses or touches the point it is seen from");
+    for (const LightTap& tap : taps)
+      for (int c = 0; c < 3; ++c) lighting[3 * tap.texel + c] += tap.weight * light.emission[c];
+  }
+  return lighting;
+}
+
+}  // namespace acpca

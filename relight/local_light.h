@@ -1,0 +1,78 @@
+#pragma once
+// Local lights: point, sphere and spot lights at world positions, seen from
+// each pixel's position as a sparse lattice lighting (docs/lighting.md,
+// "Local lights"). Visibility in the transport was traced to infinity, so a
+// local light is exact only where nothing lies between it and infinity along
+// each pixel's ray to it.
+#include <string>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "relight/environment.h"
+
+namespace acpca {
+
+enum class LocalLightKind { Point, Sphere, Spot };
+inline constexpr EnumNames<LocalLightKind, 3> kLocalLightKindNames{
+    "light kind",
+    {{{LocalLightKind::Point, "point"},
+      {LocalLightKind::Sphere, "sphere"},
+      {LocalLightKind::Spot, "spot"}}}};
+
+/// Spot lights fall smoothly to zero over this outer share of the half angle.
+inline constexpr double kSpotFalloffShare = 0.1;
+/// Bounds on a light's numbers: coordinates and radii, and emission, such that
+/// every relit value stays finite in float.
+inline constexpr double kMaxLightCoordinate = 1e15;
+inline constexpr double kMaxLightEmission = 1e20;
+/// A point seen closer than 1e-8 units (per unit intensity) counts as touching.
+inline constexpr double kMaxIrradiancePerIntensity = 1e16;
+
+struct LocalLight {
+  LocalLightKind kind = LocalLightKind::Point;
+  Vec3 position = Vec3::Zero();
+  /// Point and spot: radiant intensity per channel (a diffuse plane of albedo
+  /// a facing it at distance d shows a I / (pi d^2)). Sphere: the uniform
+  /// radiance of its surface (the same plane shows a L (radius / d)^2).
+  Rgb emission = Rgb::Ones();
+  double radius = 0;             ///< sphere
+  Vec3 axis = Vec3(0, -1, 0);    ///< spot: unit direction the cone opens along
+  double halfAngleDegrees = 45;  ///< spot
+  std::string spec;              ///< the text it came from (messages, manifests)
+
+  /// The light as the CLI grammar writes it (point:X,Y,Z,R,G,B, ...).
+  std::string canonicalSpec() const;
+};
+
+/// Parses `point:X,Y,Z,I`, `point:X,Y,Z,R,G,B`, `sphere:X,Y,Z,RADIUS,L` (or
+/// `...,RADIUS,R,G,B`), `spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I` (or `...,R,G,B`).
+/// Throws ParameterError ("light") naming the spec and what is wrong.
+LocalLight parseLocalLight(const std::string& spec);
+/// Checks a light built in code (Python) as the parser checks text:
+/// finite values, emission >= 0, radius > 0, a non-zero spot axis (normalised
+/// here), a half angle in (0, 90]. Throws ParameterError ("light").
+void validateLocalLight(LocalLight& light);
+
+/// One texel's share of a light seen from a point: the lattice lighting
+/// (radiance x solid angle, per unit of the light's emission) it adds there.
+struct LightTap {
+  int texel = 0;
+  double weight = 0;
+};
+
+/// What a light adds to the lattice lighting at `point`, per unit emission,
+/// appended to `taps` (texels may repeat). A point or spot light: its
+/// irradiance 1/d^2 (times the spot's falloff) over the four texels nearest
+/// its direction with bilinear weights, so it moves smoothly across texels. A
+/// sphere: its disc's exact solid angle 2 pi (1 - cos alpha), split over the
+/// texels it covers in proportion to the covered solid angle. Returns false
+/// when the point lies inside the sphere or on the point light (taps untouched).
+bool appendLightTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                     std::vector<LightTap>& taps);
+
+/// The lights as they are seen from one point, summed into a lattice lighting
+/// (3 values per texel, as environments give): the whole lighting of a pixel.
+LatticeLighting localLighting(const std::vector<LocalLight>& lights, const CubeLattice& lattice,
+                              const Vec3& point);
+
+}  // namespace acpca

@@ -1,0 +1,38 @@
+#pragma once
+// Relighting under local lights (docs/lighting.md, "Local lights"): each
+// pixel sees the lights from its own world position as a sparse lattice
+// lighting (relight/local_light.h), which meets the pixel's transport row: T
+// itself (the dense ground truth) or the model's reconstruction of it,
+// u_p . (W_c^T V_g^T e_j) per texel j the pixel's lights touch, formed once per
+// cluster and texel. Both are linear in the lights, so a frame under an
+// environment and lights is the sum of the two relights.
+#include <string>
+#include <vector>
+
+#include "relight/local_light.h"
+#include "relight/model_relighter.h"
+#include "transport/transport_file.h"
+
+namespace acpca {
+
+/// Refuses lights that cannot be relit from this file: a file without pixel
+/// positions (UserError naming `path` and what to run again; `model` picks the
+/// advice), a light that encloses or touches a pixel's position (ParameterError
+/// "light" with the count and the first pixel: the transport there would need
+/// the light inside the surface).
+void requireLocalLightsApply(const TransportHeader& header, const std::string& path, bool model,
+                             const std::vector<LocalLight>& lights);
+
+/// Per occupied row RGB (rows x 3, albedo applied) under the lights alone,
+/// from T (refusing what requireLocalLightsApply refuses): one pass over the file, parallel over
+/// blocks of rows; the same values for any thread count.
+std::vector<float> denseLocalRelight(const TransportReader& transport,
+                                     const std::vector<LocalLight>& lights);
+
+/// The same from a model at the relighter's rank limit (call
+/// requireLocalLightsApply first): per cluster, in parallel, the columns of
+/// its reconstruction that the cluster's pixels' lights touch, then each row.
+std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
+                                     const std::vector<LocalLight>& lights);
+
+}  // namespace acpca
