@@ -35,6 +35,19 @@ inline LoadedTransport precomputeInMemory(const Scene& scene, const PrecomputeOp
   return t;
 }
 
+/// A floor of `material` through the origin, seen from straight above (+Y),
+/// filling a size x size image.
+inline Scene floorScene(int size, const Material& material) {
+  Scene s{"floor", {}, {}, {}, {}};
+  s.camera.eye = {0, 5, 0};
+  s.camera.target = {0, 0, 0};
+  s.camera.up = {0, 0, -1};
+  s.camera.fovDegrees = 20;
+  s.camera.size = {size, size};
+  s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 100, material, "floor"));
+  return s;
+}
+
 /// The small plant the compression and relighting suites share: 40x40 pixels,
 /// a 6x8x8 lattice, f32 rows, written to `path`.
 inline void precomputeSmallPlant(const std::string& path) {

@@ -89,14 +89,7 @@ TEST(Ggx, ThePrecomputeIntegratesItAsAFineQuadratureDoes) {
   // A white GGX floor (ks = 1) seen from straight above under constant:1:
   // each pixel is the specular directional albedo at its view angle.
   for (double alpha : {0.3, 0.8}) {
-    Scene s{"ggx-floor", {}, {}, {}, {}};
-    s.camera.eye = {0, 5, 0};
-    s.camera.target = {0, 0, 0};
-    s.camera.up = {0, 0, -1};
-    s.camera.fovDegrees = 20;
-    s.camera.size = {9, 9};
-    s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 100,
-                                Material{Material::Type::Ggx, {1, 1, 1}, 1.0, 1, alpha}, "floor"));
+    Scene s = test::floorScene(9, Material{Material::Type::Ggx, {1, 1, 1}, 1.0, 1, alpha});
     PrecomputeOptions o;
     o.cubemapResolution = 32;
     o.texelRays = 4;

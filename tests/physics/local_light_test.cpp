@@ -10,6 +10,7 @@
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "relight/local_relight.h"
+#include "tests/render_support.h"
 #include "tests/temp_dir.h"
 
 namespace acpca {
@@ -23,14 +24,7 @@ struct Floor {
   test::TempDir dir;
   std::string path = dir.file("floor.h5");
   Floor() {
-    Scene s{"floor", {}, {}, {}, {}};
-    s.camera.eye = {0, 5, 0};
-    s.camera.target = {0, 0, 0};
-    s.camera.up = {0, 0, -1};
-    s.camera.fovDegrees = 20;
-    s.camera.size = {24, 24};
-    s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 100,
-                                {Material::Type::Diffuse, {kAlbedo, kAlbedo, kAlbedo}}, "floor"));
+    const Scene s = test::floorScene(24, {Material::Type::Diffuse, {kAlbedo, kAlbedo, kAlbedo}});
     PrecomputeOptions o;
     o.cubemapResolution = 32;
     o.precision = Precision::F32;

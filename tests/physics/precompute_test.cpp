@@ -45,14 +45,7 @@ Material grey(float a) {
 
 /// A diffuse floor seen from straight above, filling the image.
 Scene floorScene(int size) {
-  Scene s{"floor", {}, {}, {}, {}};
-  s.camera.eye = {0, 5, 0};
-  s.camera.target = {0, 0, 0};
-  s.camera.up = {0, 0, -1};
-  s.camera.fovDegrees = 20;
-  s.camera.size = {size, size};
-  s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 100, grey(0.8f), "floor"));
-  return s;
+  return test::floorScene(size, grey(0.8f));
 }
 
 TEST(Precompute, FurnaceSphereUnderConstantLightIsHalfEverywhere) {
