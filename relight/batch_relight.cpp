@@ -195,18 +195,16 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 /// manifest: equal runs write equal files (frame times go to the JSON report).
 class FrameWriting {
  public:
+  /// lightsText: every frame's local lights, canonical, ';'-separated.
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
-               const std::vector<ImageFormat>& formats, bool batch)
+               const std::vector<ImageFormat>& formats, bool batch, std::string lightsText)
       : a_(a),
         frames_(frames),
         formats_(formats),
         batch_(batch),
         encoding_(encodingFor(a, batch)),
+        lightsText_(std::move(lightsText)),
         writer_(writingThreads(), kFramesInFlight) {
-    for (const std::string& light : a.lights) {
-      if (!lightsText_.empty()) lightsText_ += ';';
-      lightsText_ += parseLocalLight(light).canonicalSpec();
-    }
     if (batch)
       manifest_.emplace((fs::path(a.out) / "manifest.csv").string(),
                         std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure",
@@ -282,8 +280,8 @@ class FrameWriting {
   const std::vector<ImageFormat>& formats_;
   const bool batch_;
   const ImageEncoding encoding_;
+  const std::string lightsText_;  ///< the manifest's `lights` column
   std::optional<BatchManifest> manifest_;
-  std::string lightsText_;  ///< the lights, canonical, ';'-separated (the manifest's column)
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;
@@ -427,9 +425,14 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   // Local lights alone: one frame over a black environment.
   if (inputs.empty()) inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
   std::vector<float> localRows;
+  std::string lightsText;
   if (!a.lights.empty()) {
     std::vector<LocalLight> lights;
-    for (const std::string& spec : a.lights) lights.push_back(parseLocalLight(spec));
+    for (const std::string& spec : a.lights) {
+      lights.push_back(parseLocalLight(spec));
+      if (!lightsText.empty()) lightsText += ';';
+      lightsText += lights.back().canonicalSpec();
+    }
     const Stopwatch watch;
     localRows = source.relightLocal(lights);
     stages.localLights = watch.seconds();
@@ -442,7 +445,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
       for (const auto& r : rotations) frames.push_back({&in, r});
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
-  if (rank == 0) writing.emplace(a, frames, formats, batch);
+  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(lightsText));
   std::vector<double> msPerFrame;
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
