@@ -4,6 +4,9 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Core>
+#include <algorithm>
+
 #include "core/error.h"
 #include "core/half.h"
 #include "relight/relight_kernels.h"
@@ -14,6 +17,7 @@ namespace acpca {
 namespace {
 
 using kernels::kChunkRows;
+using RowMatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 /// One texel of a pixel's local lighting, all lights summed: radiance x solid
 /// angle per channel.
@@ -48,63 +52,53 @@ std::string pixelName(const TransportHeader& h, long long row) {
   return concat("(", h.pixels[row] % width, ", ", h.pixels[row] / width, ")");
 }
 
-/// A cluster's reconstruction of T at the row elements its pixels' lights
-/// touch, one column (W_c^T V_g^T e, then mu_c . V_g^T e) per element, made
-/// when first asked for.
-class ClusterColumns {
- public:
-  ClusterColumns(const PackedModel& m, const std::vector<int>& seenIndex)
-      : m_(m), seenIndex_(seenIndex), slotOf_(seenIndex.size(), -1) {}
-
-  /// Starts cluster c with its first `rank` bases; forgets the last one's columns.
-  void start(int cluster, int rank) {
-    for (int e : used_) slotOf_[e] = -1;
-    used_.clear();
-    columns_.clear();
-    cluster_ = cluster;
-    rank_ = rank;
-  }
-
-  /// The column of element e (rank_ + 1 values), or null when no pixel sees it.
-  const double* column(int e) {
-    if (slotOf_[e] >= 0) return columns_.data() + static_cast<size_t>(slotOf_[e]) * (rank_ + 1);
-    const int seen = seenIndex_[e];
-    if (seen < 0) return nullptr;
-    const size_t at = columns_.size();
-    slotOf_[e] = static_cast<int>(at / (rank_ + 1));
-    used_.push_back(e);
-    columns_.resize(at + rank_ + 1, 0.0);
-    const int n = m_.globalBases;
-    const long long seenCount = static_cast<long long>(m_.seenTexels.size());
-    const long long basis = m_.basisOffset[cluster_];
-    for (int g = 0; g < n; ++g) {
-      const double v = m_.globalBasis[g * seenCount + seen];  // V_g[e, g]
-      if (v == 0) continue;
-      for (int k = 0; k < rank_; ++k) {
-        const long long w = basis + (k / kChunkRows) * kChunkRows * n + g * kChunkRows +
-                            k % kChunkRows;  // W_c[g, k], packed_model.h
-        columns_[at + k] += v * basisValue(w);
-      }
-      if (m_.hasMean) columns_[at + rank_] += v * m_.means[static_cast<size_t>(cluster_) * n + g];
-    }
-    return columns_.data() + at;
-  }
-
- private:
-  double basisValue(long long i) const {
-    if (m_.basisPrecision != CoeffPrecision::F16) return m_.bases[i];
-    float f;
-    halfToFloat(&m_.basesF16[i], &f, 1);
-    return f;
-  }
-
-  const PackedModel& m_;
-  const std::vector<int>& seenIndex_;
-  std::vector<int> slotOf_;
-  std::vector<int> used_;
-  std::vector<double> columns_;
-  int cluster_ = 0, rank_ = 0;
+/// One cluster's rows with the taps of their lights, and the row elements
+/// (texel, or channel x texel) those taps touch that V_g sees, sorted.
+struct ClusterTaps {
+  std::vector<std::int32_t> rows;  ///< in chunk order
+  std::vector<size_t> lane;        ///< per row: chunk index x 16 + lane
+  std::vector<size_t> tapStart;    ///< per row, and one past the last
+  std::vector<ColourTap> taps;
+  std::vector<int> elements;
 };
+
+/// V_g's rows for the given elements, row by row (elements x N): one pass over
+/// V_g, which is stored global basis by global basis.
+std::vector<float> gatherGlobalRows(const PackedModel& m, const std::vector<int>& seenOfSlot) {
+  const int n = m.globalBases;
+  const long long seen = static_cast<long long>(m.seenTexels.size());
+  std::vector<float> rows(seenOfSlot.size() * n);
+  tbb::parallel_for(0, n, [&](int g) {
+    for (size_t slot = 0; slot < seenOfSlot.size(); ++slot)
+      rows[slot * n + g] = m.globalBasis[g * seen + seenOfSlot[slot]];
+  });
+  return rows;
+}
+
+/// W_c^T G^T for a cluster's first `rank` bases (rank x |G| values, column
+/// by column): one product per basis chunk of 16, as packed_model.h stores them.
+Eigen::MatrixXf clusterColumns(const PackedModel& m, int cluster, int rank,
+                               const Eigen::Ref<const RowMatrixF>& g) {
+  const int n = m.globalBases;
+  Eigen::MatrixXf columns(rank, g.rows());
+  std::vector<float> chunk;
+  for (int first = 0; first < rank; first += kChunkRows) {
+    const long long at = m.basisOffset[cluster] + static_cast<long long>(first) * n;
+    const float* values = nullptr;
+    if (m.basisPrecision == CoeffPrecision::F16) {
+      chunk.resize(static_cast<size_t>(n) * kChunkRows);
+      halfToFloat(m.basesF16.data() + at, chunk.data(), chunk.size());
+      values = chunk.data();
+    } else {
+      values = m.bases.data() + at;
+    }
+    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, kChunkRows, Eigen::RowMajor>> w(
+        values, n, kChunkRows);
+    const int count = std::min(kChunkRows, rank - first);
+    columns.middleRows(first, count).noalias() = w.leftCols(count).transpose() * g.transpose();
+  }
+  return columns;
+}
 
 /// Coefficient k of lane `lane` of chunk j, as a float (i8 steps applied).
 double coefficient(const PackedModel& m, size_t j, int k, int lane) {
@@ -191,40 +185,90 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
   const PackedModel& m = *relighter.packed();
   const TransportHeader& h = m.geometry;
   const CubeLattice lattice(h.cubemapResolution);
-  const int l = h.latticeSize();
+  const int l = h.latticeSize(), n = m.globalBases;
   std::vector<float> out(3 * static_cast<size_t>(m.rows()), 0.0f);
   if (lights.empty() || m.rows() == 0) return out;
   std::vector<int> seenIndex(h.rowLength(), -1);
   for (size_t i = 0; i < m.seenTexels.size(); ++i) seenIndex[m.seenTexels[i]] = static_cast<int>(i);
-  std::vector<std::vector<size_t>> chunksOf(m.clusters());
-  for (size_t j = 0; j < m.chunks.size(); ++j) chunksOf[m.chunks[j].cluster].push_back(j);
 
-  tbb::enumerable_thread_specific<ClusterColumns> columnsOf(m, seenIndex);
+  // 1. Every row's taps, cluster by cluster, and the elements each cluster needs.
+  std::vector<ClusterTaps> clusters(m.clusters());
+  for (size_t j = 0; j < m.chunks.size(); ++j)
+    for (int lane = 0; lane < kChunkRows; ++lane)
+      if (const std::int32_t row = m.chunkRows[j * kChunkRows + lane]; row >= 0) {
+        ClusterTaps& c = clusters[m.chunks[j].cluster];
+        c.rows.push_back(row);
+        c.lane.push_back(j * kChunkRows + lane);
+      }
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
-    ClusterColumns& columns = columnsOf.local();
-    const int rank = relighter.activeRanks()[cluster];
-    columns.start(cluster, rank);
+    ClusterTaps& c = clusters[cluster];
     std::vector<LightTap> scratch;
     std::vector<ColourTap> taps;
-    std::vector<double> u(rank);
-    for (size_t j : chunksOf[cluster])
-      for (int lane = 0; lane < kChunkRows; ++lane) {
-        const long long row = m.chunkRows[j * kChunkRows + lane];
-        if (row < 0) continue;
-        colourTaps(lights, lattice, positionOf(h, row), scratch, taps);
-        for (int k = 0; k < rank; ++k) u[k] = coefficient(m, j, k, lane);
-        for (int c = 0; c < 3; ++c) {
-          double value = 0;
-          for (const ColourTap& tap : taps) {
-            const double* column = columns.column(elementOf(c, tap.texel, h.channels, l));
-            if (!column) continue;  // a direction no pixel sees: zero in V_g
-            double t = column[rank];
-            for (int k = 0; k < rank; ++k) t += u[k] * column[k];
-            value += tap.weight[c] * t;
-          }
-          out[3 * row + c] = static_cast<float>(h.albedo[3 * row + c] * value);
-        }
+    for (std::int32_t row : c.rows) {
+      c.tapStart.push_back(c.taps.size());
+      colourTaps(lights, lattice, positionOf(h, row), scratch, taps);
+      c.taps.insert(c.taps.end(), taps.begin(), taps.end());
+      for (const ColourTap& t : taps)
+        for (int ch = 0; ch < h.channels; ++ch)
+          if (const int e = elementOf(ch, t.texel, h.channels, l); seenIndex[e] >= 0)
+            c.elements.push_back(e);
+    }
+    c.tapStart.push_back(c.taps.size());
+    std::sort(c.elements.begin(), c.elements.end());
+    c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
+  });
+
+  // 2. V_g's rows for every element some cluster needs.
+  std::vector<int> slotOf(h.rowLength(), -1), seenOfSlot;
+  for (const ClusterTaps& c : clusters)
+    for (int e : c.elements)
+      if (slotOf[e] < 0) {
+        slotOf[e] = static_cast<int>(seenOfSlot.size());
+        seenOfSlot.push_back(seenIndex[e]);
       }
+  const std::vector<float> globalRows = gatherGlobalRows(m, seenOfSlot);
+
+  // 3. Per cluster its columns (W_c^T V_g^T e and mu_c . V_g^T e per element),
+  //    then each row: its coefficients against the columns of its taps.
+  tbb::enumerable_thread_specific<std::vector<int>> columnOfElement(h.rowLength(), -1);
+  tbb::parallel_for(0, m.clusters(), [&](int cluster) {
+    const ClusterTaps& c = clusters[cluster];
+    const int rank = relighter.activeRanks()[cluster];
+    if (c.elements.empty() || (rank == 0 && !m.hasMean)) return;
+    RowMatrixF g(c.elements.size(), n);
+    std::vector<int>& columnOf = columnOfElement.local();
+    for (size_t i = 0; i < c.elements.size(); ++i) {
+      std::copy_n(globalRows.data() + static_cast<size_t>(slotOf[c.elements[i]]) * n, n,
+                  g.row(i).data());
+      columnOf[c.elements[i]] = static_cast<int>(i);
+    }
+    const Eigen::MatrixXf columns = clusterColumns(m, cluster, rank, g);
+    Eigen::VectorXf meanTerm = Eigen::VectorXf::Zero(g.rows());
+    if (m.hasMean)
+      meanTerm = g * Eigen::Map<const Eigen::VectorXf>(m.means.data() + size_t(cluster) * n, n);
+    std::vector<double> u(rank);
+    for (size_t r = 0; r < c.rows.size(); ++r) {
+      const size_t chunk = c.lane[r] / kChunkRows;
+      const int lane = static_cast<int>(c.lane[r] % kChunkRows);
+      for (int k = 0; k < rank; ++k) u[k] = coefficient(m, chunk, k, lane);
+      const std::int32_t row = c.rows[r];
+      Rgb value = Rgb::Zero();
+      for (size_t t = c.tapStart[r]; t < c.tapStart[r + 1]; ++t)
+        for (int ch = 0; ch < h.channels; ++ch) {  // one row serves R, G and B, or one each
+          const int column = columnOf[elementOf(ch, c.taps[t].texel, h.channels, l)];
+          if (column < 0) continue;  // a direction no pixel sees: zero in V_g
+          double transport = meanTerm[column];
+          for (int k = 0; k < rank; ++k) transport += u[k] * columns(k, column);
+          if (h.channels == 1)
+            value += transport * c.taps[t].weight;
+          else
+            value[ch] += transport * c.taps[t].weight[ch];
+        }
+      for (int ch = 0; ch < 3; ++ch)
+        out[3 * static_cast<size_t>(row) + ch] =
+            static_cast<float>(h.albedo[3 * row + ch] * value[ch]);
+    }
+    for (int e : c.elements) columnOf[e] = -1;
   });
   return out;
 }

@@ -180,14 +180,14 @@ TEST(LocalLightTaps, ASphereDeliversItsExactSolidAngleOverTheTexelsItCovers) {
       EXPECT_NEAR(sumOf(taps), exact, 1e-12 * exact) << "energy is exact";
       // Texel by texel against brute force: the share of the disc's solid
       // angle that sits in another texel than it should (half the L1
-      // difference) is small.
+      // difference) is small: at most 1.0% over these cases.
       const auto brute = bruteForceCap(lattice, centre / d, cosAlpha);
       const auto mine = byTexel(taps);
       double misplaced = 0;
       for (const auto& [j, w] : mine) misplaced += std::abs(w - (brute.count(j) ? brute.at(j) : 0));
       for (const auto& [j, w] : brute)
         if (!mine.count(j)) misplaced += w;
-      EXPECT_LT(misplaced / 2, 0.02 * exact)
+      EXPECT_LT(misplaced / 2, 0.015 * exact)
           << "alpha " << alphaTexels << " texels at " << centre.transpose();
     }
 }
