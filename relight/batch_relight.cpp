@@ -387,6 +387,8 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.envs.empty() && a.rotations.size() > 1)
     throw ParameterError("rotation", "", "rotates environments: give one with it");
   for (const std::string& light : a.lights) parseLocalLight(light);
+  if (!(a.anchorSpread >= 0 && a.anchorSpread <= 64))
+    throw ParameterError("anchor spread", a.anchorSpread, "is not in 0..64 texels");
   requireFinite(a.exposure, "exposure");
   if (a.pngLevel < 0 || a.pngLevel > 9)
     throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
@@ -434,7 +436,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
       lightsText += lights.back().canonicalSpec();
     }
     const Stopwatch watch;
-    localRows = source.relightLocal(lights);
+    localRows = source.relightLocal(lights, a.anchorSpread);
     stages.localLights = watch.seconds();
   }
 

@@ -11,6 +11,7 @@
 
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/local_relight.h"
 #include "relight/model_relighter.h"
 #include "relight/rotation.h"
 
@@ -37,6 +38,9 @@ struct BatchRelightOptions {
   /// Local lights (relight/local_light.h grammar), the same in every frame and
   /// added to each; without envs they light the one frame alone.
   std::vector<std::string> lights;
+  /// Models: texels of direction within which a cluster's pixels share a
+  /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
+  double anchorSpread = kAnchorSpreadTexels;
   std::vector<EnvRotation> rotations{EnvRotation{}};
   std::string out;     ///< an image, or a directory when batch
   std::string format;  ///< exr, png, both; empty: see imageFormatsFor

@@ -181,17 +181,20 @@ void capByTexels(const CubeLattice& lattice, const Vec3& axis, double cosAlpha, 
   }
 }
 
-/// The disc of a sphere seen from a point: its solid angle, split over texels.
-bool appendSphereTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
-                      std::vector<LightTap>& taps) {
-  const Vec3 toLight = light.position - point;
-  const double d = toLight.norm();
-  if (!(d > light.radius)) return false;
+/// A sphere's solid angle seen from a point at distance d from its centre,
+/// 2 pi (1 - cos alpha) with sin alpha = radius / d, without cancellation.
+double sphereSolidAngle(double radius, double d) {
+  const double sinAlpha = radius / d;
+  const double cosAlpha = std::sqrt(std::max(0.0, 1 - sinAlpha * sinAlpha));
+  return 2 * kPi * sinAlpha * sinAlpha / (1 + cosAlpha);
+}
+
+/// The shares of a sphere's disc in the texels it covers (summing to 1).
+void appendSphereShares(const LocalLight& light, const CubeLattice& lattice, const Vec3& toLight,
+                        double d, std::vector<LightTap>& taps) {
   const Vec3 axis = toLight / d;
   const double sinAlpha = light.radius / d;
   const double cosAlpha = std::sqrt(std::max(0.0, 1 - sinAlpha * sinAlpha));
-  const double oneMinusCos = sinAlpha * sinAlpha / (1 + cosAlpha);  // no cancellation
-  const double solidAngle = 2 * kPi * oneMinusCos;
   const double alpha = std::asin(sinAlpha);
   const double texelAngle = 0.5 * kPi / lattice.resolution();
 
@@ -200,8 +203,8 @@ bool appendSphereTaps(const LocalLight& light, const CubeLattice& lattice, const
     const auto normals = texelBoundaryNormals(lattice, centreTexel);
     if (std::all_of(normals.begin(), normals.end(),
                     [&](const Vec3& n) { return n.dot(axis) >= sinAlpha; })) {
-      taps.push_back({centreTexel, solidAngle});  // the whole disc in one texel: exact
-      return true;
+      taps.push_back({centreTexel, 1.0});  // the whole disc in one texel: exact
+      return;
     }
   }
   const size_t start = taps.size();
@@ -209,16 +212,14 @@ bool appendSphereTaps(const LocalLight& light, const CubeLattice& lattice, const
     capByCells(lattice, axis, cosAlpha, sinAlpha, alpha, texelAngle, taps);
   else
     capByTexels(lattice, axis, cosAlpha, sinAlpha, taps);
-  // Shares of the exact solid angle: the energy is exact whatever the sampling.
   double sum = 0;
   for (size_t i = start; i < taps.size(); ++i) sum += taps[i].weight;
   if (!(sum > 0)) {
     taps.resize(start);
-    taps.push_back({centreTexel, solidAngle});
-    return true;
+    taps.push_back({centreTexel, 1.0});
+    return;
   }
-  for (size_t i = start; i < taps.size(); ++i) taps[i].weight *= solidAngle / sum;
-  return true;
+  for (size_t i = start; i < taps.size(); ++i) taps[i].weight /= sum;
 }
 
 }  // namespace
@@ -308,19 +309,41 @@ void validateLocalLight(LocalLight& light) {
   }
 }
 
-bool appendLightTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
-                     std::vector<LightTap>& taps) {
-  if (light.kind == LocalLightKind::Sphere) return appendSphereTaps(light, lattice, point, taps);
+double lightIrradiance(const LocalLight& light, const Vec3& point) {
   const Vec3 toLight = light.position - point;
   const double d2 = toLight.squaredNorm();
-  if (!(d2 > 0)) return false;
-  double irradiance = 1 / d2;  // inverse square law, per unit intensity
-  if (!(irradiance <= kMaxIrradiancePerIntensity)) return false;  // on the point, to rounding
-  if (light.kind == LocalLightKind::Spot)
-    irradiance *= spotFalloff(light, -toLight / std::sqrt(d2));
-  if (irradiance == 0) return true;
+  if (light.kind == LocalLightKind::Sphere)
+    return d2 > light.radius * light.radius ? sphereSolidAngle(light.radius, std::sqrt(d2)) : -1;
+  const double irradiance = 1 / d2;  // inverse square law, per unit intensity
+  if (!(d2 > 0 && irradiance <= kMaxIrradiancePerIntensity)) return -1;  // on the point
+  return light.kind == LocalLightKind::Spot
+             ? irradiance * spotFalloff(light, -toLight / std::sqrt(d2))
+             : irradiance;
+}
+
+bool appendDirectionTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                         std::vector<LightTap>& taps) {
+  const Vec3 toLight = light.position - point;
+  const double d2 = toLight.squaredNorm();
+  if (light.kind == LocalLightKind::Sphere) {
+    if (!(d2 > light.radius * light.radius)) return false;
+    appendSphereShares(light, lattice, toLight, std::sqrt(d2), taps);
+    return true;
+  }
+  if (!(d2 > 0 && 1 / d2 <= kMaxIrradiancePerIntensity)) return false;
   for (const BilinearTap& tap : lattice.bilinearTaps(toLight))
-    if (tap.weight != 0) taps.push_back({tap.texel, tap.weight * irradiance});
+    if (tap.weight != 0) taps.push_back({tap.texel, tap.weight});
+  return true;
+}
+
+bool appendLightTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                     std::vector<LightTap>& taps) {
+  const double irradiance = lightIrradiance(light, point);
+  if (irradiance < 0) return false;
+  if (irradiance == 0) return true;
+  const size_t start = taps.size();
+  appendDirectionTaps(light, lattice, point, taps);
+  for (size_t i = start; i < taps.size(); ++i) taps[i].weight *= irradiance;
   return true;
 }
 

@@ -70,6 +70,15 @@ struct LightTap {
 bool appendLightTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
                      std::vector<LightTap>& taps);
 
+/// What appendLightTaps splits into: the irradiance a light delivers at
+/// `point` per unit emission (1/d^2 times a spot's falloff; a sphere's solid
+/// angle), or -1 when the point is inside the sphere or on the point light...
+double lightIrradiance(const LocalLight& light, const Vec3& point);
+/// ...and the texels it comes from, with weights summing to 1 (bilinear for
+/// point and spot, the disc's shares for a sphere); false as above.
+bool appendDirectionTaps(const LocalLight& light, const CubeLattice& lattice, const Vec3& point,
+                         std::vector<LightTap>& taps);
+
 /// The lights as they are seen from one point, summed into a lattice lighting
 /// (3 values per texel, as environments give): the whole lighting of a pixel.
 LatticeLighting localLighting(const std::vector<LocalLight>& lights, const CubeLattice& lattice,

@@ -5,7 +5,10 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
+#include <numbers>
 
 #include "core/error.h"
 #include "core/half.h"
@@ -52,15 +55,91 @@ std::string pixelName(const TransportHeader& h, long long row) {
   return concat("(", h.pixels[row] % width, ", ", h.pixels[row] / width, ")");
 }
 
-/// One cluster's rows with the taps of their lights, and the row elements
-/// (texel, or channel x texel) those taps touch that V_g sees, sorted.
-struct ClusterTaps {
-  std::vector<std::int32_t> rows;  ///< in chunk order
-  std::vector<size_t> lane;        ///< per row: chunk index x 16 + lane
-  std::vector<size_t> tapStart;    ///< per row, and one past the last
-  std::vector<ColourTap> taps;
+/// One cluster's rows and, per light, the groups of them that see it through
+/// one set of direction taps: those found at the group's anchor (the mean of
+/// its rows' positions). The row elements (texel, or channel x texel) the
+/// taps touch that V_g sees, sorted.
+struct ClusterLights {
+  std::vector<std::int32_t> rows;                ///< in chunk order
+  std::vector<size_t> lane;                      ///< per row: chunk index x 16 + lane
+  std::vector<int> groupOf;                      ///< per light and row: light * rows + row
+  std::vector<std::vector<LightTap>> groupTaps;  ///< per group, summing to 1
   std::vector<int> elements;
 };
+
+/// Rows of one cluster grouped for one light: in cubes of side `side` (rows
+/// in one cube see the light within about side / distance of each other's
+/// direction), each group in row order; side 0 gives every row a group.
+std::vector<std::vector<size_t>> groupRows(const TransportHeader& h,
+                                           const std::vector<std::int32_t>& rows, double side) {
+  std::vector<std::vector<size_t>> groups;
+  if (!(side > 0)) {
+    for (size_t r = 0; r < rows.size(); ++r) groups.push_back({r});
+    return groups;
+  }
+  using Key = std::array<long long, 3>;
+  std::vector<std::pair<Key, size_t>> keyed;
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const Vec3 p = positionOf(h, rows[r]);
+    keyed.push_back({{static_cast<long long>(std::floor(p.x() / side)),
+                      static_cast<long long>(std::floor(p.y() / side)),
+                      static_cast<long long>(std::floor(p.z() / side))},
+                     r});
+  }
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (size_t i = 0; i < keyed.size(); ++i) {
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) groups.emplace_back();
+    groups.back().push_back(keyed[i].second);
+  }
+  return groups;
+}
+
+/// The side of the cubes a cluster's rows are grouped in for one light:
+/// `spread` texels of direction at the distance of the cluster's nearest
+/// point to the light (0: exact, one group per row).
+double groupSide(const LocalLight& light, const TransportHeader& h,
+                 const std::vector<std::int32_t>& rows, double spread, double texelAngle) {
+  if (!(spread > 0) || rows.empty()) return 0;
+  Eigen::AlignedBox3d box;
+  for (std::int32_t row : rows) box.extend(positionOf(h, row));
+  const double nearest = std::sqrt(box.squaredExteriorDistance(light.position));
+  const double side = spread * texelAngle * nearest / std::sqrt(3.0);
+  // Cube indices must fit: a light inside the box gets a group per row.
+  return side > 1e-9 * box.diagonal().norm() ? side : 0;
+}
+
+/// Step 1 of modelLocalRelight for one cluster: per light its rows' groups,
+/// each group's direction taps at its anchor, and the elements they touch.
+void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
+                   const std::vector<LocalLight>& lights, const std::vector<int>& seenIndex,
+                   double anchorSpread, ClusterLights& c) {
+  const int l = h.latticeSize(), channels = h.channels;
+  const double texelAngle = 0.5 * std::numbers::pi / h.cubemapResolution;
+  c.groupOf.assign(lights.size() * c.rows.size(), -1);
+  for (size_t li = 0; li < lights.size(); ++li) {
+    const double side = groupSide(lights[li], h, c.rows, anchorSpread, texelAngle);
+    for (const std::vector<size_t>& group : groupRows(h, c.rows, side)) {
+      Vec3 anchor = Vec3::Zero();
+      for (size_t r : group) anchor += positionOf(h, c.rows[r]);
+      anchor /= static_cast<double>(group.size());
+      std::vector<LightTap> taps;
+      // An anchor among rows around a sphere may fall inside it: then a row's.
+      if (!appendDirectionTaps(lights[li], lattice, anchor, taps))
+        ACPCA_CHECK(
+            appendDirectionTaps(lights[li], lattice, positionOf(h, c.rows[group.front()]), taps),
+            lights[li].spec, " encloses a pixel");
+      for (size_t r : group) c.groupOf[li * c.rows.size() + r] = int(c.groupTaps.size());
+      for (const LightTap& t : taps)
+        for (int ch = 0; ch < channels; ++ch)
+          if (const int e = elementOf(ch, t.texel, channels, l); seenIndex[e] >= 0)
+            c.elements.push_back(e);
+      c.groupTaps.push_back(std::move(taps));
+    }
+  }
+  std::sort(c.elements.begin(), c.elements.end());
+  c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
+}
 
 /// V_g's rows for the given elements, row by row (elements x N): one pass over
 /// V_g, which is stored global basis by global basis.
@@ -181,46 +260,33 @@ std::vector<float> denseLocalRelight(const TransportReader& transport,
 }
 
 std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
-                                     const std::vector<LocalLight>& lights) {
+                                     const std::vector<LocalLight>& lights, double anchorSpread) {
   const PackedModel& m = *relighter.packed();
   const TransportHeader& h = m.geometry;
   const CubeLattice lattice(h.cubemapResolution);
-  const int l = h.latticeSize(), n = m.globalBases;
+  const int l = h.latticeSize(), n = m.globalBases, channels = h.channels;
   std::vector<float> out(3 * static_cast<size_t>(m.rows()), 0.0f);
   if (lights.empty() || m.rows() == 0) return out;
   std::vector<int> seenIndex(h.rowLength(), -1);
   for (size_t i = 0; i < m.seenTexels.size(); ++i) seenIndex[m.seenTexels[i]] = static_cast<int>(i);
 
-  // 1. Every row's taps, cluster by cluster, and the elements each cluster needs.
-  std::vector<ClusterTaps> clusters(m.clusters());
+  // 1. Per cluster and light, its rows in groups, each group's direction taps
+  //    at its anchor, and the elements the cluster needs.
+  std::vector<ClusterLights> clusters(m.clusters());
   for (size_t j = 0; j < m.chunks.size(); ++j)
     for (int lane = 0; lane < kChunkRows; ++lane)
       if (const std::int32_t row = m.chunkRows[j * kChunkRows + lane]; row >= 0) {
-        ClusterTaps& c = clusters[m.chunks[j].cluster];
+        ClusterLights& c = clusters[m.chunks[j].cluster];
         c.rows.push_back(row);
         c.lane.push_back(j * kChunkRows + lane);
       }
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
-    ClusterTaps& c = clusters[cluster];
-    std::vector<LightTap> scratch;
-    std::vector<ColourTap> taps;
-    for (std::int32_t row : c.rows) {
-      c.tapStart.push_back(c.taps.size());
-      colourTaps(lights, lattice, positionOf(h, row), scratch, taps);
-      c.taps.insert(c.taps.end(), taps.begin(), taps.end());
-      for (const ColourTap& t : taps)
-        for (int ch = 0; ch < h.channels; ++ch)
-          if (const int e = elementOf(ch, t.texel, h.channels, l); seenIndex[e] >= 0)
-            c.elements.push_back(e);
-    }
-    c.tapStart.push_back(c.taps.size());
-    std::sort(c.elements.begin(), c.elements.end());
-    c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
+    findGroupTaps(h, lattice, lights, seenIndex, anchorSpread, clusters[cluster]);
   });
 
   // 2. V_g's rows for every element some cluster needs.
   std::vector<int> slotOf(h.rowLength(), -1), seenOfSlot;
-  for (const ClusterTaps& c : clusters)
+  for (const ClusterLights& c : clusters)
     for (int e : c.elements)
       if (slotOf[e] < 0) {
         slotOf[e] = static_cast<int>(seenOfSlot.size());
@@ -228,11 +294,14 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
       }
   const std::vector<float> globalRows = gatherGlobalRows(m, seenOfSlot);
 
-  // 3. Per cluster its columns (W_c^T V_g^T e and mu_c . V_g^T e per element),
-  //    then each row: its coefficients against the columns of its taps.
+  // 3. Per cluster its columns (W_c^T V_g^T e, and mu_c . V_g^T e), per group
+  //    its transport towards the light per unit irradiance (the columns its
+  //    taps weight; rank + 1 values per channel of the row), then each row:
+  //    the light's irradiance at the row's own position times its
+  //    coefficients against its group's.
   tbb::enumerable_thread_specific<std::vector<int>> columnOfElement(h.rowLength(), -1);
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
-    const ClusterTaps& c = clusters[cluster];
+    const ClusterLights& c = clusters[cluster];
     const int rank = relighter.activeRanks()[cluster];
     if (c.elements.empty() || (rank == 0 && !m.hasMean)) return;
     RowMatrixF g(c.elements.size(), n);
@@ -246,24 +315,39 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
     Eigen::VectorXf meanTerm = Eigen::VectorXf::Zero(g.rows());
     if (m.hasMean)
       meanTerm = g * Eigen::Map<const Eigen::VectorXf>(m.means.data() + size_t(cluster) * n, n);
+    const int stride = rank + 1;
+    std::vector<double> towards(c.groupTaps.size() * channels * stride, 0.0);
+    for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
+      for (const LightTap& t : c.groupTaps[gi])
+        for (int ch = 0; ch < channels; ++ch) {
+          const int column = columnOf[elementOf(ch, t.texel, channels, l)];
+          if (column < 0) continue;  // a direction no pixel sees: zero in V_g
+          double* v = towards.data() + (gi * channels + ch) * stride;
+          for (int k = 0; k < rank; ++k) v[k] += t.weight * columns(k, column);
+          v[rank] += t.weight * meanTerm[column];
+        }
     std::vector<double> u(rank);
     for (size_t r = 0; r < c.rows.size(); ++r) {
       const size_t chunk = c.lane[r] / kChunkRows;
       const int lane = static_cast<int>(c.lane[r] % kChunkRows);
       for (int k = 0; k < rank; ++k) u[k] = coefficient(m, chunk, k, lane);
       const std::int32_t row = c.rows[r];
+      const Vec3 at = positionOf(h, row);
       Rgb value = Rgb::Zero();
-      for (size_t t = c.tapStart[r]; t < c.tapStart[r + 1]; ++t)
-        for (int ch = 0; ch < h.channels; ++ch) {  // one row serves R, G and B, or one each
-          const int column = columnOf[elementOf(ch, c.taps[t].texel, h.channels, l)];
-          if (column < 0) continue;  // a direction no pixel sees: zero in V_g
-          double transport = meanTerm[column];
-          for (int k = 0; k < rank; ++k) transport += u[k] * columns(k, column);
-          if (h.channels == 1)
-            value += transport * c.taps[t].weight;
+      for (size_t li = 0; li < lights.size(); ++li) {
+        const double irradiance = lightIrradiance(lights[li], at);
+        if (irradiance <= 0) continue;  // outside a spot's cone (enclosed: refused before)
+        const size_t gi = c.groupOf[li * c.rows.size() + r];
+        for (int ch = 0; ch < channels; ++ch) {
+          const double* v = towards.data() + (gi * channels + ch) * stride;
+          double transport = v[rank];
+          for (int k = 0; k < rank; ++k) transport += u[k] * v[k];
+          if (channels == 1)
+            value += irradiance * transport * lights[li].emission;
           else
-            value[ch] += transport * c.taps[t].weight[ch];
+            value[ch] += irradiance * transport * lights[li].emission[ch];
         }
+      }
       for (int ch = 0; ch < 3; ++ch)
         out[3 * static_cast<size_t>(row) + ch] =
             static_cast<float>(h.albedo[3 * row + ch] * value[ch]);

@@ -29,10 +29,22 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
 std::vector<float> denseLocalRelight(const TransportReader& transport,
                                      const std::vector<LocalLight>& lights);
 
+/// How far apart, in texels of direction, the pixels of one cluster may see
+/// a light and still share its direction taps (found once, at their mean
+/// position); each pixel keeps the irradiance at its own position.
+inline constexpr double kAnchorSpreadTexels = 0.5;
+
 /// The same from a model at the relighter's rank limit (call
-/// requireLocalLightsApply first): per cluster, in parallel, the columns of
-/// its reconstruction that the cluster's pixels' lights touch, then each row.
+/// requireLocalLightsApply first). Per cluster and light its pixels are
+/// grouped in cubes that the light sees within `anchorSpread` texels (0: a
+/// group per pixel, the model's reconstruction of T lit exactly as T is);
+/// each group's direction taps meet the columns of the cluster's
+/// reconstruction, W_c^T V_g^T e_j, formed once per cluster and texel; each
+/// pixel adds, per light, the irradiance at its position times its
+/// coefficients against its group's transport: rank + 1 multiply-adds per
+/// light and row.
 std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
-                                     const std::vector<LocalLight>& lights);
+                                     const std::vector<LocalLight>& lights,
+                                     double anchorSpread = kAnchorSpreadTexels);
 
 }  // namespace acpca

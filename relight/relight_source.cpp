@@ -39,9 +39,10 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
       }
       return out;
     };
-    s.relightLocal = [relighter = s.model, path](const std::vector<LocalLight>& lights) {
+    s.relightLocal = [relighter = s.model, path](const std::vector<LocalLight>& lights,
+                                                 double anchorSpread) {
       requireLocalLightsApply(relighter->geometry(), path, true, lights);
-      return modelLocalRelight(*relighter, lights);
+      return modelLocalRelight(*relighter, lights, anchorSpread);
     };
     return s;
   }
@@ -60,7 +61,7 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
     return out;
   };
-  s.relightLocal = [transport](const std::vector<LocalLight>& lights) {
+  s.relightLocal = [transport](const std::vector<LocalLight>& lights, double) {
     return denseLocalRelight(*transport, lights);
   };
   return s;

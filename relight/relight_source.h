@@ -33,7 +33,9 @@ struct RelightSource {
   /// The local lights alone (3 floats per occupied row, albedo applied): the
   /// model's reconstruction or T under them (relight/local_relight.h); refuses
   /// a file without positions and lights that enclose a pixel's position.
-  std::function<std::vector<float>(const std::vector<LocalLight>&)> relightLocal;
+  /// anchorSpread: models only, as modelLocalRelight.
+  std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread)>
+      relightLocal;
 };
 
 /// Frames a batch relights together: a transport shares one pass over T among

@@ -60,6 +60,10 @@ void registerRelight(CLI::App& app) {
                   "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
   sub->add_option("--max-rank", args->options.maxRank,
                   "Models: use each cluster's first K bases, or a fraction (0.5 or 50%)");
+  sub->add_option("--anchor-spread", args->options.anchorSpread,
+                  "Models, local lights: texels of direction within which a cluster's pixels "
+                  "share a light's direction (0: each pixel its own)")
+      ->capture_default_str();
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
