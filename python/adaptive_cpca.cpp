@@ -24,6 +24,8 @@
 #include "relight/file_info.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/local_light.h"
+#include "relight/local_relight.h"
 #include "relight/relight_source.h"
 #include "relight/rotation.h"
 #include "relight/spec_parsing.h"
@@ -69,6 +71,29 @@ PyEnvironment environmentFromArray(const FloatArray& array, const std::string& n
     env = makeEnvironmentFromPixels(name, name, width, height, channels, array.data());
   }
   return {std::move(env)};
+}
+
+/// No environment: local lights alone, over black.
+std::shared_ptr<const Environment> darkness() {
+  static const std::shared_ptr<const Environment> black = makeConstantEnvironment(Rgb::Zero());
+  return black;
+}
+
+/// An emission given as one number (grey) or three (R, G, B).
+using Emission = std::variant<double, std::tuple<double, double, double>>;
+Rgb emissionOf(const Emission& e) {
+  if (const double* v = std::get_if<double>(&e)) return Rgb::Constant(*v);
+  const auto& [r, g, b] = std::get<std::tuple<double, double, double>>(e);
+  return {r, g, b};
+}
+using Point3 = std::tuple<double, double, double>;
+Vec3 vecOf(const Point3& p) {
+  return {std::get<0>(p), std::get<1>(p), std::get<2>(p)};
+}
+LocalLight madeLight(LocalLight light) {
+  validateLocalLight(light);
+  light.spec = light.canonicalSpec();
+  return light;
 }
 
 /// An environment integrated onto a lattice under a rotation (kept for the
@@ -129,16 +154,21 @@ class Relighter {
     return l;
   }
 
-  py::array_t<float> relight(const PyEnvironment& env, double yaw, double pitch, double roll,
-                             const RankLimit& maxRank, double exposure,
-                             const std::string& background, bool fastRotation, OutArgument out) {
-    return relightLighting(lighting(env, yaw, pitch, roll, fastRotation), maxRank, exposure,
-                           background, std::move(out));
+  py::array_t<float> relight(const std::optional<PyEnvironment>& env, double yaw, double pitch,
+                             double roll, const RankLimit& maxRank, double exposure,
+                             const std::string& background, bool fastRotation, OutArgument out,
+                             const std::vector<LocalLight>& lights, double anchorSpread) {
+    if (!env && lights.empty())
+      throw ParameterError("environment", "None", "give an environment, lights, or both");
+    return relightLighting(
+        lighting(env ? *env : PyEnvironment{darkness()}, yaw, pitch, roll, fastRotation), maxRank,
+        exposure, background, std::move(out), lights, anchorSpread);
   }
 
   py::array_t<float> relightLighting(const PyLighting& lighting, const RankLimit& maxRank,
                                      double exposure, const std::string& background,
-                                     OutArgument out) {
+                                     OutArgument out, const std::vector<LocalLight>& lights,
+                                     double anchorSpread) {
     requireFinite(exposure, "exposure");
     const Background bg = kBackgroundNames.parse(background);
     if (lighting.cubemap != lattice_->resolution())
@@ -149,13 +179,15 @@ class Relighter {
     {
       py::gil_scoped_release release;
       setRank(maxRank);
+      const std::vector<float> local = localRows(lights, anchorSpread);
       float* pixels = image.mutable_data();
       if (source_.model) {
-        relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, pixels);
+        relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, local,
+                         pixels);
       } else {
         std::vector<double> ms;
         finish(source_.relight({lighting.values}, ms)[0].data(), *lighting.env, lighting.rotation,
-               bg, exposure, pixels);
+               bg, exposure, local, pixels);
       }
     }
     return image;
@@ -166,8 +198,8 @@ class Relighter {
   py::array_t<float> relightBatch(const std::vector<PyEnvironment>& envs,
                                   const std::vector<std::tuple<double, double, double>>& rotations,
                                   const RankLimit& maxRank, double exposure,
-                                  const std::string& background, bool fastRotation,
-                                  OutArgument out) {
+                                  const std::string& background, bool fastRotation, OutArgument out,
+                                  const std::vector<LocalLight>& lights, double anchorSpread) {
     requireFinite(exposure, "exposure");
     for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
     const Background bg = kBackgroundNames.parse(background);
@@ -178,6 +210,7 @@ class Relighter {
     {
       py::gil_scoped_release release;
       setRank(maxRank);
+      const std::vector<float> local = localRows(lights, anchorSpread);
       const size_t frameValues = static_cast<size_t>(images.size() / frames);
       const RotationMode mode = fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
       const auto frameOf = [&](size_t i) {
@@ -194,7 +227,7 @@ class Relighter {
                           source_.model->lightGroup(lightings);
                           for (size_t k = 0; k < lightings.size(); ++k) {
                             const auto [env, rotation] = frameOf(first + k);
-                            shadeModelFrameInto(k, *env, rotation, bg, exposure,
+                            shadeModelFrameInto(k, *env, rotation, bg, exposure, local,
                                                 images.mutable_data() + (first + k) * frameValues);
                           }
                           return;
@@ -203,7 +236,7 @@ class Relighter {
                         const auto rows = source_.relight(lightings, ms);
                         for (size_t k = 0; k < rows.size(); ++k) {
                           const auto [env, rotation] = frameOf(first + k);
-                          finish(rows[k].data(), *env, rotation, bg, exposure,
+                          finish(rows[k].data(), *env, rotation, bg, exposure, local,
                                  images.mutable_data() + (first + k) * frameValues);
                         }
                       });
@@ -212,6 +245,14 @@ class Relighter {
   }
 
  private:
+  /// The local lights alone, per occupied row (empty without lights).
+  std::vector<float> localRows(const std::vector<LocalLight>& lights, double anchorSpread) const {
+    if (lights.empty()) return {};
+    if (!(anchorSpread >= 0 && anchorSpread <= 64))
+      throw ParameterError("anchor spread", anchorSpread, "is not in 0..64 texels");
+    return source_.relightLocal(lights, anchorSpread);
+  }
+
   void setRank(const RankLimit& maxRank) {
     if (!source_.model) {
       if (maxRank)
@@ -253,26 +294,35 @@ class Relighter {
   /// One frame of a model, relit straight into its image.
   void relightModelInto(const LatticeLighting& lighting, const Environment& env,
                         const EnvRotation& rotation, Background bg, double exposure,
-                        float* pixels) const {
+                        const std::vector<float>& local, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
+    addLocal(local, bg, pixels);
     applyExposure(exposure, bg, pixels);
   }
 
   /// Frame k of the group the model's relighter last lit, into its image.
   void shadeModelFrameInto(size_t k, const Environment& env, const EnvRotation& rotation,
-                           Background bg, double exposure, float* pixels) const {
+                           Background bg, double exposure, const std::vector<float>& local,
+                           float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->shadeFrameInto(k, pixels, ImageComposer::channels(bg));
+    addLocal(local, bg, pixels);
     applyExposure(exposure, bg, pixels);
   }
 
   /// One frame from per-row values (the dense path) into its image.
   void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
-              Background bg, double exposure, float* pixels) const {
+              Background bg, double exposure, const std::vector<float>& local,
+              float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     composer_->addRows(rowRgb, pixels, ImageComposer::channels(bg));
+    addLocal(local, bg, pixels);
     applyExposure(exposure, bg, pixels);
+  }
+
+  void addLocal(const std::vector<float>& local, Background bg, float* pixels) const {
+    if (!local.empty()) composer_->addRows(local.data(), pixels, ImageComposer::channels(bg));
   }
 
   void applyExposure(double exposure, Background bg, float* pixels) const {
@@ -306,6 +356,60 @@ py::array_t<float> readImage(const std::string& path) {
   }
   if (!ok) throw UserError(concat(path, ": cannot read the image pixels: ", in->geterror()));
   return out;
+}
+
+/// Light, PointLight, SphereLight and SpotLight: local lights (docs/lighting.md).
+void registerLights(py::module_& m) {
+  py::class_<LocalLight>(m, "Light",
+                         "A local light: point, sphere or spot (docs/lighting.md, \"Local "
+                         "lights\"), from the CLI's spec or PointLight, SphereLight, SpotLight.")
+      .def(py::init(&parseLocalLight), py::arg("spec"))
+      .def_property_readonly("spec", &LocalLight::canonicalSpec)
+      .def_property_readonly("kind",
+                             [](const LocalLight& l) { return kLocalLightKindNames.name(l.kind); })
+      .def_property_readonly("position",
+                             [](const LocalLight& l) {
+                               return Point3{l.position.x(), l.position.y(), l.position.z()};
+                             })
+      .def("__repr__",
+           [](const LocalLight& l) { return "<adaptive_cpca.Light " + l.canonicalSpec() + ">"; });
+  m.def(
+      "PointLight",
+      [](const Point3& position, const Emission& intensity) {
+        LocalLight l;
+        l.kind = LocalLightKind::Point;
+        l.position = vecOf(position);
+        l.emission = emissionOf(intensity);
+        return madeLight(l);
+      },
+      py::arg("position"), py::arg("intensity"),
+      "A point light of radiant intensity I (grey, or (R, G, B)) at a world position.");
+  m.def(
+      "SphereLight",
+      [](const Point3& position, double radius, const Emission& radiance) {
+        LocalLight l;
+        l.kind = LocalLightKind::Sphere;
+        l.position = vecOf(position);
+        l.radius = radius;
+        l.emission = emissionOf(radiance);
+        return madeLight(l);
+      },
+      py::arg("position"), py::arg("radius"), py::arg("radiance"),
+      "A sphere of uniform radiance L (grey, or (R, G, B)).");
+  m.def(
+      "SpotLight",
+      [](const Point3& position, const Point3& direction, double halfAngle,
+         const Emission& intensity) {
+        LocalLight l;
+        l.kind = LocalLightKind::Spot;
+        l.position = vecOf(position);
+        l.axis = vecOf(direction);
+        l.halfAngleDegrees = halfAngle;
+        l.emission = emissionOf(intensity);
+        return madeLight(l);
+      },
+      py::arg("position"), py::arg("direction"), py::arg("half_angle"), py::arg("intensity"),
+      "A point light inside a cone of half_angle degrees around direction.");
 }
 
 }  // namespace
@@ -371,6 +475,8 @@ PYBIND11_MODULE(adaptive_cpca, m) {
         return std::make_tuple(e[0], e[1], e[2]);
       });
 
+  registerLights(m);
+
   py::class_<Relighter>(m, "Relighter", "A model (fast path) or transport file (dense path).")
       .def(py::init<const std::string&>(), py::arg("path"))
       .def_property_readonly("width", &Relighter::width)
@@ -384,10 +490,15 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("max_rank") = py::none(),
            py::arg("exposure") = 0.0, py::arg("background") = "env",
            py::arg("fast_rotation") = false, py::arg("out") = py::none(),
-           "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it.")
+           py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("anchor_spread") = kAnchorSpreadTexels,
+           "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it; "
+           "lights (Light, PointLight, ...) are added, and light it alone when env is None.")
       .def("relight", &Relighter::relightLighting, py::arg("lighting"), py::kw_only(),
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
            py::arg("background") = "env", py::arg("out") = py::none(),
+           py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("anchor_spread") = kAnchorSpreadTexels,
            "The same from a Lighting made by lighting(): the integration is not repeated.")
       .def("lighting", &Relighter::lighting, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("fast_rotation") = false,
@@ -396,8 +507,10 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
            py::arg("background") = "env", py::arg("fast_rotation") = false,
-           py::arg("out") = py::none(),
-           "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major.");
+           py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("anchor_spread") = kAnchorSpreadTexels,
+           "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major; "
+           "the lights are added to every frame.");
   registerLongCalls(m);
   m.def(
       "open", [](const std::string& path) { return Relighter(path); }, py::arg("path"),

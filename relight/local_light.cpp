@@ -1,7 +1,10 @@
 #include "relight/local_light.h"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -15,10 +18,12 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr const char* kParameter = "light";
 
+/// The shortest text that reads back as the same double: a light's spec
+/// in a manifest or from Python gives the very light again.
 std::string formatNumber(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
+  std::array<char, 32> text;
+  const auto end = std::to_chars(text.data(), text.data() + text.size(), v).ptr;
+  return std::string(text.data(), end);
 }
 
 std::vector<std::string> splitNumbers(const std::string& text) {
@@ -303,7 +308,9 @@ void validateLocalLight(LocalLight& light) {
   if (light.kind == LocalLightKind::Spot) {
     if (!light.axis.allFinite() || !(light.axis.norm() > 0))
       refuse("its direction DX,DY,DZ is zero or not finite");
-    light.axis.normalize();
+    // Normalised once: a spec that holds a unit axis reads back unchanged.
+    if (std::abs(light.axis.squaredNorm() - 1) > 4 * std::numeric_limits<double>::epsilon())
+      light.axis.normalize();
     if (!(light.halfAngleDegrees > 0 && light.halfAngleDegrees <= 90))
       refuse("its half angle must be in (0, 90] degrees");
   }

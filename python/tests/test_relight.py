@@ -72,6 +72,42 @@ def test_a_rank_limit_is_the_clis(tmp_path, model):
                           cli_image(tmp_path, model, "--env", "sky"))
 
 
+def test_local_lights_are_the_clis_alone_and_beside_an_environment(tmp_path, model):
+    lamp = ac.SphereLight((1.2, 2.6, 1.4), 0.15, (300, 250, 200))
+    spot = ac.SpotLight((0, 3.5, 2), (0, -2, -1), 30, 80)
+    assert lamp.spec == "sphere:1.2,2.6,1.4,0.15,300,250,200" and lamp.kind == "sphere"
+    assert spot.spec == "spot:0,3.5,2,0,-0.8944271909999159,-0.4472135954999579,30,80"
+    assert ac.Light(spot.spec).spec == spot.spec
+    flags = ["--light", lamp.spec, "--light", spot.spec]
+    for source in (model, TRANSPORT):
+        r = ac.Relighter(source)
+        alone = r.relight(None, lights=[lamp, spot])
+        assert np.array_equal(alone, cli_image(tmp_path, source, *flags))
+        both = r.relight(ac.Environment("sky"), lights=[lamp, spot], exposure=1)
+        assert np.array_equal(both, cli_image(tmp_path, source, "--env", "sky", "--exposure",
+                                              "1", *flags))
+        batch = r.relight_batch([ac.Environment("sky")], rotations=[(0, 0, 0), (90, 0, 0)],
+                                lights=[lamp])
+        single = cli_image(tmp_path, source, "--env", "sky", "--rotate", "90", "--light", lamp.spec)
+        # A transport multiplies a batch's frames together: equal to rounding.
+        assert np.allclose(batch[1], single, rtol=1e-6, atol=0) if source == TRANSPORT else \
+            np.array_equal(batch[1], single)
+    r = ac.Relighter(model)
+    exact = r.relight(None, lights=[lamp], anchor_spread=0)
+    assert np.array_equal(exact, cli_image(tmp_path, model, "--light", lamp.spec,
+                                           "--anchor-spread", "0"))
+    with pytest.raises(ac.Error, match="give an environment, lights, or both"):
+        r.relight(None)
+    with pytest.raises(ac.Error, match="radius must be finite"):
+        ac.SphereLight((0, 1, 0), -1, 5)
+    with pytest.raises(ac.Error, match="direction DX,DY,DZ is zero"):
+        ac.SpotLight((0, 1, 0), (0, 0, 0), 30, 5)
+    with pytest.raises(ac.Error, match="has 3 numbers"):
+        ac.Light("point:1,2,3")
+    with pytest.raises(ac.Error, match="encloses"):
+        r.relight(None, lights=[ac.SphereLight((0, 0.5, 0), 5, 1)])
+
+
 def test_a_numpy_lat_long_map_equals_the_same_map_read_from_its_file():
     path = os.path.join(WORLD, "forest.exr")
     array = ac.read_image(path)[..., :3]
