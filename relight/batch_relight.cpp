@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <memory>
 #include <optional>
 
@@ -43,10 +44,60 @@ struct EnvInput {
   std::string error;  // non-empty: could not be loaded
 };
 
-/// One frame of the batch: a lighting under a rotation.
+/// One frame of the batch: a lighting under a rotation, and its local lights.
 struct Frame {
   const EnvInput* input;
   EnvRotation rotation;
+  size_t lights;  ///< which of the batch's light sets (the line of its light path)
+};
+
+/// The batch's sets of local lights: one per line of its light path, each
+/// with the --light lights added; without a path, the --light lights alone
+/// (which may be none).
+std::vector<std::vector<LocalLight>> lightSets(const BatchRelightOptions& a) {
+  std::vector<LocalLight> always;
+  for (const std::string& spec : a.lights) always.push_back(parseLocalLight(spec));
+  if (a.lightPath.empty()) return {always};
+  std::vector<std::vector<LocalLight>> sets = readLightPath(a.lightPath);
+  for (auto& set : sets) set.insert(set.end(), always.begin(), always.end());
+  return sets;
+}
+
+std::string lightsText(const std::vector<LocalLight>& lights) {
+  std::string text;
+  for (const LocalLight& light : lights) {
+    if (!text.empty()) text += ';';
+    text += light.canonicalSpec();
+  }
+  return text;
+}
+
+/// A light set's rows, relit when first asked for; frames come set by set,
+/// so earlier sets are dropped.
+class LightSetRows {
+ public:
+  LightSetRows(const RelightSource& source, const std::vector<std::vector<LocalLight>>& sets,
+               double anchorSpread, double& seconds)
+      : source_(source), sets_(sets), anchorSpread_(anchorSpread), seconds_(seconds) {}
+  /// Empty when the set has no lights.
+  const std::vector<float>& of(size_t set) {
+    if (set != current_) {
+      const Stopwatch watch;
+      rows_ = sets_[set].empty() ? std::vector<float>()
+                                 : source_.relightLocal(sets_[set], anchorSpread_);
+      current_ = set;
+      seconds_ += watch.seconds();
+    }
+    return rows_;
+  }
+
+ private:
+  const RelightSource& source_;
+  const std::vector<std::vector<LocalLight>>& sets_;
+  double anchorSpread_;
+  double& seconds_;
+  size_t current_ = static_cast<size_t>(-1);
+  std::vector<float> rows_;
 };
 
 std::string extensionOf(ImageFormat f) {
@@ -56,7 +107,7 @@ std::string extensionOf(ImageFormat f) {
 /// Refuses a batch whose frames, uncompressed in every format (an upper
 /// bound), would not fit the disk.
 void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
-                       const std::vector<ImageFormat>& formats, bool batch) {
+                       const std::vector<ImageFormat>& formats, bool batch, size_t lightSets) {
   const fs::path out(a.out);
   const long long pixels = static_cast<long long>(size.width) * size.height;
   const int channels = a.background == Background::Alpha ? 4 : 3;
@@ -64,7 +115,7 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
   for (ImageFormat f : formats)
     frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
   ResourceNeed need;
-  const size_t frames = std::max<size_t>(1, a.envs.size()) * a.rotations.size();
+  const size_t frames = std::max<size_t>(1, a.envs.size()) * a.rotations.size() * lightSets;
   need.what = concat(frames, " frame(s) of ", size.width, "x", size.height);
   need.diskBytes = frameBytes * static_cast<long long>(frames);
   need.largestFile = frameBytes;
@@ -195,9 +246,10 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 /// manifest: equal runs write equal files (frame times go to the JSON report).
 class FrameWriting {
  public:
-  /// lightsText: every frame's local lights, canonical, ';'-separated.
+  /// lightsText: per light set, its lights, canonical, ';'-separated.
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
-               const std::vector<ImageFormat>& formats, bool batch, std::string lightsText)
+               const std::vector<ImageFormat>& formats, bool batch,
+               std::vector<std::string> lightsText)
       : a_(a),
         frames_(frames),
         formats_(formats),
@@ -241,7 +293,7 @@ class FrameWriting {
     for (ImageFormat format : formats_) {
       fs::path path = out;
       if (batch_)
-        path = out / (f.input->env->name() + "_" + f.rotation.label() + extensionOf(format));
+        path = out / frameName(f, format);
       else if (formats_.size() > 1)
         path = out.parent_path() / (out.stem().string() + extensionOf(format));
       files->push_back(std::make_unique<AtomicOutput>(path.string()));
@@ -256,9 +308,9 @@ class FrameWriting {
       for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
       if (manifest_)
         manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
-                           f.rotation.roll, a_.exposure, lightsText_, joined});
+                           f.rotation.roll, a_.exposure, lightsText_[f.lights], joined});
       outputs_.push_back({{"env", f.input->spec},
-                          {"lights", a_.lights},
+                          {"lights", lightsText_[f.lights]},
                           {"yaw", f.rotation.yaw},
                           {"pitch", f.rotation.pitch},
                           {"roll", f.rotation.roll},
@@ -280,7 +332,15 @@ class FrameWriting {
   const std::vector<ImageFormat>& formats_;
   const bool batch_;
   const ImageEncoding encoding_;
-  const std::string lightsText_;  ///< the manifest's `lights` column
+  /// A batch frame's file: map, rotation and, along a light path, the line.
+  std::string frameName(const Frame& f, ImageFormat format) const {
+    std::string name = f.input->spec.empty() ? "lights" : f.input->env->name();
+    name += "_" + f.rotation.label();
+    if (!a_.lightPath.empty()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
+    return name + extensionOf(format);
+  }
+
+  const std::vector<std::string> lightsText_;  ///< per light set: the manifest's `lights`
   std::optional<BatchManifest> manifest_;
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
@@ -381,7 +441,7 @@ std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::s
 
 void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.timingRepeats < 0) throw ParameterError("timing frames", a.timingRepeats, "must be >= 0");
-  if (a.envs.empty() && a.lights.empty())
+  if (a.envs.empty() && a.lights.empty() && a.lightPath.empty())
     throw ParameterError("environment", "", "give at least one lighting (or a local light)");
   if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
   if (a.envs.empty() && a.rotations.size() > 1)
@@ -396,6 +456,7 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   // No frame may replace the model, the transport or a lighting it reads.
   std::vector<std::string> inputs = a.envs;
   inputs.push_back(a.input);
+  if (!a.lightPath.empty()) inputs.push_back(a.lightPath);
   if (a.batch()) {
     refuseDirectoryOverInputs(a.out, inputs);
     return;
@@ -420,34 +481,27 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const RelightSource source = openRelightSource(a.input, a.maxRank);
   stages.open = wall.seconds();
   const CubeLattice lattice(source.header.cubemapResolution);
-  requireFrameSpace(a, source.header.camera.size, formats, batch);
+  const std::vector<std::vector<LocalLight>> sets = lightSets(a);
+  requireFrameSpace(a, source.header.camera.size, formats, batch, sets.size());
   if (batch) createOutputDirectory(a.out);
 
   std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
   // Local lights alone: one frame over a black environment.
   if (inputs.empty()) inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
-  std::vector<float> localRows;
-  std::string lightsText;
-  if (!a.lights.empty()) {
-    std::vector<LocalLight> lights;
-    for (const std::string& spec : a.lights) {
-      lights.push_back(parseLocalLight(spec));
-      if (!lightsText.empty()) lightsText += ';';
-      lightsText += lights.back().canonicalSpec();
-    }
-    const Stopwatch watch;
-    localRows = source.relightLocal(lights, a.anchorSpread);
-    stages.localLights = watch.seconds();
-  }
+  std::vector<std::string> setTexts;
+  for (const auto& set : sets) setTexts.push_back(lightsText(set));
+  LightSetRows localRows(source, sets, a.anchorSpread, stages.localLights);
 
   // Frames in groups: each group streams T once; memory stays flat for any count.
   std::vector<Frame> frames;
-  for (const auto& in : inputs)
-    if (in.env)
-      for (const auto& r : rotations) frames.push_back({&in, r});
+  // Light set by light set, so each set's lights are relit once (per rank).
+  for (size_t set = 0; set < sets.size(); ++set)
+    for (const auto& in : inputs)
+      if (in.env)
+        for (const auto& r : rotations) frames.push_back({&in, r, set});
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
-  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(lightsText));
+  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setTexts));
   std::vector<double> msPerFrame;
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
@@ -485,17 +539,17 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
           const Frame& f = frames[mine[g + k]];
           composer.background(a.background, *f.input->env, rotationMatrix(f.rotation), pixels);
         };
-        relightGroupImages(source, composer, lightings, channels, backgroundOf, a.timingRepeats,
-                           msPerFrame, stages,
-                           [&](size_t k, std::vector<float>& pixels, double ms) {
-                             if (!localRows.empty())
-                               composer.addRows(localRows.data(), pixels.data(), channels);
-                             if (rank == 0)
-                               ownMs = ms;
-                             else
-                               pixels.push_back(static_cast<float>(ms));
-                             gather.put(static_cast<long long>(mine[g + k]), pixels);
-                           });
+        relightGroupImages(
+            source, composer, lightings, channels, backgroundOf, a.timingRepeats, msPerFrame,
+            stages, [&](size_t k, std::vector<float>& pixels, double ms) {
+              const std::vector<float>& local = localRows.of(frames[mine[g + k]].lights);
+              if (!local.empty()) composer.addRows(local.data(), pixels.data(), channels);
+              if (rank == 0)
+                ownMs = ms;
+              else
+                pixels.push_back(static_cast<float>(ms));
+              gather.put(static_cast<long long>(mine[g + k]), pixels);
+            });
       });
   gather.finish();
   if (writing) writing->finish();

@@ -41,6 +41,9 @@ struct BatchRelightOptions {
   /// Models: texels of direction within which a cluster's pixels share a
   /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
   double anchorSpread = kAnchorSpreadTexels;
+  /// A light path file (local_light.h, readLightPath): every map x rotation
+  /// is relit under each line's lights (with `lights` added), line by line.
+  std::string lightPath;
   std::vector<EnvRotation> rotations{EnvRotation{}};
   std::string out;     ///< an image, or a directory when batch
   std::string format;  ///< exr, png, both; empty: see imageFormatsFor
@@ -56,7 +59,7 @@ struct BatchRelightOptions {
   bool force = false;             ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
   std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
-  bool batch() const { return envs.size() > 1 || rotations.size() > 1; }
+  bool batch() const { return envs.size() > 1 || rotations.size() > 1 || !lightPath.empty(); }
 };
 
 /// Where a batch's time went (seconds, on this rank). Writing runs on threads

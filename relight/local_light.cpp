@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -288,6 +289,30 @@ LocalLight parseLocalLight(const std::string& spec) {
   light.spec = spec;
   validateLocalLight(light);
   return light;
+}
+
+std::vector<std::vector<LocalLight>> readLightPath(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UserError(concat(path, ": cannot read the light path"));
+  std::vector<std::vector<LocalLight>> frames;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::replace(line.begin(), line.end(), ';', ' ');
+    std::istringstream words(line);
+    std::vector<LocalLight> lights;
+    for (std::string spec; words >> spec;) {
+      if (lights.empty() && spec[0] == '#') break;
+      try {
+        lights.push_back(parseLocalLight(spec));
+      } catch (const ParameterError& e) {
+        throw UserError(concat(path, ":", number, ": light '", spec, "': ", e.problem()));
+      }
+    }
+    if (!lights.empty()) frames.push_back(std::move(lights));
+  }
+  if (in.bad()) throw UserError(concat(path, ": cannot read the light path"));
+  if (frames.empty()) throw UserError(concat(path, ": the light path holds no lights"));
+  return frames;
 }
 
 void validateLocalLight(LocalLight& light) {

@@ -48,6 +48,11 @@ struct LocalLight {
 /// `...,RADIUS,R,G,B`), `spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I` (or `...,R,G,B`).
 /// Throws ParameterError ("light") naming the spec and what is wrong.
 LocalLight parseLocalLight(const std::string& spec);
+/// A light path (--light-path): one frame's lights per line, specs separated
+/// by spaces or ';'; blank lines and lines starting with '#' are skipped.
+/// Throws UserError naming the file and line.
+std::vector<std::vector<LocalLight>> readLightPath(const std::string& path);
+
 /// Checks a light built in code (Python) as the parser checks text:
 /// finite values, emission >= 0, radius > 0, a non-zero spot axis (normalised
 /// here), a half angle in (0, 90]. Throws ParameterError ("light").

@@ -13,6 +13,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                  "Local light, added to every frame: point:X,Y,Z,I, sphere:X,Y,Z,RADIUS,L or "
                  "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I (I and L grey, or R,G,B; repeatable; "
                  "docs/lighting.md)");
+  sub.add_option("--light-path", o.lightPath,
+                 "Local lights that move: a file with one frame's lights per line (specs "
+                 "separated by spaces or ';'); every map and rotation is relit under each line");
   sub.add_option("--out", o.out, outHelp)->required();
   sub.add_option("--rotate", rotations, "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
   sub.add_option("--format", o.format, "exr, png or both (default: from --out, exr in batch)");
@@ -35,7 +38,9 @@ void BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) cons
   o.envs = expandEnvironmentSpecs(envs);
   if (!exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(exrCompression);
   validateBatchRelight(o);
-  refuseOutputsOverInputs(joined(o.envs, {o.input}), {jsonPath});
+  std::vector<std::string> inputs = joined(o.envs, {o.input});
+  if (!o.lightPath.empty()) inputs.push_back(o.lightPath);
+  refuseOutputsOverInputs(inputs, {jsonPath});
 }
 
 }  // namespace acpca::cli

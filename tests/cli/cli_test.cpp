@@ -268,6 +268,38 @@ TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
     err += std::pow(fromModel[i] - alone[i], 2), norm += std::pow(alone[i], 2);
   EXPECT_LT(std::sqrt(err / norm), 0.05);
 
+  // A light path: every map under each line's lights, in line order.
+  {
+    std::ofstream path(out.file("path.txt"));
+    path << "# a lamp moving past the sphere\npoint:-2,2,2,30\n\npoint:0,2.5,2,30 ; "
+            "sphere:2,1,1.5,0.2,50\npoint:2,2,2,30\n";
+  }
+  const RunResult moving = runCli(relight + "--env sky --light-path " + out.file("path.txt") +
+                                  " --light point:0,-3,2,5 --out " + out.file("moving"));
+  ASSERT_EQ(moving.status, 0) << moving.output;
+  const std::string movingManifest = test::readFile(out.file("moving/manifest.csv"));
+  EXPECT_NE(movingManifest.find("\"point:0,2.5,2,30;sphere:2,1,1.5,0.2,50;point:0,-3,2,5\""),
+            std::string::npos)
+      << movingManifest;
+  ASSERT_EQ(runCli(relight +
+                   "--env sky --light point:0,2.5,2,30 --light sphere:2,1,1.5,0.2,50 "
+                   "--light point:0,-3,2,5 --out " +
+                   out.file("second.exr"))
+                .status,
+            0);
+  // A transport's batch shares one product over its frames: equal to rounding.
+  EXPECT_LT(maxDifference(readPixels(out.file("moving/sky_y0_l0001.exr")),
+                          readPixels(out.file("second.exr"))),
+            1e-6 * peak);
+  EXPECT_TRUE(test::fs::exists(out.file("moving/sky_y0_l0002.exr")));
+  {
+    std::ofstream path(out.file("bad-path.txt"));
+    path << "point:0,2,2,1\npoint:0,2\n";
+  }
+  expectFailure(relight + "--light-path " + out.file("bad-path.txt") + " --out " + out.file("y"),
+                "bad-path.txt:2: light 'point:0,2': has 2 numbers");
+  EXPECT_FALSE(test::fs::exists(out.file("y")));
+
   expectFailure(relight + "--light point:1,2 --out " + out.file("x.exr"),
                 "--light 'point:1,2': has 2 numbers; write point:X,Y,Z,I");
   expectFailure(relight + "--light sphere:0,0,0,1.5,1 --out " + out.file("x.exr"),
