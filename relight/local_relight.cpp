@@ -179,22 +179,79 @@ Eigen::MatrixXf clusterColumns(const PackedModel& m, int cluster, int rank,
   return columns;
 }
 
-/// Coefficient k of lane `lane` of chunk j, as a float (i8 steps applied).
-double coefficient(const PackedModel& m, size_t j, int k, int lane) {
+/// The first `rank` coefficients of chunk j's 16 lanes as floats (i8 steps
+/// applied), k-major as packed: block[k * 16 + lane].
+void loadChunk(const PackedModel& m, size_t j, int rank, std::vector<float>& block) {
   const PackedModel::Chunk& chunk = m.chunks[j];
-  const long long i = chunk.coefficientOffset + static_cast<long long>(k) * kChunkRows + lane;
+  const size_t count = static_cast<size_t>(rank) * kChunkRows;
+  block.resize(count);
+  const long long at = chunk.coefficientOffset;
   switch (m.precision) {
     case CoeffPrecision::F32:
-      return m.coeffF32[i];
-    case CoeffPrecision::F16: {
-      float f;
-      halfToFloat(&m.coeffF16[i], &f, 1);
-      return f;
-    }
+      std::copy_n(m.coeffF32.data() + at, count, block.data());
+      return;
+    case CoeffPrecision::F16:
+      halfToFloat(m.coeffF16.data() + at, block.data(), count);
+      return;
     case CoeffPrecision::I8:
-      return m.coeffI8[i] * double(m.scale[m.lightingOffset[chunk.cluster] + k]);
+      for (size_t i = 0; i < count; ++i)
+        block[i] = m.coeffI8[at + i] * m.scale[m.lightingOffset[chunk.cluster] + i / kChunkRows];
+      return;
   }
-  return 0;
+}
+
+/// Step 3 of modelLocalRelight for one cluster: each group's transport
+/// towards its light per unit irradiance, W_c^T V_g^T (sum of taps) and
+/// mu_c . V_g^T (sum of taps), rank + 1 values per group and channel of the
+/// row. One float product per basis chunk either way, over whichever is
+/// fewer: the texels the groups' taps touch (columns, then weighted sums of
+/// them) or the groups (their taps summed in V_g's space first).
+std::vector<double> groupTransport(const PackedModel& m, int cluster, int rank,
+                                   const ClusterLights& c, const std::vector<float>& globalRows,
+                                   const std::vector<int>& slotOf, std::vector<int>& columnOf) {
+  const TransportHeader& h = m.geometry;
+  const int n = m.globalBases, channels = h.channels, l = h.latticeSize(), stride = rank + 1;
+  const size_t groupRows = c.groupTaps.size() * channels;
+  const auto globalRow = [&](int e) {
+    return Eigen::Map<const Eigen::VectorXf>(globalRows.data() + size_t(slotOf[e]) * n, n);
+  };
+  const bool byGroup = groupRows <= c.elements.size();
+  RowMatrixF g = RowMatrixF::Zero(byGroup ? groupRows : c.elements.size(), n);
+  if (byGroup) {
+    for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
+      for (const LightTap& t : c.groupTaps[gi])
+        for (int ch = 0; ch < channels; ++ch)
+          if (const int e = elementOf(ch, t.texel, channels, l); slotOf[e] >= 0)
+            g.row(gi * channels + ch) += float(t.weight) * globalRow(e).transpose();
+  } else {
+    for (size_t i = 0; i < c.elements.size(); ++i) {
+      g.row(i) = globalRow(c.elements[i]).transpose();
+      columnOf[c.elements[i]] = static_cast<int>(i);
+    }
+  }
+  const Eigen::MatrixXf columns = clusterColumns(m, cluster, rank, g);
+  Eigen::VectorXf meanTerm = Eigen::VectorXf::Zero(g.rows());
+  if (m.hasMean)
+    meanTerm = g * Eigen::Map<const Eigen::VectorXf>(m.means.data() + size_t(cluster) * n, n);
+  std::vector<double> towards(groupRows * stride, 0.0);
+  if (byGroup) {
+    for (size_t row = 0; row < groupRows; ++row) {
+      for (int k = 0; k < rank; ++k) towards[row * stride + k] = columns(k, row);
+      towards[row * stride + rank] = meanTerm[row];
+    }
+    return towards;
+  }
+  for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
+    for (const LightTap& t : c.groupTaps[gi])
+      for (int ch = 0; ch < channels; ++ch) {
+        const int column = columnOf[elementOf(ch, t.texel, channels, l)];
+        if (column < 0) continue;  // a direction no pixel sees: zero in V_g
+        double* v = towards.data() + (gi * channels + ch) * stride;
+        for (int k = 0; k < rank; ++k) v[k] += t.weight * columns(k, column);
+        v[rank] += t.weight * meanTerm[column];
+      }
+  for (int e : c.elements) columnOf[e] = -1;
+  return towards;
 }
 
 }  // namespace
@@ -264,7 +321,7 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
   const PackedModel& m = *relighter.packed();
   const TransportHeader& h = m.geometry;
   const CubeLattice lattice(h.cubemapResolution);
-  const int l = h.latticeSize(), n = m.globalBases, channels = h.channels;
+  const int channels = h.channels;
   std::vector<float> out(3 * static_cast<size_t>(m.rows()), 0.0f);
   if (lights.empty() || m.rows() == 0) return out;
   std::vector<int> seenIndex(h.rowLength(), -1);
@@ -294,43 +351,25 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
       }
   const std::vector<float> globalRows = gatherGlobalRows(m, seenOfSlot);
 
-  // 3. Per cluster its columns (W_c^T V_g^T e, and mu_c . V_g^T e), per group
-  //    its transport towards the light per unit irradiance (the columns its
-  //    taps weight; rank + 1 values per channel of the row), then each row:
-  //    the light's irradiance at the row's own position times its
-  //    coefficients against its group's.
+  // 3. Per cluster each group's transport towards its light (groupTransport),
+  //    then each row: the light's irradiance at the row's own position times
+  //    its coefficients against its group's.
   tbb::enumerable_thread_specific<std::vector<int>> columnOfElement(h.rowLength(), -1);
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
     const ClusterLights& c = clusters[cluster];
     const int rank = relighter.activeRanks()[cluster];
     if (c.elements.empty() || (rank == 0 && !m.hasMean)) return;
-    RowMatrixF g(c.elements.size(), n);
-    std::vector<int>& columnOf = columnOfElement.local();
-    for (size_t i = 0; i < c.elements.size(); ++i) {
-      std::copy_n(globalRows.data() + static_cast<size_t>(slotOf[c.elements[i]]) * n, n,
-                  g.row(i).data());
-      columnOf[c.elements[i]] = static_cast<int>(i);
-    }
-    const Eigen::MatrixXf columns = clusterColumns(m, cluster, rank, g);
-    Eigen::VectorXf meanTerm = Eigen::VectorXf::Zero(g.rows());
-    if (m.hasMean)
-      meanTerm = g * Eigen::Map<const Eigen::VectorXf>(m.means.data() + size_t(cluster) * n, n);
     const int stride = rank + 1;
-    std::vector<double> towards(c.groupTaps.size() * channels * stride, 0.0);
-    for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
-      for (const LightTap& t : c.groupTaps[gi])
-        for (int ch = 0; ch < channels; ++ch) {
-          const int column = columnOf[elementOf(ch, t.texel, channels, l)];
-          if (column < 0) continue;  // a direction no pixel sees: zero in V_g
-          double* v = towards.data() + (gi * channels + ch) * stride;
-          for (int k = 0; k < rank; ++k) v[k] += t.weight * columns(k, column);
-          v[rank] += t.weight * meanTerm[column];
-        }
+    const std::vector<double> towards =
+        groupTransport(m, cluster, rank, c, globalRows, slotOf, columnOfElement.local());
+    std::vector<float> block;
     std::vector<double> u(rank);
+    size_t loaded = static_cast<size_t>(-1);
     for (size_t r = 0; r < c.rows.size(); ++r) {
       const size_t chunk = c.lane[r] / kChunkRows;
       const int lane = static_cast<int>(c.lane[r] % kChunkRows);
-      for (int k = 0; k < rank; ++k) u[k] = coefficient(m, chunk, k, lane);
+      if (chunk != loaded) loadChunk(m, loaded = chunk, rank, block);
+      for (int k = 0; k < rank; ++k) u[k] = block[k * kChunkRows + lane];
       const std::int32_t row = c.rows[r];
       const Vec3 at = positionOf(h, row);
       Rgb value = Rgb::Zero();
@@ -352,7 +391,6 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
         out[3 * static_cast<size_t>(row) + ch] =
             static_cast<float>(h.albedo[3 * row + ch] * value[ch]);
     }
-    for (int e : c.elements) columnOf[e] = -1;
   });
   return out;
 }
