@@ -230,9 +230,14 @@ std::vector<double> groupTransport(const PackedModel& m, int cluster, int rank,
     }
   }
   const Eigen::MatrixXf columns = clusterColumns(m, cluster, rank, g);
-  Eigen::VectorXf meanTerm = Eigen::VectorXf::Zero(g.rows());
+  // mu_c . g per row, summed in index order: Eigen's matrix-vector product
+  // splits its sums by the vectors' alignment, which differs between
+  // processes, and the same inputs must give the same bytes.
+  std::vector<double> meanTerm(g.rows(), 0.0);
   if (m.hasMean)
-    meanTerm = g * Eigen::Map<const Eigen::VectorXf>(m.means.data() + size_t(cluster) * n, n);
+    for (Eigen::Index row = 0; row < g.rows(); ++row)
+      for (int i = 0; i < n; ++i)
+        meanTerm[row] += double(g(row, i)) * m.means[size_t(cluster) * n + i];
   std::vector<double> towards(groupRows * stride, 0.0);
   if (byGroup) {
     for (size_t row = 0; row < groupRows; ++row) {
