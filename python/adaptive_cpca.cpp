@@ -37,6 +37,7 @@ namespace acpca::python {
 namespace {
 
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using OutArray = py::array_t<float, py::array::c_style>;
 /// What a caller passes as out=: taken as it is (never converted to a copy),
 /// then checked.
@@ -199,18 +200,20 @@ class Relighter {
                                   const std::vector<std::tuple<double, double, double>>& rotations,
                                   const RankLimit& maxRank, double exposure,
                                   const std::string& background, bool fastRotation, OutArgument out,
-                                  const std::vector<LocalLight>& lights, double anchorSpread) {
+                                  const std::vector<LocalLight>& lights, double anchorSpread,
+                                  const std::optional<DoubleArray>& lightPositions) {
     requireFinite(exposure, "exposure");
     for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
     const Background bg = kBackgroundNames.parse(background);
     if (envs.empty() || rotations.empty())
       throw ParameterError("batch", "", "give at least one environment and one rotation");
-    const py::ssize_t frames = static_cast<py::ssize_t>(envs.size() * rotations.size());
+    const std::vector<std::vector<LocalLight>> sets = lightSets(lights, lightPositions);
+    const size_t perSet = envs.size() * rotations.size();
+    const py::ssize_t frames = static_cast<py::ssize_t>(perSet * sets.size());
     OutArray images = outputArray(out, {frames}, bg);
     {
       py::gil_scoped_release release;
       setRank(maxRank);
-      const std::vector<float> local = localRows(lights, anchorSpread);
       const size_t frameValues = static_cast<size_t>(images.size() / frames);
       const RotationMode mode = fastRotation ? RotationMode::FastLattice : RotationMode::Exact;
       const auto frameOf = [&](size_t i) {
@@ -221,30 +224,57 @@ class Relighter {
         const auto [env, rotation] = frameOf(i);
         return computeLighting(*env, *lattice_, rotation, mode);
       };
-      relightInGroups(static_cast<size_t>(frames), lightingOf,
-                      [&](size_t first, const std::vector<LatticeLighting>& lightings) {
-                        if (source_.model) {  // one projection, then into the array
-                          source_.model->lightGroup(lightings);
-                          for (size_t k = 0; k < lightings.size(); ++k) {
-                            const auto [env, rotation] = frameOf(first + k);
-                            shadeModelFrameInto(k, *env, rotation, bg, exposure, local,
-                                                images.mutable_data() + (first + k) * frameValues);
+      for (size_t set = 0; set < sets.size(); ++set) {
+        const std::vector<float> local = localRows(sets[set], anchorSpread);
+        float* setImages = images.mutable_data() + set * perSet * frameValues;
+        relightInGroups(perSet, lightingOf,
+                        [&](size_t first, const std::vector<LatticeLighting>& lightings) {
+                          if (source_.model) {  // one projection, then into the array
+                            source_.model->lightGroup(lightings);
+                            for (size_t k = 0; k < lightings.size(); ++k) {
+                              const auto [env, rotation] = frameOf(first + k);
+                              shadeModelFrameInto(k, *env, rotation, bg, exposure, local,
+                                                  setImages + (first + k) * frameValues);
+                            }
+                            return;
                           }
-                          return;
-                        }
-                        std::vector<double> ms;
-                        const auto rows = source_.relight(lightings, ms);
-                        for (size_t k = 0; k < rows.size(); ++k) {
-                          const auto [env, rotation] = frameOf(first + k);
-                          finish(rows[k].data(), *env, rotation, bg, exposure, local,
-                                 images.mutable_data() + (first + k) * frameValues);
-                        }
-                      });
+                          std::vector<double> ms;
+                          const auto rows = source_.relight(lightings, ms);
+                          for (size_t k = 0; k < rows.size(); ++k) {
+                            const auto [env, rotation] = frameOf(first + k);
+                            finish(rows[k].data(), *env, rotation, bg, exposure, local,
+                                   setImages + (first + k) * frameValues);
+                          }
+                        });
+      }
     }
     return images;
   }
 
  private:
+  /// The batch's light sets: the lights as given, or, with positions (F x K
+  /// x 3 for K lights), F sets of those lights moved to each row's positions.
+  static std::vector<std::vector<LocalLight>> lightSets(
+      const std::vector<LocalLight>& lights, const std::optional<DoubleArray>& positions) {
+    if (!positions) return {lights};
+    const DoubleArray& p = *positions;
+    if (p.ndim() != 3 || p.shape(1) != static_cast<py::ssize_t>(lights.size()) || p.shape(2) != 3)
+      throw py::value_error(concat("light_positions must be F x ", lights.size(),
+                                   " x 3: a position for each of the lights in each frame"));
+    std::vector<std::vector<LocalLight>> sets;
+    for (py::ssize_t f = 0; f < p.shape(0); ++f) {
+      std::vector<LocalLight> set = lights;
+      for (size_t k = 0; k < set.size(); ++k) {
+        set[k].position = Vec3(p.at(f, k, 0), p.at(f, k, 1), p.at(f, k, 2));
+        set[k].spec.clear();
+        set[k] = madeLight(set[k]);
+      }
+      sets.push_back(std::move(set));
+    }
+    if (sets.empty()) throw py::value_error("light_positions holds no frames");
+    return sets;
+  }
+
   /// The local lights alone, per occupied row (empty without lights).
   std::vector<float> localRows(const std::vector<LocalLight>& lights, double anchorSpread) const {
     if (lights.empty()) return {};
@@ -508,9 +538,11 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
            py::arg("background") = "env", py::arg("fast_rotation") = false,
            py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
-           py::arg("anchor_spread") = kAnchorSpreadTexels,
+           py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("light_positions") = py::none(),
            "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major; "
-           "the lights are added to every frame.");
+           "the lights are added to every frame. light_positions (F x K x 3, K lights): F "
+           "times that, the lights moved to row f's positions for the f-th (light-major, as "
+           "the CLI's --light-path).");
   registerLongCalls(m);
   m.def(
       "open", [](const std::string& path) { return Relighter(path); }, py::arg("path"),

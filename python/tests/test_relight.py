@@ -93,6 +93,16 @@ def test_local_lights_are_the_clis_alone_and_beside_an_environment(tmp_path, mod
         assert np.allclose(batch[1], single, rtol=1e-6, atol=0) if source == TRANSPORT else \
             np.array_equal(batch[1], single)
     r = ac.Relighter(model)
+    # A batch along a path: light_positions moves the lights frame by frame.
+    path = np.array([[[-1.5, 2, 1.5]], [[0, 2.2, 1.8]], [[1.5, 2, 1.5]]])
+    moved = r.relight_batch([ac.Environment("sky"), ac.Environment("constant:0.1")],
+                            lights=[lamp], light_positions=path)
+    assert moved.shape[0] == 3 * 2
+    second = ac.SphereLight(tuple(path[1, 0]), 0.15, (300, 250, 200))
+    assert np.array_equal(moved[2 * 1 + 1], r.relight(ac.Environment("constant:0.1"),
+                                                       lights=[second]))
+    with pytest.raises(ValueError, match="light_positions must be F x 1 x 3"):
+        r.relight_batch([ac.Environment("sky")], lights=[lamp], light_positions=np.zeros((2, 2, 3)))
     exact = r.relight(None, lights=[lamp], anchor_spread=0)
     assert np.array_equal(exact, cli_image(tmp_path, model, "--light", lamp.spec,
                                            "--anchor-spread", "0"))
