@@ -179,6 +179,19 @@ Eigen::MatrixXf clusterColumns(const PackedModel& m, int cluster, int rank,
   return columns;
 }
 
+/// u . v over n values in float as eight interleaved sums added in a fixed
+/// order: the compiler keeps them in SIMD lanes, and the result does not
+/// depend on where the arrays lie (the same bytes in every process).
+float dotInLanes(const float* u, const float* v, int n) {
+  std::array<float, 8> sum{};
+  int k = 0;
+  for (; k + 8 <= n; k += 8)
+    for (int i = 0; i < 8; ++i) sum[i] += u[k + i] * v[k + i];
+  float tail = 0;
+  for (; k < n; ++k) tail += u[k] * v[k];
+  return ((sum[0] + sum[4]) + (sum[1] + sum[5])) + ((sum[2] + sum[6]) + (sum[3] + sum[7])) + tail;
+}
+
 /// The first `rank` coefficients of chunk j's 16 lanes as floats (i8 steps
 /// applied), k-major as packed: block[k * 16 + lane].
 void loadChunk(const PackedModel& m, size_t j, int rank, std::vector<float>& block) {
@@ -368,7 +381,8 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
     const std::vector<double> towards =
         groupTransport(m, cluster, rank, c, globalRows, slotOf, columnOfElement.local());
     std::vector<float> block;
-    std::vector<double> u(rank);
+    const std::vector<float> towardsF(towards.begin(), towards.end());
+    std::vector<float> u(rank);
     size_t loaded = static_cast<size_t>(-1);
     for (size_t r = 0; r < c.rows.size(); ++r) {
       const size_t chunk = c.lane[r] / kChunkRows;
@@ -383,9 +397,8 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
         if (irradiance <= 0) continue;  // outside a spot's cone (enclosed: refused before)
         const size_t gi = c.groupOf[li * c.rows.size() + r];
         for (int ch = 0; ch < channels; ++ch) {
-          const double* v = towards.data() + (gi * channels + ch) * stride;
-          double transport = v[rank];
-          for (int k = 0; k < rank; ++k) transport += u[k] * v[k];
+          const float* v = towardsF.data() + (gi * channels + ch) * stride;
+          const double transport = v[rank] + dotInLanes(u.data(), v, rank);
           if (channels == 1)
             value += irradiance * transport * lights[li].emission;
           else
