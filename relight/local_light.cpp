@@ -205,6 +205,12 @@ void appendSphereShares(const LocalLight& light, const CubeLattice& lattice, con
   const double texelAngle = 0.5 * kPi / lattice.resolution();
 
   const int centreTexel = lattice.texelOf(axis);
+  // A disc under a microradian (fuzzing found one at 1e-10) is a point: the
+  // cell grid cannot resolve it, and its texel holds it to 1e-6 of a texel.
+  if (!(alpha > 1e-6)) {
+    taps.push_back({centreTexel, 1.0});
+    return;
+  }
   if (alpha < texelAngle) {
     const auto normals = texelBoundaryNormals(lattice, centreTexel);
     if (std::all_of(normals.begin(), normals.end(),
