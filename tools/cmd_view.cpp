@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "relight/environment.h"
+#include "relight/local_light.h"
 #include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -16,7 +17,7 @@ namespace {
 struct ViewArgs {
   ViewerOptions options;  ///< the flags that set a field of it directly
   std::string background = "env", script, rotate;
-  std::vector<std::string> envs;
+  std::vector<std::string> envs, lights;
   int threads = 0;
   bool quiet = false;
 };
@@ -26,6 +27,8 @@ void run(const ViewArgs& a) {
   if (!a.envs.empty()) o.envSpecs = expandEnvironmentSpecs(a.envs);
   o.background = parseBackground(a.background);
   if (!a.rotate.empty()) o.initial = parseViewerRotation(a.rotate, o.initial);
+  for (const std::string& spec : a.lights) o.initial.lights.push_back(parseLocalLight(spec));
+  if (!o.initial.lights.empty()) o.initial.selectedLight = 0;
   o.log = stderrLog("view", a.quiet);
   if (!a.script.empty()) o.script = readViewerScript(a.script);
   validateViewerOptions(o);
@@ -42,13 +45,16 @@ void registerView(CLI::App& app) {
   auto args = std::make_shared<ViewArgs>();
   auto* sub = app.add_subcommand(
       "view",
-      "Relight a model live in a window: drag to turn the lighting (keys: n/p env map, c cluster "
-      "boundaries, h rank heat map, l lighting inset, a/d yaw, r reset, +/- exposure, s save, q "
-      "quit)");
+      "Relight a model live in a window: drag to turn the lighting, drag a drawn light to move "
+      "it, wheel to move it in depth (keys: n/p env map, i add a light, o remove it, Tab next "
+      "light, [/] nearer/farther, c cluster boundaries, h rank heat map, l lighting inset, a/d "
+      "yaw, r reset, +/- exposure, s save, q quit)");
   sub->add_option("model", args->options.modelPath, "Model file (M_FILE)")->required();
   sub->add_option("--env", args->envs,
                   "Lighting (as relight takes it; repeatable; default: sky and a sun)");
   sub->add_option("--rotate", args->rotate, "Initial YAW[,PITCH] in degrees");
+  sub->add_option("--light", args->lights,
+                  "A local light to start with (as relight takes it; repeatable)");
   sub->add_option("--exposure", args->options.initial.exposure, "Initial exposure in stops");
   sub->add_option("--rank-percent", args->options.initial.rankPercent,
                   "Initial share of each cluster's bases, 0..100 (the quality/speed trackbar)");
@@ -56,8 +62,8 @@ void registerView(CLI::App& app) {
   sub->add_option("--save-dir", args->options.saveDir,
                   "Where the s key writes EXR + PNG (default .)");
   sub->add_option("--script", args->script,
-                  "Drive the window from a file of events (key, drag, rotate, exposure, rank, "
-                  "env, save, screenshot, wait), then quit");
+                  "Drive the window from a file of events (key, drag, dragfrom, wheel, light, "
+                  "rotate, exposure, rank, env, save, screenshot, wait), then quit");
   sub->add_option("--frames", args->options.frames,
                   "Self-driving: show N frames, turning the yaw by --rotate-step each, then quit");
   sub->add_option("--rotate-step", args->options.rotateStep,

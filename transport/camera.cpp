@@ -27,6 +27,10 @@ void Camera::validate() const {
     throw UserError(concat("camera: fov ", fovDegrees, " is outside (0, 180) degrees"));
 }
 
+double Camera::pixelScale() const {
+  return 2 * std::tan(0.5 * fovDegrees * std::numbers::pi / 180.0) / size.height;
+}
+
 Vec3 Camera::rayDirection(double px, double py) const {
   const Vec3 forward = (target - eye).normalized();
   const Vec3 right = forward.cross(up).normalized();
@@ -36,6 +40,23 @@ Vec3 Camera::rayDirection(double px, double py) const {
   const double x = (2 * px / size.width - 1) * tanHalf * aspect;
   const double y = (1 - 2 * py / size.height) * tanHalf;  // row 0 is the top
   return (forward + x * right + y * trueUp).normalized();
+}
+
+// Square pixels: rayDirection's x and y step by pixelScale() per pixel.
+bool Camera::project(const Vec3& point, Eigen::Vector2d& pixel, double& depth) const {
+  const Vec3 d = point - eye;
+  const double z = d.dot(forward());
+  if (!(z > 0)) return false;
+  const double s = pixelScale();
+  pixel = {0.5 * size.width + d.dot(right()) / (z * s),
+           0.5 * size.height - d.dot(imageUp()) / (z * s)};
+  depth = z;
+  return true;
+}
+
+Vec3 Camera::imagePlaneOffset(double dx, double dy, double depth) const {
+  const double s = pixelScale() * depth;
+  return dx * s * right() - dy * s * imageUp();
 }
 
 Eigen::Vector2d pixelSampleOffset(int s) {

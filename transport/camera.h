@@ -40,6 +40,21 @@ struct Camera {
   /// Unit direction of the ray through image point (px, py) in pixel units, where
   /// (x + 0.5, y + 0.5) is the centre of pixel (x, y).
   Vec3 rayDirection(double px, double py) const;
+  /// Where a world point appears: its image position in the units
+  /// rayDirection takes, and its depth along the view direction. False for a
+  /// point on or behind the eye's plane (pixel and depth untouched).
+  bool project(const Vec3& point, Eigen::Vector2d& pixel, double& depth) const;
+  /// The world offset that moves a point at `depth` in front of the eye by
+  /// (dx, dy) pixels across the image, parallel to the image plane.
+  Vec3 imagePlaneOffset(double dx, double dy, double depth) const;
+  /// Unit view direction, right and up of the image (up as the image shows it).
+  Vec3 forward() const { return (target - eye).normalized(); }
+  Vec3 right() const { return forward().cross(up).normalized(); }
+  Vec3 imageUp() const { return right().cross(forward()); }
+
+ private:
+  /// World units per pixel at unit depth.
+  double pixelScale() const;
 };
 
 }  // namespace acpca

@@ -2,19 +2,80 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include "core/error.h"
 
 namespace acpca {
+
+namespace {
+
+/// The light moved to `position`, its spec written anew.
+void placeLight(LocalLight& light, const Vec3& position) {
+  light.position = position;
+  light.spec = light.canonicalSpec();
+}
+
+}  // namespace
+
+bool sameLights(const std::vector<LocalLight>& a, const std::vector<LocalLight>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const LocalLight& x, const LocalLight& y) {
+                      return x.canonicalSpec() == y.canonicalSpec();
+                    });
+}
+
+LocalLight keyLightFor(const TransportHeader& g) {
+  ACPCA_CHECK(g.hasPositions() && g.rows() > 0, "keyLightFor needs pixel positions");
+  const Camera& camera = g.camera;
+  const Vec3 forward = camera.forward();
+  std::vector<double> depths(g.rows());
+  for (long long row = 0; row < g.rows(); ++row)
+    depths[row] = (Vec3(g.positions[3 * row], g.positions[3 * row + 1], g.positions[3 * row + 2]) -
+                   camera.eye)
+                      .dot(forward);
+  // The median ignores a floor or backdrop stretching far away.
+  std::nth_element(depths.begin(), depths.begin() + g.rows() / 2, depths.end());
+  const double depth = std::max(depths[g.rows() / 2], 1e-6);
+  const Vec3 ray = camera.rayDirection(0.5 * camera.size.width, 0.2 * camera.size.height);
+  LocalLight light;
+  light.position = camera.eye + 0.6 * depth / ray.dot(forward) * ray;
+  const Vec3 lit = camera.eye + depth * forward;
+  light.emission = Rgb::Constant(std::numbers::pi * (lit - light.position).squaredNorm());
+  light.spec = light.canonicalSpec();
+  return light;
+}
 
 bool operator==(const ViewState& a, const ViewState& b) {
   return a.env == b.env && a.yaw == b.yaw && a.pitch == b.pitch && a.exposure == b.exposure &&
          a.rankPercent == b.rankPercent && a.clusterOverlay == b.clusterOverlay &&
-         a.rankHeatMap == b.rankHeatMap && a.lightingInset == b.lightingInset;
+         a.rankHeatMap == b.rankHeatMap && a.lightingInset == b.lightingInset &&
+         a.selectedLight == b.selectedLight && sameLights(a.lights, b.lights);
 }
 
-ViewUpdate applyKey(const ViewState& state, int key, int envs) {
+ViewUpdate applyKey(const ViewState& state, int key, const ViewContext& context) {
+  const int envs = context.envs;
   ViewUpdate u{state};
   ViewState& s = u.state;
+  const int lights = static_cast<int>(s.lights.size());
   switch (key) {
+    case 'i':
+      s.lights.push_back(context.newLight);
+      s.selectedLight = lights;
+      break;
+    case 'o':
+      if (s.selectedLight >= 0) {
+        s.lights.erase(s.lights.begin() + s.selectedLight);
+        s.selectedLight = std::min(s.selectedLight, lights - 2);  // -1 when none is left
+      }
+      break;
+    case '\t':
+      if (lights > 0) s.selectedLight = (s.selectedLight + 1) % lights;
+      break;
+    case '[':
+    case ']':
+      s = moveLightInDepth(s, key == '[' ? 1 : -1, context.camera);
+      break;
     case 27:
     case 'q':
       u.action = ViewAction::Quit;
@@ -77,10 +138,46 @@ ViewState applyExposurePosition(const ViewState& state, int position) {
   return s;
 }
 
-void DragTracker::press(int x, int y, int imageHeight) {
+ViewState moveLightAcross(const ViewState& state, int index, int dx, int dy, const Camera& camera) {
+  ViewState s = state;
+  if (index < 0 || index >= static_cast<int>(s.lights.size())) return s;
+  s.selectedLight = index;
+  LocalLight& light = s.lights[index];
+  Eigen::Vector2d pixel;
+  double depth = 0;
+  if (camera.project(light.position, pixel, depth))
+    placeLight(light, light.position + camera.imagePlaneOffset(dx, dy, depth));
+  return s;
+}
+
+ViewState moveLightInDepth(const ViewState& state, double notches, const Camera& camera) {
+  ViewState s = state;
+  if (s.selectedLight < 0 || s.selectedLight >= static_cast<int>(s.lights.size())) return s;
+  LocalLight& light = s.lights[s.selectedLight];
+  // Scaling the offset from the eye keeps the light on its pixel's ray.
+  placeLight(light, camera.eye + std::pow(0.9, notches) * (light.position - camera.eye));
+  return s;
+}
+
+int lightUnder(const ViewState& state, double x, double y, const Camera& camera, double reach) {
+  int nearest = -1;
+  double best = reach * reach;
+  for (size_t i = 0; i < state.lights.size(); ++i) {
+    Eigen::Vector2d pixel;
+    double depth = 0;
+    if (!camera.project(state.lights[i].position, pixel, depth)) continue;
+    // Pixel (x, y) spans [x, x + 1): its centre is where the light is drawn.
+    const double d2 = (pixel - Eigen::Vector2d(x + 0.5, y + 0.5)).squaredNorm();
+    if (d2 <= best) best = d2, nearest = static_cast<int>(i);
+  }
+  return nearest;
+}
+
+void DragTracker::press(int x, int y, int imageHeight, int light) {
   if (y >= imageHeight) return;  // the status strip
   dragging_ = true;
   x_ = x, y_ = y;
+  light_ = light;
 }
 
 bool DragTracker::move(int x, int y, bool buttonHeld, int& dx, int& dy) {

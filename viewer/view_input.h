@@ -1,8 +1,14 @@
 #pragma once
 // How the viewer's inputs change what it shows, as pure functions of the view
-// state: keys, drags, mouse buttons, trackbar positions and script events. No
-// window is involved, so all of it is tested without a display.
+// state: keys, drags (of the lighting or of a local light), the wheel, mouse
+// buttons, trackbar positions and script events. No window is involved, so
+// all of it is tested without a display.
 #include <string>
+#include <vector>
+
+#include "relight/local_light.h"
+#include "transport/camera.h"
+#include "transport/transport_file.h"
 
 namespace acpca {
 
@@ -13,9 +19,27 @@ struct ViewState {
   double exposure = 0;        ///< stops
   int rankPercent = 100;      ///< share of each cluster's bases used
   bool clusterOverlay = false, rankHeatMap = false, lightingInset = false;
+  std::vector<LocalLight> lights;  ///< local lights, summed with the map
+  int selectedLight = -1;          ///< the light keys and the wheel move; -1: none
+};
+
+/// What inputs need to know about the view besides its state: the number of
+/// maps, the model's camera, and the light the add key places.
+struct ViewContext {
+  int envs = 1;
+  Camera camera;
+  LocalLight newLight;
 };
 
 bool operator==(const ViewState& a, const ViewState& b);
+/// Whether two lists hold the same lights (as their canonical specs say).
+bool sameLights(const std::vector<LocalLight>& a, const std::vector<LocalLight>& b);
+
+/// The light the add key places, a key light between the camera and what it
+/// sees: a point light on the ray through image point (W/2, H/5) at 0.6 of
+/// the pixels' median depth, as bright as a white sky of radiance 1 is from
+/// above: irradiance pi at the median depth on the view axis. Needs positions.
+LocalLight keyLightFor(const TransportHeader& geometry);
 
 /// What an input asks for beyond the new state.
 enum class ViewAction { None, Save, Quit };
@@ -29,15 +53,31 @@ struct ViewUpdate {
 inline constexpr int kExposureSteps = 80;
 inline constexpr double kExposureStep = 0.25, kExposureMin = -10;
 
-/// A key (its ASCII code): n or space / p the next / previous of `envs` maps
+/// A key (its ASCII code): n or space / p the next / previous of the maps
 /// (wrapping), c / h / l the cluster, rank and lighting overlays, a / d ten
 /// degrees of yaw, r the rotation reset, + or = / - half a stop (within the
-/// trackbar's range), s save, q or Esc quit; any other key changes nothing.
-ViewUpdate applyKey(const ViewState& state, int key, int envs);
+/// trackbar's range), i a new light (context.newLight, selected), o removes
+/// the selected light, Tab selects the next light, [ / ] move the selected
+/// light a wheel notch nearer / farther, s save, q or Esc quit; any other key
+/// changes nothing.
+ViewUpdate applyKey(const ViewState& state, int key, const ViewContext& context);
 
-/// A drag by (dx, dy) pixels over an image of width x height: a full width
-/// turns the lighting once around, the height half a turn (pitch within
-/// -90..90).
+/// Light `index` moved across the image by (dx, dy) pixels at its own depth
+/// (it stays under the cursor that drags it); selected. A light behind the
+/// camera does not move.
+ViewState moveLightAcross(const ViewState& state, int index, int dx, int dy, const Camera& camera);
+/// The selected light moved along the line from the eye through it, a tenth
+/// of its distance nearer per notch (notches > 0) or farther (< 0): its image
+/// stays where it is.
+ViewState moveLightInDepth(const ViewState& state, double notches, const Camera& camera);
+/// How near the cursor must press to a drawn light to drag it.
+inline constexpr double kLightPickPixels = 10;
+/// The light drawn nearest (x, y) within `reach` pixels, or -1.
+int lightUnder(const ViewState& state, double x, double y, const Camera& camera,
+               double reach = kLightPickPixels);
+
+/// A drag of the lighting's rotation by (dx, dy) pixels over an image of width x height: a full
+/// width turns the lighting once around, the height half a turn (pitch within -90..90).
 ViewState applyDrag(const ViewState& state, int dx, int dy, int width, int height);
 
 /// The exposure trackbar's position for an exposure (clamped to the bar), and
@@ -47,18 +87,21 @@ int exposurePosition(double exposure);
 ViewState applyExposurePosition(const ViewState& state, int position);
 
 /// The left button over the window: a press over the image (above the status
-/// strip, y < imageHeight) starts a drag, a release ends it, and each move
-/// with the button held gives the drag since the last one.
+/// strip, y < imageHeight) starts a drag, of the light pressed on (`light`,
+/// from lightUnder) or else of the lighting's rotation; a release ends it,
+/// and each move with the button held gives the drag since the last one.
 class DragTracker {
  public:
-  void press(int x, int y, int imageHeight);
+  void press(int x, int y, int imageHeight, int light = -1);
   void release() { dragging_ = false; }
   /// Whether this move drags (then dx, dy are set).
   bool move(int x, int y, bool buttonHeld, int& dx, int& dy);
+  /// The light being dragged, or -1 for the rotation.
+  int light() const { return light_; }
 
  private:
   bool dragging_ = false;
-  int x_ = 0, y_ = 0;
+  int x_ = 0, y_ = 0, light_ = -1;
 };
 
 }  // namespace acpca

@@ -12,6 +12,7 @@
 #include "core/stopwatch.h"
 #include "pictures/pictures.h"
 #include "relight/envmap_export.h"
+#include "relight/local_relight.h"
 
 namespace acpca {
 
@@ -44,7 +45,13 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
   }  // the relighter keeps its own packed copy of the model
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
   if (envs_.empty()) throw ParameterError("environment", "", "give at least one lighting");
-  lattice_ = std::make_unique<CubeLattice>(relighter_->geometry().cubemapResolution);
+  const TransportHeader& g = relighter_->geometry();
+  lattice_ = std::make_unique<CubeLattice>(g.cubemapResolution);
+  composer_ = std::make_unique<ImageComposer>(g);
+  context_.envs = static_cast<int>(envs_.size());
+  context_.camera = g.camera;
+  if (g.hasPositions() && g.rows() > 0) context_.newLight = keyLightFor(g);
+  requireLocalLightsApply(g, options.modelPath, true, options.initial.lights);
   ui_ = options.initial;
   ui_.env = std::clamp(ui_.env, 0, static_cast<int>(envs_.size()) - 1);
 }
@@ -83,32 +90,82 @@ void Viewer::workerLoop() {
 }
 
 Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
-  if (!linear_ || !sameRelight(state, relitFor_)) {
+  // What this frame does: parts it keeps from the last one cost nothing.
+  times_ = {};
+  const bool mapChanged = !linear_ || !sameRelight(state, relitFor_);
+  if (mapChanged) {
     const Environment& env = *envs_[state.env];
     const EnvRotation rotation = rotationOf(state);
     Stopwatch t;
     lighting_ = computeLighting(env, *lattice_, rotation, options_.rotationMode);
-    lightingMs_ = t.milliseconds();
+    times_.lighting = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
     t.restart();
     const std::vector<float> rgb = relighter_->relight(lighting_);
-    relightMs_ = t.milliseconds();
+    times_.relight = t.milliseconds();
     t.restart();
-    linear_ = std::make_shared<const Image>(composeImage(
-        relighter_->geometry(), rgb, options_.background, env, rotationMatrix(rotation)));
-    composeMs_ = t.milliseconds();
+    mapPart_ = composeImage(relighter_->geometry(), rgb, options_.background, env,
+                            rotationMatrix(rotation));
+    times_.compose = t.milliseconds();
     relitFor_ = state;
+  }
+  // The lights' part depends on the lights and the ranks in use only.
+  const bool lightsChanged = !localDone_ || !sameLights(state.lights, localFor_.lights) ||
+                             state.rankPercent != localFor_.rankPercent;
+  if (lightsChanged) relightLocal(state);
+  if (mapChanged || lightsChanged) {
+    // As relight sums them: the map's image, then the lights' rows added.
+    const Stopwatch t;
+    Image image = mapPart_;
+    if (!localRows_.empty())
+      composer_->addRows(localRows_.data(), image.pixels.data(), image.channels);
+    linear_ = std::make_shared<const Image>(std::move(image));
+    times_.compose += t.milliseconds();
   }
   const Stopwatch drawWatch;
   cv::Mat image = toneMappedBgr(*linear_, state.exposure);
   drawOverlays(state, image);
+  drawLights(state, image);
   Frame frame;
-  drawStatus(state, composeMs_ + drawWatch.milliseconds(), image);
+  times_.draw = drawWatch.milliseconds();
+  drawStatus(state, image);
   frame.canvas = image;
   frame.linear = linear_;
   frame.state = state;
   frame.serial = serial;
   return frame;
+}
+
+void Viewer::relightLocal(const ViewState& state) {
+  localFor_ = state;
+  localDone_ = true;
+  localProblem_.clear();
+  localRows_.clear();
+  if (state.lights.empty()) return;
+  const Stopwatch t;
+  try {
+    requireLocalLightsApply(relighter_->geometry(), options_.modelPath, true, state.lights);
+    localRows_ = modelLocalRelight(*relighter_, state.lights);
+  } catch (const UserError& error) {
+    localProblem_ = error.what();  // shown in the status line; the map still shows
+  }
+  times_.lights = t.milliseconds();
+}
+
+void Viewer::drawLights(const ViewState& state, cv::Mat& image) const {
+  for (size_t i = 0; i < state.lights.size(); ++i) {
+    Eigen::Vector2d pixel;
+    double depth = 0;
+    if (!context_.camera.project(state.lights[i].position, pixel, depth)) continue;
+    // cv::circle takes the centre in 1/16 pixels: (x + 0.5, y + 0.5) is pixel (x, y)'s centre.
+    const cv::Point centre(static_cast<int>(std::lround(16 * (pixel.x() - 0.5))),
+                           static_cast<int>(std::lround(16 * (pixel.y() - 0.5))));
+    const bool selected = static_cast<int>(i) == state.selectedLight;
+    cv::circle(image, centre, 16 * 6, cv::Scalar(0, 0, 0), selected ? cv::FILLED : 3, cv::LINE_AA,
+               4);
+    cv::circle(image, centre, 16 * 5, cv::Scalar(0, 220, 255), selected ? cv::FILLED : 1,
+               cv::LINE_AA, 4);
+  }
 }
 
 void Viewer::drawOverlays(const ViewState& state, cv::Mat& image) const {
@@ -139,16 +196,25 @@ void Viewer::drawOverlays(const ViewState& state, cv::Mat& image) const {
   }
 }
 
-void Viewer::drawStatus(const ViewState& state, double drawMs, cv::Mat& canvas) const {
+void Viewer::drawStatus(const ViewState& state, cv::Mat& canvas) const {
   const double yaw = std::fmod(std::fmod(state.yaw, 360.0) + 360.0, 360.0);
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "%s (%d/%zu)  yaw %.1f pitch %.1f  EV %+.2f  rank %d%%%s  |  relight %.1f ms, "
-                "lighting %.1f ms, draw %.1f ms: %.0f fps",
-                envs_[state.env]->name().c_str(), state.env + 1, envs_.size(), yaw, state.pitch,
-                state.exposure, state.rankPercent,
-                state.rankHeatMap ? concat(" (heat map 0..", maxRank_, ")").c_str() : "",
-                relightMs_, lightingMs_, drawMs, 1000.0 / (relightMs_ + lightingMs_ + drawMs));
+  std::string lights;
+  if (!state.lights.empty())
+    lights = concat("  lights ", state.lights.size(),
+                    state.selectedLight >= 0 ? concat(" (", state.selectedLight + 1, ": ",
+                                                      state.lights[state.selectedLight].spec, ")")
+                                             : std::string(),
+                    localProblem_.empty() ? "" : concat(" not shown: ", localProblem_));
+  char text[1024];
+  std::snprintf(
+      text, sizeof text,
+      "%s (%d/%zu)  yaw %.1f pitch %.1f  EV %+.2f  rank %d%%%s%s  |  this frame: lighting "
+      "%.1f ms, relight %.1f ms, lights %.1f ms, compose %.1f ms, draw %.1f ms: %.0f fps",
+      envs_[state.env]->name().c_str(), state.env + 1, envs_.size(), yaw, state.pitch,
+      state.exposure, state.rankPercent,
+      state.rankHeatMap ? concat(" (heat map 0..", maxRank_, ")").c_str() : "", lights.c_str(),
+      times_.lighting, times_.relight, times_.lights, times_.compose, times_.draw,
+      1000.0 / (times_.lighting + times_.relight + times_.lights + times_.compose + times_.draw));
   // The strip grows a line per chunk of text that would not fit the width.
   const int font = cv::FONT_HERSHEY_SIMPLEX;
   const double scale = 0.45;
@@ -211,8 +277,26 @@ void Viewer::applyDrag(int dx, int dy) {
   request();
 }
 
+void Viewer::applyLightDrag(int light, int dx, int dy) {
+  ui_ = moveLightAcross(ui_, light, dx, dy, context_.camera);
+  request();
+}
+
+void Viewer::applyWheel(double notches) {
+  const ViewState next = moveLightInDepth(ui_, notches, context_.camera);
+  if (next == ui_) return;
+  ui_ = next;
+  request();
+}
+
 bool Viewer::applyKey(int key) {
-  const ViewUpdate u = acpca::applyKey(ui_, key, static_cast<int>(envs_.size()));
+  if (key == 'i' && !relighter_->geometry().hasPositions()) {
+    say(concat(options_.modelPath,
+               ": has no pixel positions, which local lights need; precompute its transport "
+               "again and compress (or build) it again"));
+    return true;
+  }
+  const ViewUpdate u = acpca::applyKey(ui_, key, context_);
   if (u.action == ViewAction::Quit) return false;
   if (u.action == ViewAction::Save) savePictures("");
   if (u.state == ui_) return true;
@@ -231,6 +315,22 @@ void Viewer::applyEvent(const ScriptEvent& e) {
     case Kind::Drag:
       applyDrag(static_cast<int>(e.a), static_cast<int>(e.b));
       break;
+    case Kind::DragFrom:
+      if (const int light = lightUnder(ui_, e.a, e.b, context_.camera); light >= 0)
+        applyLightDrag(light, static_cast<int>(e.c), static_cast<int>(e.d));
+      else
+        applyDrag(static_cast<int>(e.c), static_cast<int>(e.d));
+      break;
+    case Kind::Wheel:
+      applyWheel(e.a);
+      break;
+    case Kind::Light: {
+      ViewContext context = context_;
+      context.newLight = parseLocalLight(e.path);
+      ui_ = acpca::applyKey(ui_, 'i', context).state;
+      request();
+      break;
+    }
     case Kind::Rotate:
       ui_.yaw = e.a;
       ui_.pitch = e.b;
@@ -283,7 +383,9 @@ void Viewer::savePictures(const std::string& stem) const {
   for (ImageFormat format : {ImageFormat::Exr, ImageFormat::Png}) {
     const std::string path = base.string() + (format == ImageFormat::Exr ? ".exr" : ".png");
     writeImage(*onScreen_.linear, path, format, s.exposure);
-    say(concat("saved ", path));
+    std::string lights;  // what relight --light takes, to make the same image in a batch
+    for (const LocalLight& light : s.lights) lights += " --light " + light.canonicalSpec();
+    say(concat("saved ", path, lights.empty() ? "" : " under" + lights));
   }
 }
 
@@ -327,13 +429,20 @@ void Viewer::onTrackbar(int, void* self) {
 void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
   auto* v = static_cast<Viewer*>(self);
   int dx = 0, dy = 0;
-  if (event == cv::EVENT_LBUTTONDOWN)
-    v->drag_.press(x, y, v->height_);
-  else if (event == cv::EVENT_LBUTTONUP)
+  if (event == cv::EVENT_LBUTTONDOWN) {
+    v->drag_.press(x, y, v->height_, lightUnder(v->ui_, x, y, v->context_.camera));
+  } else if (event == cv::EVENT_LBUTTONUP) {
     v->drag_.release();
-  else if (event == cv::EVENT_MOUSEMOVE &&
-           v->drag_.move(x, y, (flags & cv::EVENT_FLAG_LBUTTON) != 0, dx, dy))
-    v->applyDrag(dx, dy);
+  } else if (event == cv::EVENT_MOUSEWHEEL) {
+    // One notch is 120; forward (away from the user) brings the light nearer.
+    v->applyWheel(cv::getMouseWheelDelta(flags) / 120.0);
+  } else if (event == cv::EVENT_MOUSEMOVE &&
+             v->drag_.move(x, y, (flags & cv::EVENT_FLAG_LBUTTON) != 0, dx, dy)) {
+    if (v->drag_.light() >= 0)
+      v->applyLightDrag(v->drag_.light(), dx, dy);
+    else
+      v->applyDrag(dx, dy);
+  }
 }
 
 void Viewer::run() {
@@ -355,8 +464,10 @@ void Viewer::run() {
   if (scripted) {
     for (const auto& event : script) applyEvent(event);
   } else {
-    say("drag to turn the lighting; keys: n/p env map, c clusters, h rank heat map, "
-        "l lighting inset, a/d yaw, r reset, +/- exposure, s save, q quit");
+    say("drag to turn the lighting, drag a drawn light to move it, wheel to move it in depth; "
+        "keys: n/p env map, i add a light, o remove it, Tab next light, [/] nearer/farther, "
+        "c clusters, h rank heat map, l lighting inset, a/d yaw, r reset, +/- exposure, s save, "
+        "q quit");
     for (;;) {
       showLatest();
       const int key = cv::waitKey(8);

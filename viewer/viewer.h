@@ -1,6 +1,6 @@
 #pragma once
 // `adaptive-cpca view`: a window (OpenCV highgui) that relights a model live as
-// the user turns the lighting. A worker thread relights and draws each frame
+// the user turns the lighting and moves local lights. A worker thread relights and draws each frame
 // into a new canvas; the UI thread only shows the latest finished canvas, so it
 // never stalls on a relight and never shows a half-drawn frame.
 #include <condition_variable>
@@ -64,13 +64,18 @@ class Viewer {
   void workerLoop();
   Frame render(const ViewState& state, long long serial);
   void drawOverlays(const ViewState& state, cv::Mat& image) const;
-  void drawStatus(const ViewState& state, double totalMs, cv::Mat& canvas) const;
+  void drawLights(const ViewState& state, cv::Mat& image) const;
+  /// The local lights' rows (relit again only when the lights or ranks change).
+  void relightLocal(const ViewState& state);
+  void drawStatus(const ViewState& state, cv::Mat& canvas) const;
   // UI side.
   void request();
   void showLatest();
   void waitForLatestRequest();
   bool applyKey(int key);  ///< false: quit
   void applyDrag(int dx, int dy);
+  void applyLightDrag(int light, int dx, int dy);
+  void applyWheel(double notches);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
   void say(const std::string& text) const {
@@ -88,12 +93,23 @@ class Viewer {
   std::unique_ptr<CubeLattice> lattice_;
   int width_ = 0, height_ = 0, maxRank_ = 0;
   std::vector<int> clusterOfPixel_;  ///< -1 for background
+  ViewContext context_;
+  std::unique_ptr<ImageComposer> composer_;
 
-  // Worker cache: the last relit image and what it was relit for.
+  // Worker cache: the last relit image, its map part and local-light rows,
+  // and what they were relit for.
   std::shared_ptr<const Image> linear_;
+  Image mapPart_;
+  std::vector<float> localRows_;
+  std::string localProblem_;  ///< why the lights are not shown, if they cannot be
   LatticeLighting lighting_;
-  ViewState relitFor_;
-  double relightMs_ = 0, lightingMs_ = 0, composeMs_ = 0;
+  ViewState relitFor_, localFor_;
+  bool localDone_ = false;
+  /// Milliseconds of each part of the last frame (0: kept from the one before).
+  struct FrameTimes {
+    double lighting = 0, relight = 0, lights = 0, compose = 0, draw = 0;
+  };
+  FrameTimes times_;
 
   std::mutex mutex_;
   std::condition_variable wake_, finished_;

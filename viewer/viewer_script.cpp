@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "relight/local_light.h"
 #include "relight/spec_parsing.h"
 
 namespace acpca {
@@ -13,8 +14,9 @@ namespace {
 int keyCode(const std::string& word, const std::string& where) {
   if (word == "esc") return 27;
   if (word == "space") return ' ';
+  if (word == "tab") return '\t';
   if (word.size() == 1) return static_cast<unsigned char>(word[0]);
-  throw UserError(concat(where, ": key '", word, "' is not one character, esc or space"));
+  throw UserError(concat(where, ": key '", word, "' is not one character, esc, space or tab"));
 }
 
 }  // namespace
@@ -43,6 +45,21 @@ std::vector<ScriptEvent> readViewerScript(const std::string& path) {
     } else if (verb == "drag") {
       need(2);
       e = {ScriptEvent::Kind::Drag, numberAt(0), numberAt(1)};
+    } else if (verb == "dragfrom") {
+      need(4);
+      e = {ScriptEvent::Kind::DragFrom, numberAt(0), numberAt(1)};
+      e.c = numberAt(2), e.d = numberAt(3);
+    } else if (verb == "wheel") {
+      need(1);
+      e = {ScriptEvent::Kind::Wheel, numberAt(0)};
+    } else if (verb == "light") {
+      need(1);
+      try {
+        parseLocalLight(args[0]);  // refused here, with the line, rather than mid-run
+      } catch (const UserError& error) {
+        throw UserError(concat(where, ": ", error.what()));
+      }
+      e = {ScriptEvent::Kind::Light, 0, 0, args[0]};
     } else if (verb == "rotate") {
       need(1);
       const auto comma = args[0].find(',');
@@ -69,7 +86,8 @@ std::vector<ScriptEvent> readViewerScript(const std::string& path) {
       if (e.a < 0) throw UserError(concat(where, ": wait takes milliseconds >= 0"));
     } else {
       throw UserError(concat(where, ": unknown event '", verb,
-                             "' (key, drag, rotate, exposure, rank, env, save, screenshot, wait)"));
+                             "' (key, drag, dragfrom, wheel, light, rotate, exposure, rank, env, "
+                             "save, screenshot, wait)"));
     }
     events.push_back(e);
   }

@@ -1,8 +1,12 @@
 #pragma once
 // Scripted input for `view --script FILE`: the events a user would produce,
 // one per line, so that tests and demos can drive the window without a person.
-//   key C            a key press: one character, or esc / space
-//   drag DX DY       a left-button drag by DX, DY pixels
+//   key C            a key press: one character, or esc / space / tab
+//   drag DX DY       a left-button drag by DX, DY pixels (of the lighting)
+//   dragfrom X Y DX DY   a drag that starts at pixel X, Y: of the light drawn
+//                    there, if any, else of the lighting
+//   wheel N          N notches of the wheel (> 0 moves the selected light nearer)
+//   light SPEC       add a local light (relight's --light grammar), selected
 //   rotate YAW[,PITCH]   set the lighting's rotation in degrees
 //   exposure EV | rank PERCENT | env INDEX (0-based)   as the trackbars do
 //   save STEM        write STEM.exr and STEM.png of the current frame
@@ -16,12 +20,26 @@
 namespace acpca {
 
 struct ScriptEvent {
-  enum class Kind { Key, Drag, Rotate, Exposure, Rank, Env, Save, Screenshot, Wait };
+  enum class Kind {
+    Key,
+    Drag,
+    DragFrom,
+    Wheel,
+    Light,
+    Rotate,
+    Exposure,
+    Rank,
+    Env,
+    Save,
+    Screenshot,
+    Wait
+  };
   ScriptEvent(Kind kind, double a = 0, double b = 0, std::string path = {})
       : kind(kind), a(a), b(b), path(std::move(path)) {}
   Kind kind;
-  double a, b;       ///< numbers (key code in a for Key)
-  std::string path;  ///< Save, Screenshot
+  double a, b;          ///< numbers (key code in a for Key)
+  double c = 0, d = 0;  ///< DragFrom: the drag (a, b: where it starts)
+  std::string path;     ///< Save, Screenshot; Light: the spec
 };
 
 /// Reads a script; throws UserError naming the file and line of anything wrong.

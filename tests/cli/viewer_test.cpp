@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cluster/model_file.h"
+#include "relight/local_light.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -156,6 +158,47 @@ TEST_F(Viewer, ScriptedKeysToggleOverlaysAndSaveWritesTheBatchImage) {
   ASSERT_EQ(saved.bytes.size(), batch.bytes.size());
   EXPECT_EQ(saved.bytes, batch.bytes);
   EXPECT_TRUE(std::filesystem::exists(out.file("saved.exr")));
+}
+
+// A light added by script, dragged from where it is drawn and wheeled nearer:
+// it stays under the cursor, the saved frame is relight's image under the
+// lights the viewer reports, and the lamp visibly changes the image.
+TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
+  TempDir out;
+  const Camera camera = readModel(model()).geometry.camera;
+  // Between the eye and the plant, above the view's middle.
+  const Vec3 start = camera.eye + 0.4 * (camera.target - camera.eye) +
+                     0.1 * (camera.target - camera.eye).norm() * camera.imageUp();
+  Eigen::Vector2d drawn;
+  double depth = 0;
+  ASSERT_TRUE(camera.project(start, drawn, depth));
+  const std::string script = out.file("events.txt");
+  std::ofstream(script) << "light point:" << start.x() << "," << start.y() << "," << start.z()
+                        << ",4\n"
+                        << "dragfrom " << std::floor(drawn.x()) << " " << std::floor(drawn.y())
+                        << " 6 -3\nwheel 1\nsave " << out.file("lamp") << "\n";
+  const RunResult r = view("--env sky --script " + script);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const size_t at = r.output.find(" under --light ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const std::string spec = r.output.substr(at + 15, r.output.find('\n', at) - at - 15);
+  const LocalLight moved = parseLocalLight(spec);
+  Eigen::Vector2d now;
+  ASSERT_TRUE(camera.project(moved.position, now, depth));
+  EXPECT_NEAR(now.x() - drawn.x(), 6, 1e-6) << spec;
+  EXPECT_NEAR(now.y() - drawn.y(), -3, 1e-6) << spec;
+
+  const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
+                             " --quiet --out " + out.file("batch.png"));
+  ASSERT_EQ(b.status, 0) << b.output;
+  const Picture saved = readPicture(out.file("lamp.png")),
+                batch = readPicture(out.file("batch.png"));
+  ASSERT_EQ(saved.width, 48);
+  EXPECT_EQ(saved.bytes, batch.bytes);
+  const RunResult sky =
+      runCli("relight " + model() + " --env sky --quiet --out " + out.file("sky.png"));
+  ASSERT_EQ(sky.status, 0) << sky.output;
+  EXPECT_GT(differingPixels(saved, readPicture(out.file("sky.png"))), 100);
 }
 
 TEST_F(Viewer, RefusesCleanlyWithoutADisplayOrAModel) {
