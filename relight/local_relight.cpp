@@ -8,10 +8,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <numbers>
+#include <span>
 
 #include "core/error.h"
 #include "core/half.h"
+#include "relight/local_columns.h"
 #include "relight/relight_kernels.h"
 #include "transport/row_stream.h"
 
@@ -67,32 +70,66 @@ struct ClusterLights {
   std::vector<int> elements;
 };
 
-/// Rows of one cluster grouped for one light: in cubes of side `side` (rows
-/// in one cube see the light within about side / distance of each other's
-/// direction), each group in row order; side 0 gives every row a group.
-std::vector<std::vector<size_t>> groupRows(const TransportHeader& h,
-                                           const std::vector<std::int32_t>& rows, double side) {
-  std::vector<std::vector<size_t>> groups;
+/// Rows of one cluster grouped for one light, as `order` (row indices, group
+/// by group, each group in row order) and `starts` (each group's first place
+/// in order, then the end): in cubes of side `side` (rows in one cube see the
+/// light within about side / distance of each other's direction); side 0
+/// gives every row a group.
+void groupRows(const TransportHeader& h, const std::vector<std::int32_t>& rows, double side,
+               std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& starts) {
+  order.resize(rows.size());
+  starts.clear();
   if (!(side > 0)) {
-    for (size_t r = 0; r < rows.size(); ++r) groups.push_back({r});
-    return groups;
+    for (size_t r = 0; r <= rows.size(); ++r) {
+      if (r < rows.size()) order[r] = static_cast<std::uint32_t>(r);
+      starts.push_back(static_cast<std::uint32_t>(r));
+    }
+    return;
   }
-  using Key = std::array<long long, 3>;
-  std::vector<std::pair<Key, size_t>> keyed;
+  // Cube indices relative to the lowest, packed in 21 bits each: one integer
+  // key per row.
+  std::vector<std::array<long long, 3>> cube(rows.size());
+  std::array<long long, 3> low{LLONG_MAX, LLONG_MAX, LLONG_MAX},
+      high{LLONG_MIN, LLONG_MIN, LLONG_MIN};
   for (size_t r = 0; r < rows.size(); ++r) {
     const Vec3 p = positionOf(h, rows[r]);
-    keyed.push_back({{static_cast<long long>(std::floor(p.x() / side)),
-                      static_cast<long long>(std::floor(p.y() / side)),
-                      static_cast<long long>(std::floor(p.z() / side))},
-                     r});
+    for (int a = 0; a < 3; ++a) {
+      cube[r][a] = static_cast<long long>(std::floor(p[a] / side));
+      low[a] = std::min(low[a], cube[r][a]);
+      high[a] = std::max(high[a], cube[r][a]);
+    }
   }
-  std::stable_sort(keyed.begin(), keyed.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (size_t i = 0; i < keyed.size(); ++i) {
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) groups.emplace_back();
-    groups.back().push_back(keyed[i].second);
+  constexpr long long kSpan = 1LL << 21;
+  for (int a = 0; a < 3; ++a)
+    if (high[a] - low[a] >= kSpan) {  // too many cubes to pack: a group per row
+      groupRows(h, rows, 0, order, starts);
+      return;
+    }
+  // Groups numbered as their first rows come (an open-addressing table of
+  // cube keys), then rows placed group by group in row order: no sort.
+  size_t capacity = 16;
+  while (capacity < 2 * rows.size()) capacity *= 2;
+  constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  std::vector<std::uint64_t> slotKey(capacity, kEmpty);
+  std::vector<std::uint32_t> slotGroup(capacity), groupOf(rows.size()), size;
+  for (size_t r = 0; r < rows.size(); ++r) {
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) key = (key << 21) | static_cast<std::uint64_t>(cube[r][a] - low[a]);
+    size_t at = static_cast<size_t>((key * 0x9E3779B97F4A7C15ULL) >> 20) & (capacity - 1);
+    while (slotKey[at] != kEmpty && slotKey[at] != key) at = (at + 1) & (capacity - 1);
+    if (slotKey[at] == kEmpty) {
+      slotKey[at] = key;
+      slotGroup[at] = static_cast<std::uint32_t>(size.size());
+      size.push_back(0);
+    }
+    groupOf[r] = slotGroup[at];
+    ++size[groupOf[r]];
   }
-  return groups;
+  starts.assign(1, 0);
+  for (std::uint32_t n : size) starts.push_back(starts.back() + n);
+  std::vector<std::uint32_t> next(starts.begin(), starts.end() - 1);
+  for (size_t r = 0; r < rows.size(); ++r)
+    order[next[groupOf[r]]++] = static_cast<std::uint32_t>(r);
 }
 
 /// The side of the cubes a cluster's rows are grouped in for one light:
@@ -117,11 +154,14 @@ void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
   const int l = h.latticeSize(), channels = h.channels;
   const double texelAngle = 0.5 * std::numbers::pi / h.cubemapResolution;
   c.groupOf.assign(lights.size() * c.rows.size(), -1);
+  std::vector<std::uint32_t> order, starts;
   for (size_t li = 0; li < lights.size(); ++li) {
     const double side = groupSide(lights[li], h, c.rows, anchorSpread, texelAngle);
-    for (const std::vector<size_t>& group : groupRows(h, c.rows, side)) {
+    groupRows(h, c.rows, side, order, starts);
+    for (size_t gi = 0; gi + 1 < starts.size(); ++gi) {
+      const auto group = std::span(order).subspan(starts[gi], starts[gi + 1] - starts[gi]);
       Vec3 anchor = Vec3::Zero();
-      for (size_t r : group) anchor += positionOf(h, c.rows[r]);
+      for (std::uint32_t r : group) anchor += positionOf(h, c.rows[r]);
       anchor /= static_cast<double>(group.size());
       std::vector<LightTap> taps;
       // An anchor among rows around a sphere may fall inside it: then a row's.
@@ -129,7 +169,7 @@ void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
         ACPCA_CHECK(
             appendDirectionTaps(lights[li], lattice, positionOf(h, c.rows[group.front()]), taps),
             lights[li].spec, " encloses a pixel");
-      for (size_t r : group) c.groupOf[li * c.rows.size() + r] = int(c.groupTaps.size());
+      for (std::uint32_t r : group) c.groupOf[li * c.rows.size() + r] = int(c.groupTaps.size());
       for (const LightTap& t : taps)
         for (int ch = 0; ch < channels; ++ch)
           if (const int e = elementOf(ch, t.texel, channels, l); seenIndex[e] >= 0)
@@ -139,57 +179,6 @@ void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
   }
   std::sort(c.elements.begin(), c.elements.end());
   c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
-}
-
-/// V_g's rows for the given elements, row by row (elements x N): one pass over
-/// V_g, which is stored global basis by global basis.
-std::vector<float> gatherGlobalRows(const PackedModel& m, const std::vector<int>& seenOfSlot) {
-  const int n = m.globalBases;
-  const long long seen = static_cast<long long>(m.seenTexels.size());
-  std::vector<float> rows(seenOfSlot.size() * n);
-  tbb::parallel_for(0, n, [&](int g) {
-    for (size_t slot = 0; slot < seenOfSlot.size(); ++slot)
-      rows[slot * n + g] = m.globalBasis[g * seen + seenOfSlot[slot]];
-  });
-  return rows;
-}
-
-/// W_c^T G^T for a cluster's first `rank` bases (rank x |G| values, column
-/// by column): one product per basis chunk of 16, as packed_model.h stores them.
-Eigen::MatrixXf clusterColumns(const PackedModel& m, int cluster, int rank,
-                               const Eigen::Ref<const RowMatrixF>& g) {
-  const int n = m.globalBases;
-  Eigen::MatrixXf columns(rank, g.rows());
-  std::vector<float> chunk;
-  for (int first = 0; first < rank; first += kChunkRows) {
-    const long long at = m.basisOffset[cluster] + static_cast<long long>(first) * n;
-    const float* values = nullptr;
-    if (m.basisPrecision == CoeffPrecision::F16) {
-      chunk.resize(static_cast<size_t>(n) * kChunkRows);
-      halfToFloat(m.basesF16.data() + at, chunk.data(), chunk.size());
-      values = chunk.data();
-    } else {
-      values = m.bases.data() + at;
-    }
-    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, kChunkRows, Eigen::RowMajor>> w(
-        values, n, kChunkRows);
-    const int count = std::min(kChunkRows, rank - first);
-    columns.middleRows(first, count).noalias() = w.leftCols(count).transpose() * g.transpose();
-  }
-  return columns;
-}
-
-/// u . v over n values in float as eight interleaved sums added in a fixed
-/// order: the compiler keeps them in SIMD lanes, and the result does not
-/// depend on where the arrays lie (the same bytes in every process).
-float dotInLanes(const float* u, const float* v, int n) {
-  std::array<float, 8> sum{};
-  int k = 0;
-  for (; k + 8 <= n; k += 8)
-    for (int i = 0; i < 8; ++i) sum[i] += u[k + i] * v[k + i];
-  float tail = 0;
-  for (; k < n; ++k) tail += u[k] * v[k];
-  return ((sum[0] + sum[4]) + (sum[1] + sum[5])) + ((sum[2] + sum[6]) + (sum[3] + sum[7])) + tail;
 }
 
 /// The first `rank` coefficients of chunk j's 16 lanes as floats (i8 steps
@@ -213,63 +202,107 @@ void loadChunk(const PackedModel& m, size_t j, int rank, std::vector<float>& blo
   }
 }
 
-/// Step 3 of modelLocalRelight for one cluster: each group's transport
+/// Step 2 of modelLocalRelight for one cluster: each group's transport
 /// towards its light per unit irradiance, W_c^T V_g^T (sum of taps) and
 /// mu_c . V_g^T (sum of taps), rank + 1 values per group and channel of the
-/// row. One float product per basis chunk either way, over whichever is
-/// fewer: the texels the groups' taps touch (columns, then weighted sums of
-/// them) or the groups (their taps summed in V_g's space first).
-std::vector<double> groupTransport(const PackedModel& m, int cluster, int rank,
-                                   const ClusterLights& c, const std::vector<float>& globalRows,
-                                   const std::vector<int>& slotOf, std::vector<int>& columnOf) {
+/// row. Over whichever is fewer: the elements the groups' taps touch (their
+/// columns, kept across frames, then weighted sums of them) or the groups
+/// (their taps summed in V_g's space first, then projected). The choice
+/// depends on this frame's lights only, never on what was kept.
+std::vector<float> groupTransport(LocalLightColumns& columns, const PackedModel& m, int cluster,
+                                  int rank, const ClusterLights& c,
+                                  const std::vector<int>& seenIndex) {
   const TransportHeader& h = m.geometry;
   const int n = m.globalBases, channels = h.channels, l = h.latticeSize(), stride = rank + 1;
+  const int full = m.ranks[cluster];  // a column holds every basis, then the mean term
   const size_t groupRows = c.groupTaps.size() * channels;
-  const auto globalRow = [&](int e) {
-    return Eigen::Map<const Eigen::VectorXf>(globalRows.data() + size_t(slotOf[e]) * n, n);
-  };
-  const bool byGroup = groupRows <= c.elements.size();
-  RowMatrixF g = RowMatrixF::Zero(byGroup ? groupRows : c.elements.size(), n);
-  if (byGroup) {
+  std::vector<float> towards(groupRows * stride);
+  std::vector<double> sum(stride);
+  if (groupRows <= c.elements.size()) {
+    std::vector<float> z(n), column(full + 1);
     for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
-      for (const LightTap& t : c.groupTaps[gi])
-        for (int ch = 0; ch < channels; ++ch)
-          if (const int e = elementOf(ch, t.texel, channels, l); slotOf[e] >= 0)
-            g.row(gi * channels + ch) += float(t.weight) * globalRow(e).transpose();
-  } else {
-    for (size_t i = 0; i < c.elements.size(); ++i) {
-      g.row(i) = globalRow(c.elements[i]).transpose();
-      columnOf[c.elements[i]] = static_cast<int>(i);
-    }
-  }
-  const Eigen::MatrixXf columns = clusterColumns(m, cluster, rank, g);
-  // mu_c . g per row, summed in index order: Eigen's matrix-vector product
-  // splits its sums by the vectors' alignment, which differs between
-  // processes, and the same inputs must give the same bytes.
-  std::vector<double> meanTerm(g.rows(), 0.0);
-  if (m.hasMean)
-    for (Eigen::Index row = 0; row < g.rows(); ++row)
-      for (int i = 0; i < n; ++i)
-        meanTerm[row] += double(g(row, i)) * m.means[size_t(cluster) * n + i];
-  std::vector<double> towards(groupRows * stride, 0.0);
-  if (byGroup) {
-    for (size_t row = 0; row < groupRows; ++row) {
-      for (int k = 0; k < rank; ++k) towards[row * stride + k] = columns(k, row);
-      towards[row * stride + rank] = meanTerm[row];
-    }
+      for (int ch = 0; ch < channels; ++ch) {
+        std::fill(z.begin(), z.end(), 0.0f);
+        for (const LightTap& t : c.groupTaps[gi])
+          if (const int slot = seenIndex[elementOf(ch, t.texel, channels, l)]; slot >= 0) {
+            const float* g = columns.globalRow(slot);
+            for (int i = 0; i < n; ++i) z[i] += float(t.weight) * g[i];
+          }
+        columns.project(cluster, z.data(), column.data());
+        float* v = towards.data() + (gi * channels + ch) * stride;
+        std::copy_n(column.begin(), rank, v);
+        v[rank] = column[full];
+      }
     return towards;
   }
+  std::vector<int> slots;
+  for (int e : c.elements) slots.push_back(seenIndex[e]);
+  columns.require(cluster, slots);
   for (size_t gi = 0; gi < c.groupTaps.size(); ++gi)
-    for (const LightTap& t : c.groupTaps[gi])
-      for (int ch = 0; ch < channels; ++ch) {
-        const int column = columnOf[elementOf(ch, t.texel, channels, l)];
-        if (column < 0) continue;  // a direction no pixel sees: zero in V_g
-        double* v = towards.data() + (gi * channels + ch) * stride;
-        for (int k = 0; k < rank; ++k) v[k] += t.weight * columns(k, column);
-        v[rank] += t.weight * meanTerm[column];
+    for (int ch = 0; ch < channels; ++ch) {
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (const LightTap& t : c.groupTaps[gi]) {
+        const int slot = seenIndex[elementOf(ch, t.texel, channels, l)];
+        if (slot < 0) continue;  // a direction no pixel sees: zero in V_g
+        const float* column = columns.column(cluster, slot);
+        for (int k = 0; k < rank; ++k) sum[k] += t.weight * column[k];
+        sum[rank] += t.weight * column[full];
       }
-  for (int e : c.elements) columnOf[e] = -1;
+      std::copy(sum.begin(), sum.end(), towards.begin() + (gi * channels + ch) * stride);
+    }
   return towards;
+}
+
+/// Step 3 for one chunk of 16 rows of a cluster (those of `lanes` at
+/// `first`..): each row's coefficients against its groups' transport, times
+/// the irradiance at its own position, summed over the lights.
+void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, const ClusterLights& c,
+                const std::vector<float>& towards, int rank, const std::vector<float>& block,
+                size_t first, size_t count, std::vector<float>& out) {
+  const TransportHeader& h = m.geometry;
+  const int channels = h.channels, stride = rank + 1;
+  std::array<Rgb, kChunkRows> value;
+  value.fill(Rgb::Zero());
+  std::array<int, kChunkRows> lane{};
+  for (size_t i = 0; i < count; ++i) lane[i] = static_cast<int>(c.lane[first + i] % kChunkRows);
+  std::array<const float*, kChunkRows> group{};
+  std::array<float, kChunkRows> dot{};
+  using Lanes = Eigen::Array<float, kChunkRows, 1>;
+  for (size_t li = 0; li < lights.size(); ++li) {
+    for (int ch = 0; ch < channels; ++ch) {
+      for (size_t i = 0; i < count; ++i) {
+        const size_t gi = c.groupOf[li * c.rows.size() + first + i];
+        group[i] = towards.data() + (gi * channels + ch) * stride;
+      }
+      // Per row, its coefficients against its group's transport summed in k
+      // order, for all 16 lanes at once per group the chunk's rows fall in
+      // (one or a few: a chunk is 16 neighbouring rows); each row keeps its
+      // own lane of its group's sums.
+      for (size_t i = 0; i < count; ++i) {
+        if (std::find(group.begin(), group.begin() + i, group[i]) != group.begin() + i) continue;
+        const float* t = group[i];
+        Lanes sum = Lanes::Zero();
+        for (int k = 0; k < rank; ++k)
+          sum += Eigen::Map<const Lanes>(&block[k * kChunkRows]) * t[k];
+        for (size_t r = i; r < count; ++r)
+          if (group[r] == t) dot[lane[r]] = sum[lane[r]];
+      }
+      for (size_t i = 0; i < count; ++i) {
+        const double irradiance = lightIrradiance(lights[li], positionOf(h, c.rows[first + i]));
+        if (irradiance <= 0) continue;  // outside a spot's cone (enclosed: refused before)
+        const double transport = group[i][rank] + dot[lane[i]];
+        if (channels == 1)
+          value[i] += irradiance * transport * lights[li].emission;
+        else
+          value[i][ch] += irradiance * transport * lights[li].emission[ch];
+      }
+    }
+  }
+  for (size_t i = 0; i < count; ++i) {
+    const size_t row = static_cast<size_t>(c.rows[first + i]);
+    for (int ch = 0; ch < 3; ++ch)
+      out[3 * row + ch] = static_cast<float>(h.albedo[3 * row + ch] * value[i][ch]);
+  }
 }
 
 }  // namespace
@@ -335,13 +368,17 @@ std::vector<float> denseLocalRelight(const TransportReader& transport,
 }
 
 std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
-                                     const std::vector<LocalLight>& lights, double anchorSpread) {
+                                     const std::vector<LocalLight>& lights, double anchorSpread,
+                                     LocalLightColumns* kept) {
   const PackedModel& m = *relighter.packed();
   const TransportHeader& h = m.geometry;
   const CubeLattice lattice(h.cubemapResolution);
-  const int channels = h.channels;
   std::vector<float> out(3 * static_cast<size_t>(m.rows()), 0.0f);
   if (lights.empty() || m.rows() == 0) return out;
+  std::unique_ptr<LocalLightColumns> own;
+  if (!kept) own = std::make_unique<LocalLightColumns>(relighter.packed());
+  LocalLightColumns& columns = kept ? *kept : *own;
+  if (columns.keptValues() > LocalLightColumns::kMaxKeptValues) columns.clear();
   std::vector<int> seenIndex(h.rowLength(), -1);
   for (size_t i = 0; i < m.seenTexels.size(); ++i) seenIndex[m.seenTexels[i]] = static_cast<int>(i);
 
@@ -359,55 +396,21 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
     findGroupTaps(h, lattice, lights, seenIndex, anchorSpread, clusters[cluster]);
   });
 
-  // 2. V_g's rows for every element some cluster needs.
-  std::vector<int> slotOf(h.rowLength(), -1), seenOfSlot;
-  for (const ClusterLights& c : clusters)
-    for (int e : c.elements)
-      if (slotOf[e] < 0) {
-        slotOf[e] = static_cast<int>(seenOfSlot.size());
-        seenOfSlot.push_back(seenIndex[e]);
-      }
-  const std::vector<float> globalRows = gatherGlobalRows(m, seenOfSlot);
-
-  // 3. Per cluster each group's transport towards its light (groupTransport),
-  //    then each row: the light's irradiance at the row's own position times
-  //    its coefficients against its group's.
-  tbb::enumerable_thread_specific<std::vector<int>> columnOfElement(h.rowLength(), -1);
+  // 2. and 3. Per cluster each group's transport towards its light, then
+  //    its rows chunk by chunk.
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
     const ClusterLights& c = clusters[cluster];
     const int rank = relighter.activeRanks()[cluster];
     if (c.elements.empty() || (rank == 0 && !m.hasMean)) return;
-    const int stride = rank + 1;
-    const std::vector<double> towards =
-        groupTransport(m, cluster, rank, c, globalRows, slotOf, columnOfElement.local());
+    const std::vector<float> towards = groupTransport(columns, m, cluster, rank, c, seenIndex);
     std::vector<float> block;
-    const std::vector<float> towardsF(towards.begin(), towards.end());
-    std::vector<float> u(rank);
-    size_t loaded = static_cast<size_t>(-1);
-    for (size_t r = 0; r < c.rows.size(); ++r) {
-      const size_t chunk = c.lane[r] / kChunkRows;
-      const int lane = static_cast<int>(c.lane[r] % kChunkRows);
-      if (chunk != loaded) loadChunk(m, loaded = chunk, rank, block);
-      for (int k = 0; k < rank; ++k) u[k] = block[k * kChunkRows + lane];
-      const std::int32_t row = c.rows[r];
-      const Vec3 at = positionOf(h, row);
-      Rgb value = Rgb::Zero();
-      for (size_t li = 0; li < lights.size(); ++li) {
-        const double irradiance = lightIrradiance(lights[li], at);
-        if (irradiance <= 0) continue;  // outside a spot's cone (enclosed: refused before)
-        const size_t gi = c.groupOf[li * c.rows.size() + r];
-        for (int ch = 0; ch < channels; ++ch) {
-          const float* v = towardsF.data() + (gi * channels + ch) * stride;
-          const double transport = v[rank] + dotInLanes(u.data(), v, rank);
-          if (channels == 1)
-            value += irradiance * transport * lights[li].emission;
-          else
-            value[ch] += irradiance * transport * lights[li].emission[ch];
-        }
-      }
-      for (int ch = 0; ch < 3; ++ch)
-        out[3 * static_cast<size_t>(row) + ch] =
-            static_cast<float>(h.albedo[3 * row + ch] * value[ch]);
+    for (size_t first = 0; first < c.rows.size();) {
+      const size_t chunk = c.lane[first] / kChunkRows;
+      size_t count = 1;
+      while (first + count < c.rows.size() && c.lane[first + count] / kChunkRows == chunk) ++count;
+      loadChunk(m, chunk, rank, block);
+      shadeChunk(m, lights, c, towards, rank, block, first, count, out);
+      first += count;
     }
   });
   return out;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "relight/local_columns.h"
 #include "relight/local_light.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
@@ -42,9 +43,12 @@ inline constexpr double kAnchorSpreadTexels = 0.5;
 /// reconstruction, W_c^T V_g^T e_j, formed once per cluster and texel; each
 /// pixel adds, per light, the irradiance at its position times its
 /// coefficients against its group's transport: rank + 1 multiply-adds per
-/// light and row.
+/// light and row. `kept` (made for this relighter's model) keeps the columns
+/// for the next frames, which then form only the columns of texels new to
+/// a cluster; without it they are formed afresh. Either way the same image.
 std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
                                      const std::vector<LocalLight>& lights,
-                                     double anchorSpread = kAnchorSpreadTexels);
+                                     double anchorSpread = kAnchorSpreadTexels,
+                                     LocalLightColumns* kept = nullptr);
 
 }  // namespace acpca

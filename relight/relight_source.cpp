@@ -1,6 +1,7 @@
 #include "relight/relight_source.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "cluster/model_file.h"
 #include "core/error.h"
@@ -39,10 +40,14 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
       }
       return out;
     };
-    s.relightLocal = [relighter = s.model, path](const std::vector<LocalLight>& lights,
-                                                 double anchorSpread) {
+    // The columns local lights meet, kept from frame to frame (made at the
+    // first local light: environment-only runs never need them).
+    auto kept = std::make_shared<std::optional<LocalLightColumns>>();
+    s.relightLocal = [relighter = s.model, path, kept](const std::vector<LocalLight>& lights,
+                                                       double anchorSpread) {
       requireLocalLightsApply(relighter->geometry(), path, true, lights);
-      return modelLocalRelight(*relighter, lights, anchorSpread);
+      if (!*kept) kept->emplace(relighter->packed());
+      return modelLocalRelight(*relighter, lights, anchorSpread, &**kept);
     };
     return s;
   }

@@ -128,6 +128,8 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   drawLights(state, image);
   Frame frame;
   times_.draw = drawWatch.milliseconds();
+  frameMs_.push_back(times_.lighting + times_.relight + times_.lights + times_.compose +
+                     times_.draw);
   drawStatus(state, image);
   frame.canvas = image;
   frame.linear = linear_;
@@ -145,7 +147,8 @@ void Viewer::relightLocal(const ViewState& state) {
   const Stopwatch t;
   try {
     requireLocalLightsApply(relighter_->geometry(), options_.modelPath, true, state.lights);
-    localRows_ = modelLocalRelight(*relighter_, state.lights);
+    if (!columns_) columns_ = std::make_unique<LocalLightColumns>(relighter_->packed());
+    localRows_ = modelLocalRelight(*relighter_, state.lights, kAnchorSpreadTexels, columns_.get());
   } catch (const UserError& error) {
     localProblem_ = error.what();  // shown in the status line; the map still shows
   }
@@ -372,6 +375,23 @@ void Viewer::applyEvent(const ScriptEvent& e) {
   waitForLatestRequest();
 }
 
+std::string Viewer::frameSummary() {
+  std::lock_guard lock(mutex_);  // the worker is idle: every request is drawn
+  if (frameMs_.empty()) return "no frames";
+  std::vector<double> ms = frameMs_;
+  // The first frame relights everything; the rest relight what changed.
+  const double first = ms.front();
+  ms.erase(ms.begin());
+  if (ms.empty()) return concat("1 frame: ", first, " ms");
+  std::sort(ms.begin(), ms.end());
+  const double median = ms[ms.size() / 2];
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "%zu frames after the first (%.1f ms): median %.1f ms (%.1f fps)", ms.size(), first,
+                median, 1000.0 / median);
+  return text;
+}
+
 void Viewer::savePictures(const std::string& stem) const {
   if (!onScreen_.linear) return;
   namespace fs = std::filesystem;
@@ -463,6 +483,8 @@ void Viewer::run() {
   if (!scripted) script.clear();  // interactive: the screenshot is taken on quitting
   if (scripted) {
     for (const auto& event : script) applyEvent(event);
+    waitForLatestRequest();
+    say(frameSummary());
   } else {
     say("drag to turn the lighting, drag a drawn light to move it, wheel to move it in depth; "
         "keys: n/p env map, i add a light, o remove it, Tab next light, [/] nearer/farther, "

@@ -15,6 +15,7 @@
 #include "relight/environment.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/local_columns.h"
 #include "relight/model_relighter.h"
 #include "viewer/view_input.h"
 #include "viewer/viewer_script.h"
@@ -78,6 +79,8 @@ class Viewer {
   void applyWheel(double notches);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
+  /// After a script: how long the frames took (the worker idle).
+  std::string frameSummary();
   void say(const std::string& text) const {
     if (options_.log) options_.log(text);
   }
@@ -101,7 +104,8 @@ class Viewer {
   std::shared_ptr<const Image> linear_;
   Image mapPart_;
   std::vector<float> localRows_;
-  std::string localProblem_;  ///< why the lights are not shown, if they cannot be
+  std::unique_ptr<LocalLightColumns> columns_;  ///< kept while lamps move
+  std::string localProblem_;                    ///< why the lights are not shown, if they cannot be
   LatticeLighting lighting_;
   ViewState relitFor_, localFor_;
   bool localDone_ = false;
@@ -110,6 +114,7 @@ class Viewer {
     double lighting = 0, relight = 0, lights = 0, compose = 0, draw = 0;
   };
   FrameTimes times_;
+  std::vector<double> frameMs_;  ///< every frame's total, for the scripted summary
 
   std::mutex mutex_;
   std::condition_variable wake_, finished_;

@@ -3,7 +3,7 @@
 # dense local-light relight of the transport, and the model's at anchor
 # spread 0 (exact) and the default, for a point lamp, a sphere lamp and eight
 # lights, with each model image's relative L2 against the dense one, beside
-# the model's sky relight.
+# the model's sky relight; then a point lamp moving along a 30-frame path.
 #
 #   bash scripts/bench/local-lights.sh OUT_DIR [SIZE (default 1024)]
 #
@@ -37,6 +37,13 @@ for name in point sphere eight; do
       --out "$name-$spread.exr" --json "$name-$spread.json"
   done
 done
+# A lamp moving along a path, 30 frames 0.02 units apart (about what a drag
+# in the viewer moves it per frame): frames after the first form only the
+# columns of texels new to a cluster.
+for k in $(seq 0 29); do
+  echo "point:$(awk "BEGIN{print 1.2 - 0.02 * $k}"),2.6,1.4,30"
+done >path.txt
+"$cli" relight model.h5 --light-path path.txt --quiet --out path --json path.json
 PYTHONPATH="$OLDPWD/build/python" /usr/bin/python3 - <<'PY'
 import json
 import numpy as np
@@ -51,4 +58,6 @@ for name in ("point", "sphere", "eight"):
         seconds = json.load(open(f"{name}-{spread}.json"))["stages"]["local_lights"]["seconds"]
         error = np.linalg.norm(model - dense) / np.linalg.norm(dense)
         print(f"{name}: model, spread {spread}: {1e3 * seconds:.0f} ms, error {100 * error:.2f}%")
+path = json.load(open("path.json"))["stages"]["local_lights"]["seconds"]
+print(f"point lamp along a 30-frame path: {1e3 * path / 30:.1f} ms/frame (first frame included)")
 PY

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cstring>
+
 #include <Eigen/Core>
 #include <cmath>
 #include <random>
@@ -176,6 +178,38 @@ TEST(ModelRelighter, LocalLightsSharedAtAnchorsStayCloseToEachPixelsOwn) {
                      std::to_string(std::sqrt(err / norm)));
     }
   }
+}
+
+// Columns kept from earlier frames (a light path, the viewer) give the very
+// bytes a fresh relight gives: what was relit before does not show. A point
+// light touches few texels (their columns kept); a near sphere covers many,
+// where projecting a cluster's groups whole can be the cheaper way.
+TEST(ModelRelighter, KeptColumnsGiveTheBytesOfAFreshRelight) {
+  const TransportReader t(test::fixture("small-plant"));
+  CompressOptions options;
+  options.method = Method::AdaptiveQuad;
+  options.coeffs = CoeffPrecision::F16;
+  options.bases = CoeffPrecision::F16;  // the half bases widened as read
+  const Model model = compressTransport(t, options);
+  ModelRelighter relighter(model);
+  LocalLightColumns kept(relighter.packed());
+  std::vector<std::vector<LocalLight>> path;
+  for (int k = 0; k < 6; ++k)
+    path.push_back({parseLocalLight(concat("point:", 0.3 + 0.2 * k, ",2.2,0.8,5")),
+                    parseLocalLight(concat("sphere:-1,", 1.6 + 0.05 * k, ",1.4,0.6,40"))});
+  for (const auto& lights : path) {
+    requireLocalLightsApply(relighter.geometry(), "small-plant", true, lights);
+    const auto fresh = modelLocalRelight(relighter, lights);
+    const auto reused = modelLocalRelight(relighter, lights, kAnchorSpreadTexels, &kept);
+    ASSERT_EQ(fresh.size(), reused.size());
+    EXPECT_EQ(0, std::memcmp(fresh.data(), reused.data(), fresh.size() * sizeof(float)))
+        << lights[0].spec;
+  }
+  EXPECT_GT(kept.keptValues(), 0);
+  kept.clear();
+  EXPECT_EQ(kept.keptValues(), 0);
+  const auto again = modelLocalRelight(relighter, path[0], kAnchorSpreadTexels, &kept);
+  EXPECT_EQ(again, modelLocalRelight(relighter, path[0]));
 }
 
 TEST(ModelRelighter, LocalLightsNeedPositionsAndLightsOffTheSurfaces) {
