@@ -3,9 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Core>
-#if defined(__F16C__)
-#include <immintrin.h>
-#endif
 #include <algorithm>
 #include <array>
 
@@ -16,31 +13,29 @@ namespace acpca {
 
 using kernels::kChunkRows;
 
-namespace {
-
-/// 16 halves as floats, inline: this runs once per row of W per column pass.
-inline void widenHalfRow(const std::uint16_t* in, float* out) {
-#if defined(__F16C__)
-  _mm256_storeu_ps(out, _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in))));
-  _mm256_storeu_ps(out + 8,
-                   _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + 8))));
-#else
-  halfToFloat(in, out, kChunkRows);
-#endif
-}
-
-}  // namespace
-
 LocalLightColumns::LocalLightColumns(std::shared_ptr<const PackedModel> model)
-    : model_(std::move(model)), clusters_(model_->clusters()) {
+    : model_(std::move(model)),
+      rowOf_(model_->seenTexels.size(), -1),
+      clusters_(model_->clusters()) {}
+
+void LocalLightColumns::requireGlobalRows(const std::vector<int>& slots) {
   // V_g is packed basis by basis (the environment relight's order); a column
-  // needs it texel by texel.
+  // needs it texel by texel: the new rows gathered in one pass over V_g.
   const PackedModel& m = *model_;
   const int n = m.globalBases;
   const long long seen = static_cast<long long>(m.seenTexels.size());
-  globalRows_.resize(static_cast<size_t>(seen) * n);
-  tbb::parallel_for(0LL, seen, [&](long long s) {
-    for (int g = 0; g < n; ++g) globalRows_[s * n + g] = m.globalBasis[g * seen + s];
+  std::vector<int> added;
+  for (int slot : slots)
+    if (rowOf_[slot] < 0) {
+      rowOf_[slot] = static_cast<std::int32_t>(globalRows_.size() / n + added.size());
+      added.push_back(slot);
+    }
+  if (added.empty()) return;
+  const size_t first = globalRows_.size();
+  globalRows_.resize(first + added.size() * n);
+  tbb::parallel_for(0, n, [&](int g) {
+    for (size_t i = 0; i < added.size(); ++i)
+      globalRows_[first + i * n + g] = m.globalBasis[g * seen + added[i]];
   });
 }
 
@@ -60,7 +55,7 @@ void LocalLightColumns::formColumns(int cluster, const float* z, size_t count, f
     const auto row = [&](int i) -> Lanes {
       if (!half) return Eigen::Map<const Lanes>(wf + i * kChunkRows);
       Lanes r;
-      widenHalfRow(wh + i * kChunkRows, r.data());
+      halfToFloat16(wh + i * kChunkRows, r.data());
       return r;
     };
     const int lanes = std::min(kChunkRows, rank - first);
@@ -117,6 +112,8 @@ void LocalLightColumns::project(int cluster, const float* z, float* out) const {
 }
 
 void LocalLightColumns::clear() {
+  std::fill(rowOf_.begin(), rowOf_.end(), -1);
+  std::vector<float>().swap(globalRows_);
   for (Cluster& c : clusters_) {
     std::lock_guard lock(c.mutex);
     std::vector<std::int32_t>().swap(c.columnOf);

@@ -33,9 +33,13 @@ class LocalLightColumns {
   /// W_c^T z and mu_c . z for a vector z over the N global bases (the taps of
   /// a group summed in V_g's space first), written as a column is.
   void project(int cluster, const float* z, float* out) const;
-  /// Row s of V_g (N values): the global basis at seen slot s.
+  /// Makes rows of V_g present for these seen slots (one pass over V_g for
+  /// those not yet kept); not while other calls run.
+  void requireGlobalRows(const std::vector<int>& slots);
+  /// Row s of V_g (N values) made present by requireGlobalRows: the global
+  /// basis at seen slot s.
   const float* globalRow(int slot) const {
-    return globalRows_.data() + static_cast<size_t>(slot) * model_->globalBases;
+    return globalRows_.data() + static_cast<size_t>(rowOf_[slot]) * model_->globalBases;
   }
   /// Drops every kept column (memory: see kMaxKeptValues).
   void clear();
@@ -58,7 +62,8 @@ class LocalLightColumns {
   void formColumns(int cluster, const float* z, size_t count, float* out) const;
 
   std::shared_ptr<const PackedModel> model_;
-  std::vector<float> globalRows_;  ///< V_g row by row: seen slots x N
+  std::vector<std::int32_t> rowOf_;  ///< per seen slot, its row in globalRows_ or -1
+  std::vector<float> globalRows_;    ///< rows of V_g as asked for, N values each
   std::vector<Cluster> clusters_;
   std::mutex clearing_;
   long long kept_ = 0;  ///< guarded by clearing_

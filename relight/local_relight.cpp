@@ -181,6 +181,8 @@ void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
   c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
 }
 
+using Lanes = Eigen::Array<float, kChunkRows, 1>;
+
 /// The first `rank` coefficients of chunk j's 16 lanes as floats (i8 steps
 /// applied), k-major as packed: block[k * 16 + lane].
 void loadChunk(const PackedModel& m, size_t j, int rank, std::vector<float>& block) {
@@ -267,8 +269,10 @@ void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, con
   for (size_t i = 0; i < count; ++i) lane[i] = static_cast<int>(c.lane[first + i] % kChunkRows);
   std::array<const float*, kChunkRows> group{};
   std::array<float, kChunkRows> dot{};
-  using Lanes = Eigen::Array<float, kChunkRows, 1>;
+  std::array<double, kChunkRows> irradiance{};
   for (size_t li = 0; li < lights.size(); ++li) {
+    for (size_t i = 0; i < count; ++i)
+      irradiance[i] = lightIrradiance(lights[li], positionOf(h, c.rows[first + i]));
     for (int ch = 0; ch < channels; ++ch) {
       for (size_t i = 0; i < count; ++i) {
         const size_t gi = c.groupOf[li * c.rows.size() + first + i];
@@ -288,13 +292,13 @@ void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, con
           if (group[r] == t) dot[lane[r]] = sum[lane[r]];
       }
       for (size_t i = 0; i < count; ++i) {
-        const double irradiance = lightIrradiance(lights[li], positionOf(h, c.rows[first + i]));
-        if (irradiance <= 0) continue;  // outside a spot's cone (enclosed: refused before)
+        // Outside a spot's cone: nothing (enclosed rows were refused before).
+        if (irradiance[i] <= 0) continue;
         const double transport = group[i][rank] + dot[lane[i]];
         if (channels == 1)
-          value[i] += irradiance * transport * lights[li].emission;
+          value[i] += irradiance[i] * transport * lights[li].emission;
         else
-          value[i][ch] += irradiance * transport * lights[li].emission[ch];
+          value[i][ch] += irradiance[i] * transport * lights[li].emission[ch];
       }
     }
   }
@@ -395,6 +399,14 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
     findGroupTaps(h, lattice, lights, seenIndex, anchorSpread, clusters[cluster]);
   });
+
+  // V_g's rows for every element some cluster needs.
+  std::vector<int> slots;
+  for (const ClusterLights& c : clusters)
+    for (int e : c.elements) slots.push_back(seenIndex[e]);
+  std::sort(slots.begin(), slots.end());
+  slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+  columns.requireGlobalRows(slots);
 
   // 2. and 3. Per cluster each group's transport towards its light, then
   //    its rows chunk by chunk.
