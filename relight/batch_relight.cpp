@@ -51,15 +51,32 @@ struct Frame {
   size_t lights;  ///< which of the batch's light sets (the line of its light path)
 };
 
-/// The batch's sets of local lights: one per line of its light path, each
-/// with the --light lights added; without a path, the --light lights alone
-/// (which may be none).
+/// The batch's sets of local lights: every combination of the --light
+/// lights' sweeps (one set when none sweeps, which may hold no light), each
+/// added to every line of the light path if there is one (path line major).
 std::vector<std::vector<LocalLight>> lightSets(const BatchRelightOptions& a) {
-  std::vector<LocalLight> always;
-  for (const std::string& spec : a.lights) always.push_back(parseLocalLight(spec));
-  if (a.lightPath.empty()) return {always};
-  std::vector<std::vector<LocalLight>> sets = readLightPath(a.lightPath);
-  for (auto& set : sets) set.insert(set.end(), always.begin(), always.end());
+  std::vector<std::vector<LocalLight>> swept{{}};
+  for (const std::string& flag : a.lights) {
+    std::vector<LocalLight> choices;
+    for (const std::string& spec : expandLightSweep(flag)) choices.push_back(parseLocalLight(spec));
+    std::vector<std::vector<LocalLight>> longer;
+    for (const auto& set : swept)
+      for (const LocalLight& light : choices) {
+        longer.push_back(set);
+        longer.back().push_back(light);
+      }
+    if (longer.size() > static_cast<size_t>(kMaxLightSweepSpecs))
+      throw ParameterError("light", flag,
+                           concat("makes the sweeps more than ", kMaxLightSweepSpecs, " frames"));
+    swept = std::move(longer);
+  }
+  if (a.lightPath.empty()) return swept;
+  std::vector<std::vector<LocalLight>> sets;
+  for (const auto& line : readLightPath(a.lightPath))
+    for (const auto& sweep : swept) {
+      sets.push_back(line);
+      sets.back().insert(sets.back().end(), sweep.begin(), sweep.end());
+    }
   return sets;
 }
 
@@ -332,11 +349,12 @@ class FrameWriting {
   const std::vector<ImageFormat>& formats_;
   const bool batch_;
   const ImageEncoding encoding_;
-  /// A batch frame's file: map, rotation and, along a light path, the line.
+  /// A batch frame's file: map, rotation and, along a light path or sweep,
+  /// the light set.
   std::string frameName(const Frame& f, ImageFormat format) const {
     std::string name = f.input->spec.empty() ? "lights" : f.input->env->name();
     name += "_" + f.rotation.label();
-    if (!a_.lightPath.empty()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
+    if (a_.movesLights()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
     return name + extensionOf(format);
   }
 
@@ -446,7 +464,8 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   if (a.rotations.empty()) throw ParameterError("rotation", "", "give at least one rotation");
   if (a.envs.empty() && a.rotations.size() > 1)
     throw ParameterError("rotation", "", "rotates environments: give one with it");
-  for (const std::string& light : a.lights) parseLocalLight(light);
+  for (const std::string& light : a.lights)
+    for (const std::string& spec : expandLightSweep(light)) parseLocalLight(spec);
   if (!(a.anchorSpread >= 0 && a.anchorSpread <= 64))
     throw ParameterError("anchor spread", a.anchorSpread, "is not in 0..64 texels");
   requireFinite(a.exposure, "exposure");

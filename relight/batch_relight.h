@@ -2,6 +2,7 @@
 // Batch relighting: a model (or a transport, the dense ground truth) under
 // every pair of lighting and rotation, written as images (one file, or a
 // directory with one image per pair and a manifest.csv), with optional timing.
+#include <algorithm>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -35,8 +36,9 @@ inline constexpr int kBatchPngLevel = 1;
 struct BatchRelightOptions {
   std::string input;              ///< model or transport file
   std::vector<std::string> envs;  ///< lighting specs or image files (may be empty with lights)
-  /// Local lights (relight/local_light.h grammar), the same in every frame and
-  /// added to each; without envs they light the one frame alone.
+  /// Local lights (relight/local_light.h grammar), added to every frame;
+  /// without envs they light the frames alone. A light whose numbers sweep
+  /// (A:B:S, expandLightSweep) makes a frame per value (per combination).
   std::vector<std::string> lights;
   /// Models: texels of direction within which a cluster's pixels share a
   /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
@@ -59,7 +61,11 @@ struct BatchRelightOptions {
   bool force = false;             ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
   std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
-  bool batch() const { return envs.size() > 1 || rotations.size() > 1 || !lightPath.empty(); }
+  /// Whether the lights change from frame to frame: a light path or a sweep.
+  bool movesLights() const {
+    return !lightPath.empty() || std::any_of(lights.begin(), lights.end(), isLightSweep);
+  }
+  bool batch() const { return envs.size() > 1 || rotations.size() > 1 || movesLights(); }
 };
 
 /// Where a batch's time went (seconds, on this rank). Writing runs on threads

@@ -27,11 +27,11 @@ std::string formatNumber(double v) {
   return std::string(text.data(), end);
 }
 
-std::vector<std::string> splitNumbers(const std::string& text) {
+std::vector<std::string> splitNumbers(const std::string& text, char separator = ',') {
   std::vector<std::string> parts;
   size_t start = 0;
   while (true) {
-    const size_t comma = text.find(',', start);
+    const size_t comma = text.find(separator, start);
     parts.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -254,6 +254,51 @@ std::string LocalLight::canonicalSpec() const {
   else
     for (int i = 0; i < 3; ++i) add(emission[i]);
   return text;
+}
+
+bool isLightSweep(const std::string& spec) {
+  const size_t colon = spec.find(':');
+  return colon != std::string::npos && spec.find(':', colon + 1) != std::string::npos;
+}
+
+std::vector<std::string> expandLightSweep(const std::string& spec) {
+  if (!isLightSweep(spec)) return {spec};
+  const size_t colon = spec.find(':');
+  // Per number its values: one, or a sweep's.
+  std::vector<std::vector<std::string>> values;
+  long long combinations = 1;
+  for (const std::string& part : splitNumbers(spec.substr(colon + 1))) {
+    if (part.find(':') == std::string::npos) {
+      values.push_back({part});
+      continue;
+    }
+    const std::vector<std::string> sweep = splitNumbers(part, ':');
+    if (sweep.size() != 3)
+      throw ParameterError(kParameter, spec, concat("'", part, "' is not a sweep A:B:S"));
+    const double a = parseFiniteNumber(sweep[0], kParameter, spec),
+                 b = parseFiniteNumber(sweep[1], kParameter, spec),
+                 step = parseFiniteNumber(sweep[2], kParameter, spec);
+    if (!(step > 0))
+      throw ParameterError(kParameter, spec, concat("'", part, "': the step must be > 0"));
+    if (!(b > a))
+      throw ParameterError(kParameter, spec, concat("'", part, "': the end must exceed the start"));
+    const double count = std::ceil((b - a) / step - 1e-9);
+    combinations *= static_cast<long long>(std::min(count, 1e12));
+    if (count > kMaxLightSweepSpecs || combinations > kMaxLightSweepSpecs)
+      throw ParameterError(kParameter, spec,
+                           concat("sweeps more than ", kMaxLightSweepSpecs, " lights"));
+    values.emplace_back();
+    for (long long i = 0; i < static_cast<long long>(count); ++i)
+      values.back().push_back(formatNumber(a + i * step));
+  }
+  std::vector<std::string> specs{spec.substr(0, colon + 1)};
+  for (size_t n = 0; n < values.size(); ++n) {
+    std::vector<std::string> longer;
+    for (const std::string& head : specs)
+      for (const std::string& v : values[n]) longer.push_back(head + (n == 0 ? "" : ",") + v);
+    specs = std::move(longer);
+  }
+  return specs;
 }
 
 LocalLight parseLocalLight(const std::string& spec) {

@@ -39,6 +39,7 @@ cp data/scenes/*.json "$seeds/fuzz_scene_json/"
 printf 'point:1,2,3,4' >"$seeds/fuzz_light_spec/point"
 printf 'sphere:0,3,1,0.5,10,20,30' >"$seeds/fuzz_light_spec/sphere"
 printf 'spot:0,4,0,0,-1,0,30,5' >"$seeds/fuzz_light_spec/spot"
+printf 'point:-1:1:0.5,2,0:3:1,4' >"$seeds/fuzz_light_spec/sweep"
 "$cli" envmap sky --cubemap 2 --size 8x4 --quiet --out "$seeds/sky.exr"
 # The environment target's first byte picks the format: 1 is EXR.
 { printf '\001'; cat "$seeds/sky.exr"; } >"$seeds/fuzz_environment/sky"

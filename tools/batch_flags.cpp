@@ -11,8 +11,8 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                  "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)");
   sub.add_option("--light", o.lights,
                  "Local light, added to every frame: point:X,Y,Z,I, sphere:X,Y,Z,RADIUS,L or "
-                 "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I (I and L grey, or R,G,B; repeatable; "
-                 "docs/lighting.md)");
+                 "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I (I and L grey, or R,G,B; repeatable; a "
+                 "number may be a sweep A:B:S, a frame per value; docs/lighting.md)");
   sub.add_option("--light-path", o.lightPath,
                  "Local lights that move: a file with one frame's lights per line (specs "
                  "separated by spaces or ';'); every map and rotation is relit under each line");

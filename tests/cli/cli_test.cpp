@@ -292,6 +292,23 @@ TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
                           readPixels(out.file("second.exr"))),
             1e-6 * peak);
   EXPECT_TRUE(test::fs::exists(out.file("moving/sky_y0_l0002.exr")));
+  // A sweep: a frame per value of the swept number, crossed with the path's
+  // lines (line major), the frame named by its light set.
+  const RunResult swept = runCli(relight + "--light-path " + out.file("path.txt") +
+                                 " --light point:0,-3,1:2.5:0.5,5 --out " + out.file("swept"));
+  ASSERT_EQ(swept.status, 0) << swept.output;
+  const std::string sweptManifest = test::readFile(out.file("swept/manifest.csv"));
+  const size_t frame5 = sweptManifest.find("lights_y0_l0005.exr");
+  ASSERT_NE(frame5, std::string::npos) << sweptManifest;
+  const std::string line5 = sweptManifest.substr(sweptManifest.rfind('\n', frame5));
+  EXPECT_NE(line5.find("\"point:0,2.5,2,30;sphere:2,1,1.5,0.2,50;point:0,-3,2,5\","),
+            std::string::npos)
+      << sweptManifest;
+  EXPECT_TRUE(test::fs::exists(out.file("swept/lights_y0_l0008.exr")));
+  EXPECT_FALSE(test::fs::exists(out.file("swept/lights_y0_l0009.exr"))) << "3 lines x 3 values";
+  expectFailure(relight + "--light point:0,-3,2:1:0.5,5 --out " + out.file("z"),
+                "'2:1:0.5': the end must exceed the start");
+  EXPECT_FALSE(test::fs::exists(out.file("z")));
   {
     std::ofstream path(out.file("bad-path.txt"));
     path << "point:0,2,2,1\npoint:0,2\n";

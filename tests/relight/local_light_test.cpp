@@ -81,6 +81,45 @@ TEST(LocalLightSpec, BadSpecsAreRefusedNamingTheSpecAndTheProblem) {
   }
 }
 
+// A sweep A:B:S in place of a number gives A, A + S, ... below B (as
+// --rotate's yaw sweep), every combination of several, the last fastest.
+TEST(LocalLightSpec, SweepsExpandToEveryCombinationInOrder) {
+  EXPECT_EQ(expandLightSweep("point:1,2,3,4"), std::vector<std::string>{"point:1,2,3,4"});
+  EXPECT_FALSE(isLightSweep("point:1,2,3,4"));
+  EXPECT_TRUE(isLightSweep("point:0:1:0.5,2,3,4"));
+  EXPECT_EQ(expandLightSweep("point:-1:1:0.5,2,3,4"),
+            (std::vector<std::string>{"point:-1,2,3,4", "point:-0.5,2,3,4", "point:0,2,3,4",
+                                      "point:0.5,2,3,4"}));
+  const auto grid = expandLightSweep("sphere:0:2:1,1,5:7:1,0.5,10:30:10");
+  ASSERT_EQ(grid.size(), 8u);
+  EXPECT_EQ(grid.front(), "sphere:0,1,5,0.5,10");
+  EXPECT_EQ(grid[1], "sphere:0,1,5,0.5,20") << "the last swept number moves fastest";
+  EXPECT_EQ(grid.back(), "sphere:1,1,6,0.5,20");
+  // Steps that do not land on B, and values written as the shortest text.
+  const auto tenths = expandLightSweep("point:0:0.35:0.1,0,0,1");
+  ASSERT_EQ(tenths.size(), 4u);
+  EXPECT_EQ(tenths[3], "point:0.30000000000000004,0,0,1");
+  for (const std::string& spec : grid) EXPECT_NO_THROW(parseLocalLight(spec)) << spec;
+
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"point:0:1,2,3,4", "'0:1' is not a sweep A:B:S"},
+      {"point:0:1:0,2,3,4", "the step must be > 0"},
+      {"point:0:1:-1,2,3,4", "the step must be > 0"},
+      {"point:1:1:0.5,2,3,4", "the end must exceed the start"},
+      {"point:0:x:1,2,3,4", "'x' is not a finite number"},
+      {"point:0:1e6:1,0:1:0.1,3,4", "sweeps more than 100000 lights"},
+  };
+  for (const auto& [spec, problem] : bad) {
+    try {
+      expandLightSweep(spec);
+      ADD_FAILURE() << spec << " was accepted";
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.parameter(), "light");
+      EXPECT_NE(e.problem().find(problem), std::string::npos) << spec << ": " << e.what();
+    }
+  }
+}
+
 TEST(LocalLightTaps, APointLightDeliversTheInverseSquareOverItsFourNearestTexels) {
   const CubeLattice lattice(32);
   const LocalLight light = parseLocalLight("point:0.3,2,-0.7,1");
