@@ -16,7 +16,20 @@ using kernels::kChunkRows;
 LocalLightColumns::LocalLightColumns(std::shared_ptr<const PackedModel> model)
     : model_(std::move(model)),
       rowOf_(model_->seenTexels.size(), -1),
-      clusters_(model_->clusters()) {}
+      clusters_(model_->clusters()),
+      clusterRows_(model_->clusters()),
+      clusterLanes_(model_->clusters()),
+      seenIndex_(model_->geometry.rowLength(), -1) {
+  const PackedModel& m = *model_;
+  for (size_t j = 0; j < m.chunks.size(); ++j)
+    for (int lane = 0; lane < kChunkRows; ++lane)
+      if (const std::int32_t row = m.chunkRows[j * kChunkRows + lane]; row >= 0) {
+        clusterRows_[m.chunks[j].cluster].push_back(row);
+        clusterLanes_[m.chunks[j].cluster].push_back(j * kChunkRows + lane);
+      }
+  for (size_t i = 0; i < m.seenTexels.size(); ++i)
+    seenIndex_[m.seenTexels[i]] = static_cast<int>(i);
+}
 
 void LocalLightColumns::requireGlobalRows(const std::vector<int>& slots) {
   // V_g is packed basis by basis (the environment relight's order); a column

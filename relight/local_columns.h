@@ -41,6 +41,15 @@ class LocalLightColumns {
   const float* globalRow(int slot) const {
     return globalRows_.data() + static_cast<size_t>(rowOf_[slot]) * model_->globalBases;
   }
+  /// Cluster c's rows in chunk order, and where each lies: chunk x 16 + lane.
+  const std::vector<std::int32_t>& rowsOf(int cluster) const { return clusterRows_[cluster]; }
+  const std::vector<std::size_t>& lanesOf(int cluster) const { return clusterLanes_[cluster]; }
+  /// Per row element (texel, or channel x texel), its seen slot or -1.
+  const std::vector<int>& seenIndex() const { return seenIndex_; }
+
+  /// The model the columns are of.
+  const std::shared_ptr<const PackedModel>& model() const { return model_; }
+
   /// Drops every kept column (memory: see kMaxKeptValues).
   void clear();
   /// Floats kept, over all clusters.
@@ -65,6 +74,9 @@ class LocalLightColumns {
   std::vector<std::int32_t> rowOf_;  ///< per seen slot, its row in globalRows_ or -1
   std::vector<float> globalRows_;    ///< rows of V_g as asked for, N values each
   std::vector<Cluster> clusters_;
+  std::vector<std::vector<std::int32_t>> clusterRows_;
+  std::vector<std::vector<std::size_t>> clusterLanes_;
+  std::vector<int> seenIndex_;
   std::mutex clearing_;
   long long kept_ = 0;  ///< guarded by clearing_
 };

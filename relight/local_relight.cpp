@@ -63,8 +63,8 @@ std::string pixelName(const TransportHeader& h, long long row) {
 /// its rows' positions). The row elements (texel, or channel x texel) the
 /// taps touch that V_g sees, sorted.
 struct ClusterLights {
-  std::vector<std::int32_t> rows;                ///< in chunk order
-  std::vector<size_t> lane;                      ///< per row: chunk index x 16 + lane
+  std::span<const std::int32_t> rows;            ///< in chunk order
+  std::span<const size_t> lane;                  ///< per row: chunk index x 16 + lane
   std::vector<int> groupOf;                      ///< per light and row: light * rows + row
   std::vector<std::vector<LightTap>> groupTaps;  ///< per group, summing to 1
   std::vector<int> elements;
@@ -75,7 +75,7 @@ struct ClusterLights {
 /// in order, then the end): in cubes of side `side` (rows in one cube see the
 /// light within about side / distance of each other's direction); side 0
 /// gives every row a group.
-void groupRows(const TransportHeader& h, const std::vector<std::int32_t>& rows, double side,
+void groupRows(const TransportHeader& h, std::span<const std::int32_t> rows, double side,
                std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& starts) {
   order.resize(rows.size());
   starts.clear();
@@ -136,7 +136,7 @@ void groupRows(const TransportHeader& h, const std::vector<std::int32_t>& rows, 
 /// `spread` texels of direction at the distance of the cluster's nearest
 /// point to the light (0: exact, one group per row).
 double groupSide(const LocalLight& light, const TransportHeader& h,
-                 const std::vector<std::int32_t>& rows, double spread, double texelAngle) {
+                 std::span<const std::int32_t> rows, double spread, double texelAngle) {
   if (!(spread > 0) || rows.empty()) return 0;
   Eigen::AlignedBox3d box;
   for (std::int32_t row : rows) box.extend(positionOf(h, row));
@@ -382,20 +382,17 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
   std::unique_ptr<LocalLightColumns> own;
   if (!kept) own = std::make_unique<LocalLightColumns>(relighter.packed());
   LocalLightColumns& columns = kept ? *kept : *own;
+  ACPCA_CHECK(columns.model() == relighter.packed(), "local-light columns of another model");
   if (columns.keptValues() > LocalLightColumns::kMaxKeptValues) columns.clear();
-  std::vector<int> seenIndex(h.rowLength(), -1);
-  for (size_t i = 0; i < m.seenTexels.size(); ++i) seenIndex[m.seenTexels[i]] = static_cast<int>(i);
+  const std::vector<int>& seenIndex = columns.seenIndex();
 
   // 1. Per cluster and light, its rows in groups, each group's direction taps
   //    at its anchor, and the elements the cluster needs.
   std::vector<ClusterLights> clusters(m.clusters());
-  for (size_t j = 0; j < m.chunks.size(); ++j)
-    for (int lane = 0; lane < kChunkRows; ++lane)
-      if (const std::int32_t row = m.chunkRows[j * kChunkRows + lane]; row >= 0) {
-        ClusterLights& c = clusters[m.chunks[j].cluster];
-        c.rows.push_back(row);
-        c.lane.push_back(j * kChunkRows + lane);
-      }
+  for (int cluster = 0; cluster < m.clusters(); ++cluster) {
+    clusters[cluster].rows = columns.rowsOf(cluster);
+    clusters[cluster].lane = columns.lanesOf(cluster);
+  }
   tbb::parallel_for(0, m.clusters(), [&](int cluster) {
     findGroupTaps(h, lattice, lights, seenIndex, anchorSpread, clusters[cluster]);
   });
