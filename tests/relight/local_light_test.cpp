@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numbers>
 
@@ -26,6 +27,22 @@ std::map<int, double> byTexel(const std::vector<LightTap>& taps) {
   std::map<int, double> m;
   for (const auto& t : taps) m[t.texel] += t.weight;
   return m;
+}
+
+/// Each spec refused by `read` as a ParameterError ("light") naming the spec
+/// and saying the problem.
+void expectRefused(const std::function<void(const std::string&)>& read,
+                   const std::vector<std::pair<std::string, std::string>>& cases) {
+  for (const auto& [spec, problem] : cases) {
+    try {
+      read(spec);
+      ADD_FAILURE() << spec << " was accepted";
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.parameter(), "light");
+      EXPECT_EQ(e.value(), spec);
+      EXPECT_NE(e.problem().find(problem), std::string::npos) << spec << ": " << e.what();
+    }
+  }
 }
 
 TEST(LocalLightSpec, EveryKindParsesGreyAndRgbAndPrintsBack) {
@@ -69,16 +86,7 @@ TEST(LocalLightSpec, BadSpecsAreRefusedNamingTheSpecAndTheProblem) {
       {"spot:0,1,0,0,-1,0,91,1", "half angle must be in (0, 90]"},
       {"point:1,,3,4", "'' is not a finite number"},
   };
-  for (const auto& [spec, problem] : cases) {
-    try {
-      parseLocalLight(spec);
-      ADD_FAILURE() << spec << " was accepted";
-    } catch (const ParameterError& e) {
-      EXPECT_EQ(e.parameter(), "light");
-      EXPECT_EQ(e.value(), spec);
-      EXPECT_NE(e.problem().find(problem), std::string::npos) << spec << ": " << e.what();
-    }
-  }
+  expectRefused([](const std::string& spec) { parseLocalLight(spec); }, cases);
 }
 
 // A sweep A:B:S in place of a number gives A, A + S, ... below B (as
@@ -109,15 +117,7 @@ TEST(LocalLightSpec, SweepsExpandToEveryCombinationInOrder) {
       {"point:0:x:1,2,3,4", "'x' is not a finite number"},
       {"point:0:1e6:1,0:1:0.1,3,4", "sweeps more than 100000 lights"},
   };
-  for (const auto& [spec, problem] : bad) {
-    try {
-      expandLightSweep(spec);
-      ADD_FAILURE() << spec << " was accepted";
-    } catch (const ParameterError& e) {
-      EXPECT_EQ(e.parameter(), "light");
-      EXPECT_NE(e.problem().find(problem), std::string::npos) << spec << ": " << e.what();
-    }
-  }
+  expectRefused([](const std::string& spec) { expandLightSweep(spec); }, bad);
 }
 
 TEST(LocalLightTaps, APointLightDeliversTheInverseSquareOverItsFourNearestTexels) {
