@@ -282,7 +282,9 @@ std::vector<std::string> expandLightSweep(const std::string& spec) {
       throw ParameterError(kParameter, spec, concat("'", part, "': the step must be > 0"));
     if (!(b > a))
       throw ParameterError(kParameter, spec, concat("'", part, "': the end must exceed the start"));
-    const double count = std::ceil((b - a) / step - 1e-9);
+    // At least A itself: a step wider than B - A (fuzzing found 2e73) would
+    // otherwise round the count to zero and the sweep to no light at all.
+    const double count = std::max(1.0, std::ceil((b - a) / step - 1e-9));
     combinations *= static_cast<long long>(std::min(count, 1e12));
     if (count > kMaxLightSweepSpecs || combinations > kMaxLightSweepSpecs)
       throw ParameterError(kParameter, spec,

@@ -108,6 +108,9 @@ TEST(LocalLightSpec, SweepsExpandToEveryCombinationInOrder) {
   ASSERT_EQ(tenths.size(), 4u);
   EXPECT_EQ(tenths[3], "point:0.30000000000000004,0,0,1");
   for (const std::string& spec : grid) EXPECT_NO_THROW(parseLocalLight(spec)) << spec;
+  // A step past B leaves A alone, however wide (fuzzing found one of 2e73).
+  EXPECT_EQ(expandLightSweep("point:0:23:2e73,1,2,3"), std::vector<std::string>{"point:0,1,2,3"});
+  EXPECT_EQ(expandLightSweep("point:0:1:1,1,2,3"), std::vector<std::string>{"point:0,1,2,3"});
 
   const std::vector<std::pair<std::string, std::string>> bad{
       {"point:0:1,2,3,4", "'0:1' is not a sweep A:B:S"},
