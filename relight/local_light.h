@@ -50,15 +50,18 @@ struct LocalLight {
 LocalLight parseLocalLight(const std::string& spec);
 /// Whether a spec sweeps one of its numbers: A:B:S in its place.
 bool isLightSweep(const std::string& spec);
+/// The most numbers a light has (a spot with RGB intensity).
+inline constexpr size_t kMaxLightNumbers = 10;
 /// The most specs one sweep may give.
 inline constexpr long long kMaxLightSweepSpecs = 100000;
 /// A spec whose numbers may be sweeps A:B:S (A, A + S, ... below B, as
 /// --rotate sweeps the yaw) as one spec per combination, the last swept
 /// number fastest, each number written as the shortest text that reads
 /// back the same; a spec without sweeps as itself. Throws ParameterError
-/// ("light") naming the spec for a step <= 0, an end not past the start or
-/// more than kMaxLightSweepSpecs specs (the specs themselves are checked
-/// when parsed).
+/// ("light") naming the spec for an unknown kind, a number that is not
+/// one, more than kMaxLightNumbers numbers, a step <= 0, an end not past
+/// the start or more than kMaxLightSweepSpecs specs (how many numbers the
+/// kind takes is checked when the specs are parsed).
 std::vector<std::string> expandLightSweep(const std::string& spec);
 /// A light path (--light-path): one frame's lights per line, specs separated
 /// by spaces or ';'; blank lines and lines starting with '#' are skipped.

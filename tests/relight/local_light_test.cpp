@@ -119,6 +119,9 @@ TEST(LocalLightSpec, SweepsExpandToEveryCombinationInOrder) {
       {"point:1:1:0.5,2,3,4", "the end must exceed the start"},
       {"point:0:x:1,2,3,4", "'x' is not a finite number"},
       {"point:0:1e6:1,0:1:0.1,3,4", "sweeps more than 100000 lights"},
+      {"lamp:0:1:0.5,2,3,4", "'lamp' is not one of point, sphere, spot"},
+      {"point:0:1:0.5,2,x,4", "'x' is not a finite number"},
+      {"spot:0:1:0.5,1,2,3,4,5,6,7,8,9,10", "has 11 numbers; a light has at most 10"},
   };
   expectRefused([](const std::string& spec) { expandLightSweep(spec); }, bad);
 }
