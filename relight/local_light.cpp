@@ -274,9 +274,9 @@ std::vector<std::string> expandLightSweep(const std::string& spec) {
   }
   const std::vector<std::string> parts = splitNumbers(spec.substr(colon + 1));
   if (parts.size() > kMaxLightNumbers)
-    throw ParameterError(kParameter, spec,
-                         concat("has ", parts.size(), " numbers; a light has at most ",
-                                kMaxLightNumbers));
+    throw ParameterError(
+        kParameter, spec,
+        concat("has ", parts.size(), " numbers; a light has at most ", kMaxLightNumbers));
   // Per number its values: one, or a sweep's.
   std::vector<std::vector<std::string>> values;
   long long combinations = 1;

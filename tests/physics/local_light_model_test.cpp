@@ -106,8 +106,8 @@ int measureThirtyDegreeClusters(int size, int resolution, Method method) {
     const std::vector<float> dense = denseLocalRelight(t, {lamp});
     const double shared = relativeL2Over(modelLocalRelight(relighter, {lamp}), dense, rows);
     const double own = relativeL2Over(modelLocalRelight(relighter, {lamp}, 0), dense, rows);
-    const std::string what = concat(methodName(method), " R = ", resolution, " cluster ", c,
-                                    " (", rows.size(), " pixels)");
+    const std::string what = concat(methodName(method), " R = ", resolution, " cluster ", c, " (",
+                                    rows.size(), " pixels)");
     EXPECT_LT(shared, 0.03) << what << ", lamp " << lamp.spec << "; at spread 0 " << own;
     ::testing::Test::RecordProperty(concat("error ", what, " spread 0.5 / 0"),
                                     concat(shared, " / ", own));
