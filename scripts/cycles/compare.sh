@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Compares our dense relight of a scene with Blender Cycles (direct light, or
-# up to K bounces with --bounces K; the same lattice lighting, camera and materials: render_cycles.py), and
+# up to K bounces with --bounces K; the same lattice lighting, local lights,
+# camera and materials: render_cycles.py), and
 # Cycles with itself under another seed (its own noise). Not part of CI: needs
 # Debian's `blender` (apt-get install blender) and a few minutes per scene.
 #
 #   bash scripts/cycles/compare.sh SCENE.json ENV OUT_DIR [options]
+#     ENV: any --env of relight, or none (local lights alone)
+#     --light SPEC (repeatable: point or sphere, as relight's --light)
+#     --closed-form (one sphere light over a one-plane scene: Cycles and ours
+#       against the closed form a L (r/D)^2 cos theta as well)
 #     --size WxH (160x120)  --camera SPEC (auto:65,150 or none)
 #     --samples N (Cycles samples per pixel, 1024)  --spp N (ours, 16)  --cubemap R (32)
 #     --texel-rays N (ours, 1: shadow rays per lattice texel)
@@ -20,8 +25,11 @@ scene=$1 env=$2 out=$3
 shift 3
 size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1 bounces=0
 indirect_samples=64
+lights=() closed_form=()
 while [ $# -gt 0 ]; do
   case $1 in
+    --light) lights+=(--light "$2") ;;
+    --closed-form) closed_form=(--closed-form); shift; continue ;;
     --size) size=$2 ;;
     --camera) camera=$2 ;;
     --samples) samples=$2 ;;
@@ -44,9 +52,14 @@ camera_flag=()
 "$cli" precompute --scene "$scene" --size "$size" --spp "$spp" --aa full --cubemap "$cubemap" \
   --texel-rays "$texel_rays" --bounces "$bounces" --indirect-samples "$indirect_samples" \
   --precision f32 "${camera_flag[@]}" --quiet --out "$out/t.h5"
-"$cli" relight "$out/t.h5" --env "$env" --background black --exr-float --quiet --out "$out/ours.exr"
-# The lattice as Cycles sees it: piecewise constant per texel, 2048x1024.
-"$cli" envmap "$env" --cubemap "$cubemap" --size 2048x1024 --quiet --out "$out/lattice.exr"
+env_flag=() lattice=none
+if [ "$env" != none ]; then
+  env_flag=(--env "$env") lattice="$out/lattice.exr"
+  # The lattice as Cycles sees it: piecewise constant per texel, 2048x1024.
+  "$cli" envmap "$env" --cubemap "$cubemap" --size 2048x1024 --quiet --out "$lattice"
+fi
+"$cli" relight "$out/t.h5" "${env_flag[@]}" "${lights[@]}" --background black --exr-float \
+  --quiet --out "$out/ours.exr"
 cam=$("$cli" info "$out/t.h5" --json - | python3 -c '
 import json, sys
 c = json.load(sys.stdin)["camera"]
@@ -56,8 +69,8 @@ render() {  # seed, output, image to compare with, json
   rm -f "$2" "$4"
   blender -b --factory-startup --python-exit-code 1 --python scripts/cycles/render_cycles.py -- \
     --scene "$scene" --width "$width" --height "$height" --camera "$cam" \
-    --env "$out/lattice.exr" --samples "$samples" --seed "$1" --bounces "$bounces" \
-    --out "$2" --ours "$3" \
+    --env "$lattice" "${lights[@]}" "${closed_form[@]}" --samples "$samples" --seed "$1" \
+    --bounces "$bounces" --out "$2" --ours "$3" \
     --json "$4" >"$out/blender-$1.log" 2>&1 || { tail -30 "$out/blender-$1.log" >&2; exit 1; }
 }
 render 1 "$out/cycles.exr" "$out/ours.exr" "$out/ours-vs-cycles.json"
@@ -74,4 +87,9 @@ for name, r in (("ours vs Cycles", ours), ("Cycles vs Cycles (noise)", noise)):
           f"(full pixels {100 * r['relative_l2_full_pixels']:.2f}%, "
           f"{r['edge_pixels']} edge pixels {100 * r['relative_l2_edge_pixels']:.2f}%), "
           f"energy ratio {r['energy_ratio']:.4f}")
+for name in ("cycles_vs_closed_form", "ours_vs_closed_form"):
+    if name in ours:
+        r = ours[name]
+        print(f"{name.replace('_', ' '):26s} relative L2 {100 * r['relative_l2']:.2f}% over "
+              f"{r['pixels']} full pixels, energy ratio {r['energy_ratio']:.4f}")
 PY

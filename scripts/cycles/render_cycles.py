@@ -1,11 +1,13 @@
 """Renders one of our scene files with Blender's Cycles, direct light or up
-to K bounces (--bounces), under a lattice exported by `adaptive-cpca envmap`, and compares the result
-with our dense relight of the same scene.
+to K bounces (--bounces), under a lattice exported by `adaptive-cpca envmap`
+and/or local lights (--light, as `relight` takes them), and compares the
+result with our dense relight of the same scene.
 
 Run by scripts/cycles/compare.sh inside Blender:
   blender -b --factory-startup --python render_cycles.py -- \
       --scene S.json --width W --height H --env lattice.exr --ours ours.exr \
-      --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV]
+      --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV] \
+      [--light SPEC ...] [--closed-form]
 
 The fairness rules of the fair-comparison rules of docs/design.md section 7: the same
 geometry (our Y-up world is Blender's (x, -z, y)), a pinhole camera with our
@@ -45,7 +47,12 @@ def parse_args():
     p.add_argument("--width", type=int, required=True)
     p.add_argument("--height", type=int, required=True)
     p.add_argument("--camera", help="eye,target,up as 9 numbers then fov (ours after framing)")
-    p.add_argument("--env", required=True, help="lat-long EXR of the lattice")
+    p.add_argument("--env", required=True, help="lat-long EXR of the lattice, or none (black)")
+    p.add_argument("--light", action="append", default=[],
+                   help="a local light as `relight --light` takes it (point or sphere)")
+    p.add_argument("--closed-form", action="store_true",
+                   help="also compare Cycles with the closed form of a sphere light over "
+                        "the scene's one plane (diffuse, the light above its horizon)")
     p.add_argument("--ours", required=True, help="our dense relight, black background, EXR")
     p.add_argument("--out", required=True)
     p.add_argument("--samples", type=int, default=512)
@@ -288,6 +295,12 @@ def add_world(env_path):
     world.use_nodes = True
     tree = world.node_tree
     tree.nodes.clear()
+    if env_path is None:  # local lights alone: a black world
+        out = tree.nodes.new("ShaderNodeOutputWorld")
+        background = tree.nodes.new("ShaderNodeBackground")
+        background.inputs["Strength"].default_value = 0.0
+        tree.links.new(background.outputs["Background"], out.inputs["Surface"])
+        return
     coords = tree.nodes.new("ShaderNodeTexCoord")
     mapping = tree.nodes.new("ShaderNodeMapping")
     mapping.vector_type = "POINT"
@@ -307,6 +320,120 @@ def add_world(env_path):
     tree.links.new(background.outputs["Background"], out.inputs["Surface"])
     world.cycles.sampling_method = "MANUAL"
     world.cycles.sample_map_resolution = 2048
+
+
+# ---------------------------------------------------------------- local lights
+
+
+def parse_light(spec):
+    """`relight --light` grammar (docs/lighting.md): kind, position, radius
+    (sphere), emission (grey or RGB)."""
+    kind, _, numbers = spec.partition(":")
+    v = [float(x) for x in numbers.split(",")]
+    if kind == "spot":
+        raise SystemExit(f"{spec}: spot lights are left out of the Cycles comparison "
+                         "(Blender's spot blend is not our smoothstep)")
+    before = {"point": 3, "sphere": 4}.get(kind)
+    if before is None or len(v) not in (before + 1, before + 3):
+        raise SystemExit(f"{spec}: not point:X,Y,Z,I(,G,B) or sphere:X,Y,Z,RADIUS,L(,G,B)")
+    emission = v[before:] * 3 if len(v) == before + 1 else v[before:]
+    return {"kind": kind, "position": v[0:3], "radius": v[3] if kind == "sphere" else 0.0,
+            "emission": emission}
+
+
+def add_light(light, index):
+    """Cycles' point lamp of power P (watts) has radiant intensity P / (4 pi);
+    with a radius r it is sampled as a disc of radius r at its centre facing
+    the shading point, of uniform radiance P / (4 pi * pi r^2). So our point
+    light of intensity I is P = 4 pi I, and our sphere of radiance L is
+    P = 4 pi^2 r^2 L. Blender 3.4's disc subtends pi r^2 / (d^2 + r^2) where
+    the sphere subtends 2 pi (1 - sqrt(1 - r^2 / d^2)): a fraction about
+    (r / d)^2 less light (0.25% at d = 20 r), which the closed-form plane
+    check measures."""
+    data = bpy.data.lights.new(f"lamp{index}", type="POINT")
+    peak = max(light["emission"])
+    data.color = [c / peak for c in light["emission"]] if peak > 0 else (1, 1, 1)
+    r = light["radius"]
+    data.energy = 4 * math.pi * peak if r == 0 else 4 * math.pi ** 2 * r * r * peak
+    data.shadow_soft_size = r
+    obj = bpy.data.objects.new(f"lamp{index}", data)
+    obj.location = vec(light["position"])
+    obj.visible_camera = False  # ours: lights light the scene, unseen
+    bpy.context.scene.collection.objects.link(obj)
+
+
+def camera_rays(eye, target, up, fov, width, height, per_side):
+    """Our pinhole's rays (Y-up world) through per_side^2 stratified points of
+    every pixel: origins and directions, shape (height, width, per_side^2, 3)."""
+    eye, target, up = (np.array(x, dtype=np.float64) for x in (eye, target, up))
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    t = math.tan(math.radians(fov) / 2)
+    offsets = (np.arange(per_side) + 0.5) / per_side
+    sx = (np.arange(width)[:, None] + offsets[None, :]).reshape(-1)
+    sy = (np.arange(height)[:, None] + offsets[None, :]).reshape(-1)
+    x = (2 * sx / width - 1) * t * width / height
+    y = (1 - 2 * sy / height) * t
+    d = (forward[None, None] + x[None, :, None] * right[None, None]
+         + y[:, None, None] * true_up[None, None])
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    d = d.reshape(height, per_side, width, per_side, 3).transpose(0, 2, 1, 3, 4)
+    return eye, d.reshape(height, width, per_side * per_side, 3)
+
+
+def closed_form_plane(scene_json, light, camera, width, height):
+    """Radiance of a diffuse plane of albedo a under a point light of intensity
+    I, a I cos(theta) / (pi D^2) at a point D from it, theta from the normal;
+    or under a sphere of radiance L and radius r wholly above its horizon,
+    a L (r / D)^2 cos(theta) (its irradiance is a point source's of intensity
+    pi r^2 L). Per pixel, the mean over 8x8 samples; with a mask of pixels
+    whose every sample meets the plane."""
+    planes = [o for o in scene_json["objects"] if o.get("shape") == "plane"]
+    if len(planes) != 1 or len(scene_json["objects"]) != 1:
+        raise SystemExit("--closed-form needs a scene of one plane")
+    plane = planes[0]
+    material = plane["material"]
+    if material.get("type", "diffuse") != "diffuse" or "texture" in material:
+        raise SystemExit("--closed-form needs an untextured diffuse plane")
+    n = np.array(plane["normal"], dtype=np.float64)
+    n /= np.linalg.norm(n)
+    c = np.array(plane["center"], dtype=np.float64)
+    eye, dirs = camera_rays(*camera, width, height, 8)
+    denom = dirs @ n
+    t = ((c - eye) @ n) / np.where(np.abs(denom) > 1e-12, denom, np.nan)
+    hit = eye + t[..., None] * dirs
+    # The quad of add_plane: its in-plane axes a, b and half size.
+    helper = np.array([0, 1, 0.0]) if abs(n[1]) < 0.9 else np.array([1, 0, 0.0])
+    a = np.cross(n, helper)
+    a /= np.linalg.norm(a)
+    b = np.cross(n, a)
+    half = 0.5 * plane["size"]
+    rel = hit - c
+    inside = (t > 0) & (np.abs(rel @ a) <= half) & (np.abs(rel @ b) <= half)
+    centre = np.array(light["position"], dtype=np.float64)
+    to_light = centre - hit
+    dist = np.linalg.norm(to_light, axis=-1)
+    cos_theta = (to_light @ n) / dist
+    r = light["radius"]
+    if not np.all(cos_theta[inside] * dist[inside] > r):
+        raise SystemExit("--closed-form: the sphere dips below the plane's horizon somewhere")
+    albedo = np.array(material.get("albedo", [0.5, 0.5, 0.5]), dtype=np.float64)
+    per_sample = np.where(inside, r * r * cos_theta / dist ** 2 if r > 0
+                          else cos_theta / (math.pi * dist ** 2), 0.0)
+    radiance = per_sample.mean(axis=2)[..., None] * albedo * np.array(light["emission"])
+    return radiance, inside.all(axis=2)
+
+
+def compare_closed_form(expected, full, cycles_path, width, height):
+    cycles = pixels(cycles_path, width, height)[..., :3]
+    d = cycles[full] - expected[full]
+    return {
+        "relative_l2": float(np.sqrt((d ** 2).sum() / (expected[full] ** 2).sum())),
+        "energy_ratio": float(cycles[full].sum() / expected[full].sum()),
+        "pixels": int(full.sum()),
+    }
 
 
 def configure_cycles(samples, seed, bounces):
@@ -388,7 +515,10 @@ def main():
     else:
         eye, target, up, fov = cam["eye"], cam["target"], cam["up"], cam["fov"]
     add_camera(eye, target, up, fov, a.width, a.height)
-    add_world(os.path.abspath(a.env))
+    add_world(None if a.env == "none" else os.path.abspath(a.env))
+    lights = [parse_light(spec) for spec in a.light]
+    for i, light in enumerate(lights):
+        add_light(light, i)
     configure_cycles(a.samples, a.seed, a.bounces)
     for o in bpy.context.scene.objects:  # for the log: what Cycles renders
         print("object", o.name, o.type, [s.material.name for s in o.material_slots if s.material],
@@ -396,7 +526,16 @@ def main():
     bpy.context.scene.render.filepath = os.path.abspath(a.out)
     bpy.ops.render.render(write_still=True)
     result = compare(os.path.abspath(a.ours), os.path.abspath(a.out), a.width, a.height)
-    result.update({"scene": a.scene, "samples": a.samples, "seed": a.seed})
+    result.update({"scene": a.scene, "samples": a.samples, "seed": a.seed, "lights": a.light})
+    if a.closed_form:
+        if len(lights) != 1 or a.env != "none":
+            raise SystemExit("--closed-form needs one light and --env none")
+        expected, full = closed_form_plane(scene_json, lights[0], (eye, target, up, fov),
+                                           a.width, a.height)
+        result["cycles_vs_closed_form"] = compare_closed_form(
+            expected, full, os.path.abspath(a.out), a.width, a.height)
+        result["ours_vs_closed_form"] = compare_closed_form(
+            expected, full, os.path.abspath(a.ours), a.width, a.height)
     print("cycles-comparison " + json.dumps(result))
     if a.json:
         with open(a.json, "w") as f:
