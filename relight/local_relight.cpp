@@ -13,7 +13,6 @@
 #include <span>
 
 #include "core/error.h"
-#include "core/half.h"
 #include "relight/local_columns.h"
 #include "relight/relight_kernels.h"
 #include "transport/row_stream.h"
@@ -181,29 +180,6 @@ void findGroupTaps(const TransportHeader& h, const CubeLattice& lattice,
   c.elements.erase(std::unique(c.elements.begin(), c.elements.end()), c.elements.end());
 }
 
-using Lanes = Eigen::Array<float, kChunkRows, 1>;
-
-/// The first `rank` coefficients of chunk j's 16 lanes as floats (i8 steps
-/// applied), k-major as packed: block[k * 16 + lane].
-void loadChunk(const PackedModel& m, size_t j, int rank, std::vector<float>& block) {
-  const PackedModel::Chunk& chunk = m.chunks[j];
-  const size_t count = static_cast<size_t>(rank) * kChunkRows;
-  block.resize(count);
-  const long long at = chunk.coefficientOffset;
-  switch (m.precision) {
-    case CoeffPrecision::F32:
-      std::copy_n(m.coeffF32.data() + at, count, block.data());
-      return;
-    case CoeffPrecision::F16:
-      halfToFloat(m.coeffF16.data() + at, block.data(), count);
-      return;
-    case CoeffPrecision::I8:
-      for (size_t i = 0; i < count; ++i)
-        block[i] = m.coeffI8[at + i] * m.scale[m.lightingOffset[chunk.cluster] + i / kChunkRows];
-      return;
-  }
-}
-
 /// Step 2 of modelLocalRelight for one cluster: each group's transport
 /// towards its light per unit irradiance, W_c^T V_g^T (sum of taps) and
 /// mu_c . V_g^T (sum of taps), rank + 1 values per group and channel of the
@@ -255,12 +231,24 @@ std::vector<float> groupTransport(LocalLightColumns& columns, const PackedModel&
   return towards;
 }
 
+/// The i8 step of each basis folded into the groups' transport, as the
+/// environment relight folds it into the cluster's lighting (1 otherwise).
+void foldSteps(const PackedModel& m, int cluster, int rank, std::vector<float>& towards) {
+  const float* scale = m.scale.data() + m.lightingOffset[cluster];
+  for (size_t at = 0; at < towards.size(); at += rank + 1)
+    for (int k = 0; k < rank; ++k) towards[at + k] *= scale[k];
+}
+
 /// Step 3 for one chunk of 16 rows of a cluster (those of `lanes` at
-/// `first`..): each row's coefficients against its groups' transport, times
-/// the irradiance at its own position, summed over the lights.
-void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, const ClusterLights& c,
-                const std::vector<float>& towards, int rank, const std::vector<float>& block,
-                size_t first, size_t count, std::vector<float>& out) {
+/// `first`..): per light, channel and group the chunk's rows fall in (one or
+/// a few: a chunk is 16 neighbouring rows), the coefficients of all 16 lanes
+/// against the group's transport, read as stored (eq. 17 for one vector);
+/// each row keeps its own lane, times the irradiance at its own position,
+/// summed over the lights.
+template <typename T>
+void shadeChunk(const PackedModel& m, const T* coefficients, const std::vector<LocalLight>& lights,
+                const ClusterLights& c, const std::vector<float>& towards, int rank, size_t first,
+                size_t count, std::vector<float>& out) {
   const TransportHeader& h = m.geometry;
   const int channels = h.channels, stride = rank + 1;
   std::array<Rgb, kChunkRows> value;
@@ -268,8 +256,8 @@ void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, con
   std::array<int, kChunkRows> lane{};
   for (size_t i = 0; i < count; ++i) lane[i] = static_cast<int>(c.lane[first + i] % kChunkRows);
   std::array<const float*, kChunkRows> group{};
-  std::array<float, kChunkRows> dot{};
   std::array<double, kChunkRows> irradiance{};
+  alignas(64) float shaded[kChunkRows];
   for (size_t li = 0; li < lights.size(); ++li) {
     for (size_t i = 0; i < count; ++i)
       irradiance[i] = lightIrradiance(lights[li], positionOf(h, c.rows[first + i]));
@@ -278,27 +266,19 @@ void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, con
         const size_t gi = c.groupOf[li * c.rows.size() + first + i];
         group[i] = towards.data() + (gi * channels + ch) * stride;
       }
-      // Per row, its coefficients against its group's transport summed in k
-      // order, for all 16 lanes at once per group the chunk's rows fall in
-      // (one or a few: a chunk is 16 neighbouring rows); each row keeps its
-      // own lane of its group's sums.
       for (size_t i = 0; i < count; ++i) {
         if (std::find(group.begin(), group.begin() + i, group[i]) != group.begin() + i) continue;
         const float* t = group[i];
-        Lanes sum = Lanes::Zero();
-        for (int k = 0; k < rank; ++k)
-          sum += Eigen::Map<const Lanes>(&block[k * kChunkRows]) * t[k];
-        for (size_t r = i; r < count; ++r)
-          if (group[r] == t) dot[lane[r]] = sum[lane[r]];
-      }
-      for (size_t i = 0; i < count; ++i) {
-        // Outside a spot's cone: nothing (enclosed rows were refused before).
-        if (irradiance[i] <= 0) continue;
-        const double transport = group[i][rank] + dot[lane[i]];
-        if (channels == 1)
-          value[i] += irradiance[i] * transport * lights[li].emission;
-        else
-          value[i][ch] += irradiance[i] * transport * lights[li].emission[ch];
+        kernels::shadeChunkOne(coefficients, t, rank, t[rank], shaded);
+        for (size_t r = i; r < count; ++r) {
+          // Outside a spot's cone: nothing (enclosed rows were refused before).
+          if (group[r] != t || irradiance[r] <= 0) continue;
+          const double transport = shaded[lane[r]];
+          if (channels == 1)
+            value[r] += irradiance[r] * transport * lights[li].emission;
+          else
+            value[r][ch] += irradiance[r] * transport * lights[li].emission[ch];
+        }
       }
     }
   }
@@ -306,6 +286,21 @@ void shadeChunk(const PackedModel& m, const std::vector<LocalLight>& lights, con
     const size_t row = static_cast<size_t>(c.rows[first + i]);
     for (int ch = 0; ch < 3; ++ch)
       out[3 * row + ch] = static_cast<float>(h.albedo[3 * row + ch] * value[i][ch]);
+  }
+}
+
+/// Step 3 for one cluster's chunks, their coefficients as stored.
+template <typename T>
+void shadeCluster(const PackedModel& m, const T* coefficients,
+                  const std::vector<LocalLight>& lights, const ClusterLights& c,
+                  const std::vector<float>& towards, int rank, std::vector<float>& out) {
+  for (size_t first = 0; first < c.rows.size();) {
+    const size_t chunk = c.lane[first] / kChunkRows;
+    size_t count = 1;
+    while (first + count < c.rows.size() && c.lane[first + count] / kChunkRows == chunk) ++count;
+    shadeChunk(m, coefficients + m.chunks[chunk].coefficientOffset, lights, c, towards, rank, first,
+               count, out);
+    first += count;
   }
 }
 
@@ -411,15 +406,15 @@ std::vector<float> modelLocalRelight(const ModelRelighter& relighter,
     const ClusterLights& c = clusters[cluster];
     const int rank = relighter.activeRanks()[cluster];
     if (c.elements.empty() || (rank == 0 && !m.hasMean)) return;
-    const std::vector<float> towards = groupTransport(columns, m, cluster, rank, c, seenIndex);
-    std::vector<float> block;
-    for (size_t first = 0; first < c.rows.size();) {
-      const size_t chunk = c.lane[first] / kChunkRows;
-      size_t count = 1;
-      while (first + count < c.rows.size() && c.lane[first + count] / kChunkRows == chunk) ++count;
-      loadChunk(m, chunk, rank, block);
-      shadeChunk(m, lights, c, towards, rank, block, first, count, out);
-      first += count;
+    std::vector<float> towards = groupTransport(columns, m, cluster, rank, c, seenIndex);
+    foldSteps(m, cluster, rank, towards);
+    switch (m.precision) {
+      case CoeffPrecision::F32:
+        return shadeCluster(m, m.coeffF32.data(), lights, c, towards, rank, out);
+      case CoeffPrecision::F16:
+        return shadeCluster(m, m.coeffF16.data(), lights, c, towards, rank, out);
+      case CoeffPrecision::I8:
+        return shadeCluster(m, m.coeffI8.data(), lights, c, towards, rank, out);
     }
   });
   return out;

@@ -111,4 +111,17 @@ void shadeChunk(const std::int8_t* u, const float* lighting, int rank, const flo
   table().shadeI8(u, lighting, rank, base, out);
 }
 
+void shadeChunkOne(const float* u, const float* transport, int rank, float base,
+                   float out[kChunkRows]) {
+  table().shadeOneF32(u, transport, rank, base, out);
+}
+void shadeChunkOne(const std::uint16_t* u, const float* transport, int rank, float base,
+                   float out[kChunkRows]) {
+  table().shadeOneF16(u, transport, rank, base, out);
+}
+void shadeChunkOne(const std::int8_t* u, const float* transport, int rank, float base,
+                   float out[kChunkRows]) {
+  table().shadeOneI8(u, transport, rank, base, out);
+}
+
 }  // namespace acpca::kernels

@@ -53,4 +53,14 @@ void shadeChunk(const std::uint16_t* coefficients, const float* lighting, int ra
 void shadeChunk(const std::int8_t* coefficients, const float* lighting, int rank,
                 const float base[3], float out[3][kChunkRows]);
 
+/// out[lane] = base + sum_{k < rank} coefficients[k * 16 + lane] * transport[k]:
+/// one channel of shadeChunk, for 16 rows against one vector (a local light's
+/// group transport, relight/local_relight.h).
+void shadeChunkOne(const float* coefficients, const float* transport, int rank, float base,
+                   float out[kChunkRows]);
+void shadeChunkOne(const std::uint16_t* coefficients, const float* transport, int rank, float base,
+                   float out[kChunkRows]);
+void shadeChunkOne(const std::int8_t* coefficients, const float* transport, int rank, float base,
+                   float out[kChunkRows]);
+
 }  // namespace acpca::kernels

@@ -133,6 +133,38 @@ void shadeChunkAvx2(const T* coefficients, const float* lighting, int rank, cons
   _mm256_storeu_ps(out[2] + 8, _mm256_add_ps(bHi, bHi1));
 }
 
+template <typename T>
+void shadeChunkOneAvx2(const T* coefficients, const float* transport, int rank, float base,
+                       float out[kChunkRows]) {
+  // Four accumulator pairs (k mod 4): independent FMA chains cover the latency.
+  __m256 lo0 = _mm256_set1_ps(base), hi0 = lo0;
+  __m256 lo1 = _mm256_setzero_ps(), hi1 = lo1, lo2 = lo1, hi2 = lo1, lo3 = lo1, hi3 = lo1;
+  int k = 0;
+  __m256 uLo, uHi;
+  for (; k + 4 <= rank; k += 4) {
+    const T* u = coefficients + k * kChunkRows;
+    loadRow(u, uLo, uHi);
+    __m256 t = _mm256_broadcast_ss(transport + k);
+    lo0 = _mm256_fmadd_ps(uLo, t, lo0), hi0 = _mm256_fmadd_ps(uHi, t, hi0);
+    loadRow(u + kChunkRows, uLo, uHi);
+    t = _mm256_broadcast_ss(transport + k + 1);
+    lo1 = _mm256_fmadd_ps(uLo, t, lo1), hi1 = _mm256_fmadd_ps(uHi, t, hi1);
+    loadRow(u + 2 * kChunkRows, uLo, uHi);
+    t = _mm256_broadcast_ss(transport + k + 2);
+    lo2 = _mm256_fmadd_ps(uLo, t, lo2), hi2 = _mm256_fmadd_ps(uHi, t, hi2);
+    loadRow(u + 3 * kChunkRows, uLo, uHi);
+    t = _mm256_broadcast_ss(transport + k + 3);
+    lo3 = _mm256_fmadd_ps(uLo, t, lo3), hi3 = _mm256_fmadd_ps(uHi, t, hi3);
+  }
+  for (; k < rank; ++k) {
+    loadRow(coefficients + k * kChunkRows, uLo, uHi);
+    const __m256 t = _mm256_broadcast_ss(transport + k);
+    lo0 = _mm256_fmadd_ps(uLo, t, lo0), hi0 = _mm256_fmadd_ps(uHi, t, hi0);
+  }
+  _mm256_storeu_ps(out, _mm256_add_ps(_mm256_add_ps(lo0, lo1), _mm256_add_ps(lo2, lo3)));
+  _mm256_storeu_ps(out + 8, _mm256_add_ps(_mm256_add_ps(hi0, hi1), _mm256_add_ps(hi2, hi3)));
+}
+
 void dotRgbColumnsAvx2(const float* columns, int count, const float* const light[3], int length,
                        float* out) {
   int i = 0;
@@ -150,7 +182,10 @@ const KernelTable* avx2Kernels() {
                                  dotSegmentsAvx2,
                                  shadeChunkAvx2<float>,
                                  shadeChunkAvx2<std::uint16_t>,
-                                 shadeChunkAvx2<std::int8_t>};
+                                 shadeChunkAvx2<std::int8_t>,
+                                 shadeChunkOneAvx2<float>,
+                                 shadeChunkOneAvx2<std::uint16_t>,
+                                 shadeChunkOneAvx2<std::int8_t>};
   return &table;
 }
 

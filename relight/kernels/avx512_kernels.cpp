@@ -117,6 +117,24 @@ ACPCA_AVX512 void dotRgbAvx512(const float* column, const float* const light[3],
   dotRgbScalar(column, light, j, length, out);
 }
 
+template <typename T>
+ACPCA_AVX512 void shadeChunkOneAvx512(const T* coefficients, const float* transport, int rank,
+                                      float base, float out[kChunkRows]) {
+  // Four accumulators (k mod 4) cover the FMA latency.
+  __m512 a0 = _mm512_set1_ps(base), a1 = _mm512_setzero_ps(), a2 = a1, a3 = a1;
+  int k = 0;
+  for (; k + 4 <= rank; k += 4) {
+    const T* u = coefficients + k * kChunkRows;
+    a0 = _mm512_fmadd_ps(load16(u), _mm512_set1_ps(transport[k]), a0);
+    a1 = _mm512_fmadd_ps(load16(u + kChunkRows), _mm512_set1_ps(transport[k + 1]), a1);
+    a2 = _mm512_fmadd_ps(load16(u + 2 * kChunkRows), _mm512_set1_ps(transport[k + 2]), a2);
+    a3 = _mm512_fmadd_ps(load16(u + 3 * kChunkRows), _mm512_set1_ps(transport[k + 3]), a3);
+  }
+  for (; k < rank; ++k)
+    a0 = _mm512_fmadd_ps(load16(coefficients + k * kChunkRows), _mm512_set1_ps(transport[k]), a0);
+  _mm512_storeu_ps(out, _mm512_add_ps(_mm512_add_ps(a0, a1), _mm512_add_ps(a2, a3)));
+}
+
 ACPCA_AVX512 void dotRgbColumnsAvx512(const float* columns, int count, const float* const light[3],
                                       int length, float* out) {
   int i = 0;
@@ -148,7 +166,10 @@ const KernelTable* avx512Kernels() {
                                  dotSegmentsAvx512,
                                  shadeChunkAvx512<float>,
                                  shadeChunkAvx512<std::uint16_t>,
-                                 shadeChunkAvx512<std::int8_t>};
+                                 shadeChunkAvx512<std::int8_t>,
+                                 shadeChunkOneAvx512<float>,
+                                 shadeChunkOneAvx512<std::uint16_t>,
+                                 shadeChunkOneAvx512<std::int8_t>};
   return &table;
 }
 

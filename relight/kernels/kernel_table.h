@@ -12,6 +12,8 @@ using ShadeF16 = void (*)(const std::uint16_t*, const float*, int, const float[3
                           float[3][kChunkRows]);
 using ShadeI8 = void (*)(const std::int8_t*, const float*, int, const float[3],
                          float[3][kChunkRows]);
+template <typename T>
+using ShadeOne = void (*)(const T*, const float*, int, float, float[kChunkRows]);
 
 struct KernelTable {
   void (*dotRgb)(const float*, const float* const[3], int, float[3]);
@@ -21,6 +23,9 @@ struct KernelTable {
   ShadeF32 shadeF32;
   ShadeF16 shadeF16;
   ShadeI8 shadeI8;
+  ShadeOne<float> shadeOneF32;
+  ShadeOne<std::uint16_t> shadeOneF16;
+  ShadeOne<std::int8_t> shadeOneI8;
 };
 
 /// Plain C++: every machine.

@@ -40,6 +40,15 @@ void shadeChunkPortable(const T* coefficients, const float* lighting, int rank, 
     }
 }
 
+template <typename T>
+void shadeChunkOnePortable(const T* coefficients, const float* transport, int rank, float base,
+                           float out[kChunkRows]) {
+  for (int lane = 0; lane < kChunkRows; ++lane) out[lane] = base;
+  for (int k = 0; k < rank; ++k)
+    for (int lane = 0; lane < kChunkRows; ++lane)
+      out[lane] += widen(coefficients[k * kChunkRows + lane]) * transport[k];
+}
+
 }  // namespace
 
 const KernelTable& portableKernels() {
@@ -48,7 +57,10 @@ const KernelTable& portableKernels() {
                                  dotSegmentsPortable,
                                  shadeChunkPortable<float>,
                                  shadeChunkPortable<std::uint16_t>,
-                                 shadeChunkPortable<std::int8_t>};
+                                 shadeChunkPortable<std::int8_t>,
+                                 shadeChunkOnePortable<float>,
+                                 shadeChunkOnePortable<std::uint16_t>,
+                                 shadeChunkOnePortable<std::int8_t>};
   return table;
 }
 

@@ -268,6 +268,51 @@ TEST(ModelRelighter, EveryKernelLevelGivesTheSameImageWithinRounding) {
   }
 }
 
+// One channel of a chunk (local lights' shading) at every level against the
+// sum in double: ranks of 0 to 37 (every unrolled step and tail), each
+// precision, a base term.
+TEST(ModelRelighter, OneChannelChunksAtEveryKernelLevelMatchTheSumInDouble) {
+  using kernels::kChunkRows;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> gauss;
+  const kernels::Level before = kernels::activeLevel();
+  for (int rank : {0, 1, 3, 4, 5, 8, 17, 37}) {
+    std::vector<float> u(static_cast<size_t>(rank) * kChunkRows), t(rank);
+    for (auto& v : u) v = gauss(rng);
+    for (auto& v : t) v = gauss(rng);
+    std::vector<std::uint16_t> half(u.size());
+    floatToHalf(u.data(), half.data(), static_cast<long long>(u.size()));
+    std::vector<std::int8_t> bytes(u.size());
+    for (size_t i = 0; i < u.size(); ++i)
+      bytes[i] = static_cast<std::int8_t>(std::clamp(std::lround(40 * u[i]), -127L, 127L));
+    std::vector<float> widened(u.size()), stepped(u.size());
+    halfToFloat(half.data(), widened.data(), static_cast<long long>(u.size()));
+    for (size_t i = 0; i < u.size(); ++i) stepped[i] = bytes[i];
+    const float base = 0.25f;
+    for (kernels::Level level : kernels::supportedLevels()) {
+      kernels::useLevel(level);
+      const auto check = [&](const auto* coefficients, const std::vector<float>& asFloat,
+                             const char* what) {
+        float out[kChunkRows];
+        kernels::shadeChunkOne(coefficients, t.data(), rank, base, out);
+        for (int lane = 0; lane < kChunkRows; ++lane) {
+          double sum = base, scale = std::abs(base);
+          for (int k = 0; k < rank; ++k) {
+            sum += double(asFloat[k * kChunkRows + lane]) * t[k];
+            scale += std::abs(double(asFloat[k * kChunkRows + lane]) * t[k]);
+          }
+          EXPECT_NEAR(out[lane], sum, 1e-6 * scale)
+              << kernels::kLevelNames.name(level) << " " << what << " rank " << rank;
+        }
+      };
+      check(u.data(), u, "f32");
+      check(half.data(), widened, "f16");
+      check(bytes.data(), stepped, "i8");
+    }
+  }
+  kernels::useLevel(before);
+}
+
 /// The model truncated to its clusters' first k bases, as a model of its own.
 Model truncated(const Model& m, int k) {
   Model t = m;
