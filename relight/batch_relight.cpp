@@ -29,6 +29,7 @@
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
 #include "relight/relight_source.h"
+#include "relight/sh_lighting.h"
 #include "relight/spec_parsing.h"
 
 namespace acpca {
@@ -283,18 +284,21 @@ class FrameWriting {
   /// lightsText: per light set, its lights, canonical, ';'-separated.
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
                const std::vector<ImageFormat>& formats, bool batch,
-               std::vector<std::string> lightsText)
+               std::vector<std::string> lightsText, const CubeLattice& lattice)
       : a_(a),
         frames_(frames),
         formats_(formats),
         batch_(batch),
         encoding_(encodingFor(a, batch)),
         lightsText_(std::move(lightsText)),
+        lattice_(lattice),
         writer_(writingThreads(), kFramesInFlight) {
-    if (batch)
-      manifest_.emplace((fs::path(a.out) / "manifest.csv").string(),
-                        std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure",
-                                                 "lights", "output"});
+    if (!batch) return;
+    manifest_.emplace((fs::path(a.out) / "manifest.csv").string(),
+                      std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure",
+                                               "lights", "output"});
+    jsonLines_.emplace((fs::path(a.out) / "manifest.jsonl").string());
+    sh_.emplace(lattice);
   }
 
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
@@ -322,6 +326,13 @@ class FrameWriting {
   OrderedWriter::Commit encode(size_t i, const Image& image, double ms) {
     const Frame& f = frames_[i];
     const fs::path out(a_.out);
+    // The frame's lighting labels, from its lattice lighting made again here,
+    // on a writing thread, whichever rank relit the frame.
+    nlohmann::json sh9 = nlohmann::json::array();
+    if (sh_)
+      for (const Rgb& c :
+           sh_->project(computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode)))
+        sh9.push_back({c.x(), c.y(), c.z()});
     auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
     std::vector<std::string> paths;
     for (ImageFormat format : formats_) {
@@ -334,15 +345,26 @@ class FrameWriting {
       encodeImage(image, files->back()->tempPath(), path.string(), format, a_.exposure, encoding_);
       paths.push_back(path.string());
     }
-    return [this, i, ms, files, paths] {
+    return [this, i, ms, files, paths, sh9 = std::move(sh9)] {
       const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
       std::string joined;
       for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
-      if (manifest_)
+      if (manifest_) {
         manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
                            f.rotation.roll, a_.exposure, lightsText_[f.lights], joined});
+        jsonLines_->append({{"frame", i},
+                            {"input", a_.input},
+                            {"env", f.input->spec},
+                            {"yaw", f.rotation.yaw},
+                            {"pitch", f.rotation.pitch},
+                            {"roll", f.rotation.roll},
+                            {"exposure", a_.exposure},
+                            {"lights", splitLights(lightsText_[f.lights])},
+                            {"sh9", sh9},
+                            {"outputs", paths}});
+      }
       outputs_.push_back({{"env", f.input->spec},
                           {"lights", lightsText_[f.lights]},
                           {"yaw", f.rotation.yaw},
@@ -375,8 +397,21 @@ class FrameWriting {
     return name + extensionOf(format);
   }
 
+  static std::vector<std::string> splitLights(const std::string& text) {
+    std::vector<std::string> specs;
+    for (size_t start = 0; start < text.size();) {
+      const size_t end = std::min(text.find(';', start), text.size());
+      specs.push_back(text.substr(start, end - start));
+      start = end + 1;
+    }
+    return specs;
+  }
+
   const std::vector<std::string> lightsText_;  ///< per light set: the manifest's `lights`
+  const CubeLattice& lattice_;
   std::optional<BatchManifest> manifest_;
+  std::optional<JsonLinesManifest> jsonLines_;
+  std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;
@@ -537,7 +572,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
         for (const auto& r : rotations) frames.push_back({&in, r, set});
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
-  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setTexts));
+  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setTexts), lattice);
   std::vector<double> msPerFrame;
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so

@@ -344,6 +344,35 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   int lines = 0;
   for (std::string line; std::getline(manifest, line);) ++lines;
   EXPECT_EQ(lines, 1 + 6);
+  // manifest.jsonl: the same frames, each with its lighting labels. A
+  // constant map has only band 0, 2 sqrt(pi) for radiance 1; turning the sky
+  // about +Y keeps its band 0 and its vertical band-1 term (1,-1), within
+  // the binning of this transport's coarse lattice (3% measured).
+  std::ifstream jsonLines(out.file("batch/manifest.jsonl"));
+  std::vector<nlohmann::json> rows;
+  for (std::string line; std::getline(jsonLines, line);)
+    rows.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(rows.size(), 6u);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    EXPECT_EQ(row["frame"].get<size_t>(), i);
+    EXPECT_EQ(row["env"], i < 3 ? "sky" : "constant:1");
+    EXPECT_EQ(row["yaw"].get<double>(), 120.0 * (i % 3));
+    EXPECT_TRUE(test::fs::exists(row["outputs"][0].get<std::string>())) << row.dump();
+    const auto& sh9 = row["sh9"];
+    ASSERT_EQ(sh9.size(), 9u);
+    const auto& first = rows[i < 3 ? 0 : 3]["sh9"];
+    for (int c = 0; c < 3; ++c) {
+      if (i >= 3) {
+        EXPECT_NEAR(sh9[0][c].get<double>(), 2 * std::sqrt(M_PI), 1e-12);
+        for (int b = 1; b < 9; ++b) EXPECT_NEAR(sh9[b][c].get<double>(), 0, 1e-12);
+      }
+      EXPECT_NEAR(sh9[0][c].get<double>(), first[0][c].get<double>(),
+                  1e-3 * first[0][c].get<double>());
+      EXPECT_NEAR(sh9[1][c].get<double>(), first[1][c].get<double>(),
+                  5e-2 * std::abs(first[1][c].get<double>()) + 1e-9);
+    }
+  }
   ASSERT_EQ(runCli(relight + "--env sky --rotate 120 --out " + out.file("one.exr")).status, 0);
   EXPECT_EQ(
       maxDifference(readPixels(out.file("one.exr")), readPixels(out.file("batch/sky_y120.exr"))),

@@ -215,6 +215,10 @@ TEST(Mpi, BatchRelightWritesTheSameImagesForAnyRankCount) {
       for (size_t at; (at = manifest.find(out)) != std::string::npos;)
         manifest.replace(at, out.size(), alone);
       EXPECT_EQ(manifest, test::readFile(alone + "/manifest.csv"));
+      std::string jsonLines = test::readFile(out + "/manifest.jsonl");
+      for (size_t at; (at = jsonLines.find(out)) != std::string::npos;)
+        jsonLines.replace(at, out.size(), alone);
+      EXPECT_EQ(jsonLines, test::readFile(alone + "/manifest.jsonl"));
     }
   }
 }

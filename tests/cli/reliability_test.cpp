@@ -277,7 +277,8 @@ TEST(Signals, AKilledBatchLeavesWholeFramesAndAManifestListingExactlyThem) {
   std::set<std::string> onDisk, listed;
   for (const auto& e : fs::directory_iterator(out)) {
     const std::string name = e.path().filename().string();
-    if (name[0] != '.' && name != "manifest.csv") onDisk.insert(name);  // not the partials
+    if (name[0] != '.' && name != "manifest.csv" && name != "manifest.jsonl")
+      onDisk.insert(name);  // not the partials
   }
   std::ifstream manifest(out + "/manifest.csv");
   std::string line;
@@ -290,6 +291,17 @@ TEST(Signals, AKilledBatchLeavesWholeFramesAndAManifestListingExactlyThem) {
   }
   EXPECT_GE(listed.size(), 10u);
   EXPECT_LT(listed.size(), 2 * 2880u);
+  // manifest.jsonl gets each frame's line right after its CSV row: whole
+  // lines, the same frames but for at most the last.
+  std::ifstream jsonLines(out + "/manifest.jsonl");
+  std::set<std::string> listedAsJson;
+  for (std::string line; std::getline(jsonLines, line);) {
+    const nlohmann::json frame = nlohmann::json::parse(line);
+    for (const auto& path : frame["outputs"])
+      listedAsJson.insert(fs::path(path.get<std::string>()).filename().string());
+  }
+  for (const auto& name : listedAsJson) EXPECT_TRUE(listed.count(name)) << name;
+  EXPECT_GE(listedAsJson.size() + 2, listed.size());
   // Every listed file is in place. A frame's files are renamed into place and
   // then its row appended: a kill inside that commit leaves that one frame
   // (some or all of its files, each whole) in place without its row.
@@ -424,9 +436,12 @@ TEST(Determinism, EqualRunsWriteByteIdenticalFilesWhateverTheThreadCount) {
                   .status,
               0);
     fs::rename(dir.file("batch/manifest.csv"), dir.file("manifest" + threads + ".csv"));
+    fs::rename(dir.file("batch/manifest.jsonl"), dir.file("manifest" + threads + ".jsonl"));
   }
   EXPECT_TRUE(bytes("manifest1.csv") == bytes("manifest2.csv"))
       << "a batch's manifest holds no times";
+  EXPECT_FALSE(bytes("manifest1.jsonl").empty());
+  EXPECT_TRUE(bytes("manifest1.jsonl") == bytes("manifest2.jsonl"));
   for (const std::string name : {"t", "adaptive-quad", "adaptive-binary", "b", "i", "i"}) {
     const std::string ext = name == "i" ? ".exr" : ".h5";
     EXPECT_FALSE(bytes(name + "1" + ext).empty()) << name;
