@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <iomanip>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include "cluster/model.h"
 #include "cluster/model_file.h"
@@ -301,6 +303,15 @@ class FrameWriting {
     sh_.emplace(lattice);
   }
 
+  /// Frame i's lattice lighting, where this rank made it: its labels are
+  /// projected now, instead of made again on a writing thread.
+  void noteLighting(size_t i, const LatticeLighting& lighting) {
+    if (!sh_) return;
+    const auto sh9 = sh_->project(lighting);
+    const std::lock_guard<std::mutex> lock(knownMutex_);
+    known_[i] = sh9;
+  }
+
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
   void submit(size_t i, Image&& image, double ms) {
     const Stopwatch waiting;
@@ -326,13 +337,9 @@ class FrameWriting {
   OrderedWriter::Commit encode(size_t i, const Image& image, double ms) {
     const Frame& f = frames_[i];
     const fs::path out(a_.out);
-    // The frame's lighting labels, from its lattice lighting made again here,
-    // on a writing thread, whichever rank relit the frame.
     nlohmann::json sh9 = nlohmann::json::array();
     if (sh_)
-      for (const Rgb& c :
-           sh_->project(computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode)))
-        sh9.push_back({c.x(), c.y(), c.z()});
+      for (const Rgb& c : labelsOf(i)) sh9.push_back({c.x(), c.y(), c.z()});
     auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
     std::vector<std::string> paths;
     for (ImageFormat format : formats_) {
@@ -397,6 +404,22 @@ class FrameWriting {
     return name + extensionOf(format);
   }
 
+  /// Frame i's lighting labels: as noted, or (a frame another rank relit)
+  /// from its lattice lighting made again here, on a writing thread; the same
+  /// numbers either way.
+  std::array<Rgb, 9> labelsOf(size_t i) {
+    {
+      const std::lock_guard<std::mutex> lock(knownMutex_);
+      if (const auto at = known_.find(i); at != known_.end()) {
+        const std::array<Rgb, 9> sh9 = at->second;
+        known_.erase(at);
+        return sh9;
+      }
+    }
+    const Frame& f = frames_[i];
+    return sh_->project(computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode));
+  }
+
   static std::vector<std::string> splitLights(const std::string& text) {
     std::vector<std::string> specs;
     for (size_t start = 0; start < text.size();) {
@@ -412,6 +435,8 @@ class FrameWriting {
   std::optional<BatchManifest> manifest_;
   std::optional<JsonLinesManifest> jsonLines_;
   std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
+  std::mutex knownMutex_;
+  std::unordered_map<size_t, std::array<Rgb, 9>> known_;  ///< noted, not yet written
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;
@@ -600,6 +625,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
     const Frame& f = frames[mine[k]];
     const Stopwatch watch;
     LatticeLighting lighting = computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
+    if (writing) writing->noteLighting(mine[k], lighting);
     stages.lighting += watch.seconds();
     return lighting;
   };
