@@ -27,6 +27,7 @@
 #include "core/text.h"
 #include "relight/batch_manifest.h"
 #include "relight/dense_relight.h"
+#include "relight/file_hash.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
@@ -301,6 +302,10 @@ class FrameWriting {
                                                "lights", "output"});
     jsonLines_.emplace((fs::path(a.out) / "manifest.jsonl").string());
     sh_.emplace(lattice);
+    // Lighting files named by their bytes; built-in lightings by their spec.
+    for (const Frame& f : frames)
+      if (!f.input->spec.empty() && !isBuiltinEnvironment(f.input->spec) && !hashes_.count(f.input))
+        hashes_[f.input] = sha256OfFile(f.input->spec);
   }
 
   /// Frame i's lattice lighting, where this rank made it: its labels are
@@ -361,16 +366,19 @@ class FrameWriting {
       if (manifest_) {
         manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
                            f.rotation.roll, a_.exposure, lightsText_[f.lights], joined});
-        jsonLines_->append({{"frame", i},
-                            {"input", a_.input},
-                            {"env", f.input->spec},
-                            {"yaw", f.rotation.yaw},
-                            {"pitch", f.rotation.pitch},
-                            {"roll", f.rotation.roll},
-                            {"exposure", a_.exposure},
-                            {"lights", splitLights(lightsText_[f.lights])},
-                            {"sh9", sh9},
-                            {"outputs", paths}});
+        jsonLines_->append(
+            {{"frame", i},
+             {"input", a_.input},
+             {"env", f.input->spec},
+             {"env_sha256", hashes_.count(f.input) ? nlohmann::json(hashes_.at(f.input))
+                                                   : nlohmann::json(nullptr)},
+             {"yaw", f.rotation.yaw},
+             {"pitch", f.rotation.pitch},
+             {"roll", f.rotation.roll},
+             {"exposure", a_.exposure},
+             {"lights", splitLights(lightsText_[f.lights])},
+             {"sh9", sh9},
+             {"outputs", paths}});
       }
       outputs_.push_back({{"env", f.input->spec},
                           {"lights", lightsText_[f.lights]},
@@ -436,7 +444,8 @@ class FrameWriting {
   std::optional<JsonLinesManifest> jsonLines_;
   std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
   std::mutex knownMutex_;
-  std::unordered_map<size_t, std::array<Rgb, 9>> known_;  ///< noted, not yet written
+  std::unordered_map<size_t, std::array<Rgb, 9>> known_;     ///< noted, not yet written
+  std::unordered_map<const EnvInput*, std::string> hashes_;  ///< lighting files' SHA-256
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;

@@ -83,6 +83,19 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
   ASSERT_EQ(envmap.status, 0) << envmap.output;
   EXPECT_TRUE(test::fs::exists(out.file("cross.exr")));
   EXPECT_EQ(runCli("scenes").status, 0);
+
+  // manifest.jsonl names a lighting file by its bytes' SHA-256 (as coreutils'
+  // sha256sum prints it), a built-in one by its spec alone.
+  const RunResult files = runCli("relight " + transport_ + " --env " + out.file("sky.exr") +
+                                 " --env sky --quiet --out " + out.file("files"));
+  ASSERT_EQ(files.status, 0) << files.output;
+  const RunResult sum = runShell("sha256sum " + out.file("sky.exr"));
+  ASSERT_EQ(sum.status, 0) << sum.output;
+  std::ifstream lines(out.file("files/manifest.jsonl"));
+  std::string first, second;
+  ASSERT_TRUE(std::getline(lines, first) && std::getline(lines, second));
+  EXPECT_EQ(nlohmann::json::parse(first)["env_sha256"], sum.output.substr(0, 64));
+  EXPECT_TRUE(nlohmann::json::parse(second)["env_sha256"].is_null()) << second;
 }
 
 TEST_F(Cli, ParameterErrorsNameTheFlagThatSetsThem) {
