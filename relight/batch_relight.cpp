@@ -304,7 +304,8 @@ class FrameWriting {
     sh_.emplace(lattice);
     // Lighting files named by their bytes; built-in lightings by their spec.
     for (const Frame& f : frames)
-      if (!f.input->spec.empty() && !isBuiltinEnvironment(f.input->spec) && !hashes_.count(f.input))
+      if (!f.input->spec.empty() && !isAnalyticEnvironment(f.input->spec) &&
+          !hashes_.count(f.input))
         hashes_[f.input] = sha256OfFile(f.input->spec);
   }
 

@@ -51,10 +51,6 @@ bool isAnalyticEnvironment(const std::string& spec) {
   return spec == "sky" || spec.rfind("constant:", 0) == 0 || spec.rfind("sun:", 0) == 0;
 }
 
-bool isBuiltinEnvironment(const std::string& spec) {
-  return spec == "sky" || spec.rfind("constant:", 0) == 0 || spec.rfind("sun:", 0) == 0;
-}
-
 std::unique_ptr<Environment> loadEnvironment(const std::string& spec) {
   if (spec == "sky") return makeSkyEnvironment();
   if (spec.rfind("constant:", 0) == 0) {

@@ -36,9 +36,6 @@ class Environment {
 /// `sun:THETA,PHI,SIZE_DEG,INTENSITY`, `sky`, or a lat-long image file (.exr, .hdr,
 /// anything OpenImageIO reads). Throws UserError naming the argument.
 std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
-/// Whether a spec names a built-in lighting (sky, constant:..., sun:...),
-/// not an image file.
-bool isBuiltinEnvironment(const std::string& spec);
 /// Negative values are ringing from filtering when they hold at most this share
 /// of a map's summed magnitude (all channels): they are clamped to 0, with a
 /// warning above kSilentNegativeShare. Debian's blender-data world maps hold up
