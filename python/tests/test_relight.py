@@ -5,6 +5,7 @@ adaptive-cpca binary and ACPCA_FIXTURE_DIR the transports the build makes.
 """
 
 import _thread
+import json
 import os
 import subprocess
 import sys
@@ -427,6 +428,36 @@ def test_the_dataset_example_writes_its_images_and_manifest(tmp_path, model):
         assert image.shape == (40, 40, 3) and image.dtype == np.float32
         expected = r.relight(ac.Environment(os.path.join(WORLD, env)), yaw=float(yaw))
         assert np.array_equal(image, expected)
+
+
+def test_the_loader_example_reads_a_cli_batch_into_numpy_batches(tmp_path, model):
+    out = tmp_path / "batch"
+    cli("relight", model, "--env", "sky", "--env", "constant:1", "--rotate", "0:360:120",
+        "--exr-float", "--out", str(out))
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "examples"))
+    try:
+        import load_dataset
+    finally:
+        sys.path.pop(0)
+    frames = [json.loads(line) for line in (out / "manifest.jsonl").read_text().splitlines()]
+    assert len(frames) == 6
+    got = list(load_dataset.batches(str(out), 4))
+    assert [len(images) for images, _ in got] == [4, 2]
+    images = np.concatenate([i for i, _ in got])
+    assert images.shape == (6, 40, 40, 3) and images.dtype == np.float32
+    sh9 = np.concatenate([labels["sh9"] for _, labels in got])
+    for k, frame in enumerate(frames):  # what the files and the manifest hold
+        assert np.array_equal(images[k], ac.read_image(frame["outputs"][0])[..., :3])
+        assert np.array_equal(sh9[k], np.array(frame["sh9"]))
+    # constant:1 frames: band 0 is 2 sqrt(pi), the rest zero.
+    assert np.allclose(sh9[3:, 0], 2 * np.sqrt(np.pi), rtol=1e-12)
+    assert np.allclose(sh9[3:, 1:], 0, atol=1e-12)
+    assert [labels["yaw"].tolist() for _, labels in got] == [[0, 120, 240, 0], [120, 240]]
+    # Shuffled: the same frames in another order, the same for the same seed.
+    shuffled = [labels["frame"] for _, labels in load_dataset.batches(str(out), 6, True, 3)]
+    assert sorted(shuffled[0]) == list(range(6)) and shuffled[0] != list(range(6))
+    again = [labels["frame"] for _, labels in load_dataset.batches(str(out), 6, True, 3)]
+    assert again == shuffled
 
 
 def test_a_lighting_made_once_relights_as_the_environment_does(model):
