@@ -84,13 +84,18 @@ std::vector<std::vector<LocalLight>> lightSets(const BatchRelightOptions& a) {
   return sets;
 }
 
-std::string lightsText(const std::vector<LocalLight>& lights) {
-  std::string text;
-  for (const LocalLight& light : lights) {
-    if (!text.empty()) text += ';';
-    text += light.canonicalSpec();
-  }
-  return text;
+/// The lights of a set as canonical specs.
+std::vector<std::string> canonicalSpecs(const std::vector<LocalLight>& lights) {
+  std::vector<std::string> specs;
+  for (const LocalLight& light : lights) specs.push_back(light.canonicalSpec());
+  return specs;
+}
+
+/// Texts joined by ';', as manifest.csv lists a frame's lights and files.
+std::string joinedBySemicolons(const std::vector<std::string>& texts) {
+  std::string joined;
+  for (const std::string& t : texts) joined += (joined.empty() ? "" : ";") + t;
+  return joined;
 }
 
 /// A light set's rows, relit when first asked for; frames come set by set,
@@ -284,16 +289,16 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 /// manifest: equal runs write equal files (frame times go to the JSON report).
 class FrameWriting {
  public:
-  /// lightsText: per light set, its lights, canonical, ';'-separated.
+  /// lightSpecs: per light set, its lights as canonical specs.
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
                const std::vector<ImageFormat>& formats, bool batch,
-               std::vector<std::string> lightsText, const CubeLattice& lattice)
+               std::vector<std::vector<std::string>> lightSpecs, const CubeLattice& lattice)
       : a_(a),
         frames_(frames),
         formats_(formats),
         batch_(batch),
         encoding_(encodingFor(a, batch)),
-        lightsText_(std::move(lightsText)),
+        lightSpecs_(std::move(lightSpecs)),
         lattice_(lattice),
         writer_(writingThreads(), kFramesInFlight) {
     if (!batch) return;
@@ -362,27 +367,24 @@ class FrameWriting {
       const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
-      std::string joined;
-      for (const auto& p : paths) joined += (joined.empty() ? "" : ";") + p;
+      const std::string lights = joinedBySemicolons(lightSpecs_[f.lights]);
       if (manifest_) {
         manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
-                           f.rotation.roll, a_.exposure, lightsText_[f.lights], joined});
-        jsonLines_->append(
-            {{"frame", i},
-             {"input", a_.input},
-             {"env", f.input->spec},
-             {"env_sha256", hashes_.count(f.input) ? nlohmann::json(hashes_.at(f.input))
-                                                   : nlohmann::json(nullptr)},
-             {"yaw", f.rotation.yaw},
-             {"pitch", f.rotation.pitch},
-             {"roll", f.rotation.roll},
-             {"exposure", a_.exposure},
-             {"lights", splitLights(lightsText_[f.lights])},
-             {"sh9", sh9},
-             {"outputs", paths}});
+                           f.rotation.roll, a_.exposure, lights, joinedBySemicolons(paths)});
+        jsonLines_->append({{"frame", i},
+                            {"input", a_.input},
+                            {"env", f.input->spec},
+                            {"env_sha256", hashOf(f.input)},
+                            {"yaw", f.rotation.yaw},
+                            {"pitch", f.rotation.pitch},
+                            {"roll", f.rotation.roll},
+                            {"exposure", a_.exposure},
+                            {"lights", lightSpecs_[f.lights]},
+                            {"sh9", sh9},
+                            {"outputs", paths}});
       }
       outputs_.push_back({{"env", f.input->spec},
-                          {"lights", lightsText_[f.lights]},
+                          {"lights", lights},
                           {"yaw", f.rotation.yaw},
                           {"pitch", f.rotation.pitch},
                           {"roll", f.rotation.roll},
@@ -413,6 +415,12 @@ class FrameWriting {
     return name + extensionOf(format);
   }
 
+  /// A lighting file's SHA-256; null for a built-in lighting.
+  nlohmann::json hashOf(const EnvInput* input) const {
+    const auto at = hashes_.find(input);
+    return at == hashes_.end() ? nlohmann::json(nullptr) : nlohmann::json(at->second);
+  }
+
   /// Frame i's lighting labels: as noted, or (a frame another rank relit)
   /// from its lattice lighting made again here, on a writing thread; the same
   /// numbers either way.
@@ -429,17 +437,7 @@ class FrameWriting {
     return sh_->project(computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode));
   }
 
-  static std::vector<std::string> splitLights(const std::string& text) {
-    std::vector<std::string> specs;
-    for (size_t start = 0; start < text.size();) {
-      const size_t end = std::min(text.find(';', start), text.size());
-      specs.push_back(text.substr(start, end - start));
-      start = end + 1;
-    }
-    return specs;
-  }
-
-  const std::vector<std::string> lightsText_;  ///< per light set: the manifest's `lights`
+  const std::vector<std::vector<std::string>> lightSpecs_;  ///< per light set: its lights
   const CubeLattice& lattice_;
   std::optional<BatchManifest> manifest_;
   std::optional<JsonLinesManifest> jsonLines_;
@@ -594,8 +592,8 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
   // Local lights alone: one frame over a black environment.
   if (inputs.empty()) inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
-  std::vector<std::string> setTexts;
-  for (const auto& set : sets) setTexts.push_back(lightsText(set));
+  std::vector<std::vector<std::string>> setSpecs;
+  for (const auto& set : sets) setSpecs.push_back(canonicalSpecs(set));
   LightSetRows localRows(source, sets, a.anchorSpread, stages.localLights);
 
   // Frames in groups: each group streams T once; memory stays flat for any count.
@@ -607,7 +605,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
         for (const auto& r : rotations) frames.push_back({&in, r, set});
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
-  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setTexts), lattice);
+  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setSpecs), lattice);
   std::vector<double> msPerFrame;
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
