@@ -61,7 +61,7 @@ ModelFileWriter::ModelFileWriter(const std::string& path, const Model& head,
   h5::writeAttribute(f, "version", static_cast<long long>(kModelVersion), ctx);
   h5::writeAttribute(f, "method", head.method, ctx);
   h5::writeAttribute(f, "settings", head.settings, ctx);
-  if (whole) writeImageHeader(f, head.geometry, false, ctx);
+  if (whole) writeImageHeader(f, head.geometry, ctx);
   h5::writeAttribute(f, "global_bases", static_cast<long long>(globalBases_), ctx);
   h5::writeAttribute(f, "has_mean", static_cast<long long>(hasMean_), ctx);
   h5::writeAttribute(f, "coeffs", std::string(coeffPrecisionName(precision_)), ctx);

@@ -12,10 +12,11 @@ namespace acpca {
 
 inline constexpr const char* kModelFormat = "adaptive-cpca model";
 /// 2: one i8 scale per cluster basis; 3: no timing or memory figures (equal
-/// inputs give equal bytes); 4: each pixel's world position (local lights).
-/// Versions 2 and 3 are read as well (without positions; version 2's
+/// inputs give equal bytes); 4: each pixel's world position (local lights);
+/// 5: each pixel's normal and object (per-pixel labels).
+/// Versions 2 to 4 are read as well (without what came later; version 2's
 /// compress_seconds and peak_memory_bytes are ignored).
-inline constexpr int kModelVersion = 4;
+inline constexpr int kModelVersion = 5;
 inline constexpr int kOldestModelVersion = 2;
 
 /// What a file written by ModelFileWriter holds: a whole model, or only

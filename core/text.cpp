@@ -41,4 +41,14 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+std::vector<std::string> splitText(const std::string& text, char separator) {
+  std::vector<std::string> pieces;
+  if (text.empty()) return pieces;
+  size_t start = 0;
+  for (size_t end; (end = text.find(separator, start)) != std::string::npos; start = end + 1)
+    pieces.push_back(text.substr(start, end - start));
+  pieces.push_back(text.substr(start));
+  return pieces;
+}
+
 }  // namespace acpca

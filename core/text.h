@@ -1,6 +1,7 @@
 #pragma once
 // printf-style formatting into a std::string, for tables and summaries.
 #include <string>
+#include <vector>
 
 namespace acpca {
 
@@ -10,6 +11,10 @@ std::string formatted(const char* format, ...) __attribute__((format(printf, 1, 
 /// Edits (insertions, deletions, substitutions) that turn a into b: how close
 /// a mistyped name is to a known one.
 size_t editDistance(const std::string& a, const std::string& b);
+
+/// The pieces of `text` between separators, empty ones kept ("a,,b": a, "",
+/// b); empty text gives no piece.
+std::vector<std::string> splitText(const std::string& text, char separator);
 
 /// Human-readable byte count (e.g. "1.20 GiB").
 std::string formatBytes(double bytes);

@@ -33,11 +33,20 @@
 #include "pipeline/tile_files.h"
 #include "pipeline/tile_plan.h"
 #include "precompute/precompute_report.h"
+#include "precompute/scene_views.h"
 #include "relight/image_output.h"
 
 namespace acpca {
 
 namespace fs = std::filesystem;
+
+BuildOptions BuildOptions::forView(size_t k, size_t views) const {
+  BuildOptions view = *this;
+  if (!keepTransport.empty()) view.keepTransport = viewOutputPath(keepTransport, k, views);
+  if (!groundTruthDir.empty() && views > 1)
+    view.groundTruthDir = (fs::path(groundTruthDir) / viewName(k)).string();
+  return view;
+}
 
 namespace {
 

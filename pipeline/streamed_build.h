@@ -55,6 +55,11 @@ struct BuildOptions {
   /// Called as this process starts each tile (its index): where tests stop a
   /// rank on purpose.
   std::function<void(long long tile)> beforeTile;
+
+  /// The same options for view k of a scene of `views` (docs/scenes.md,
+  /// "Several views"): the kept transport beside its path as STEM_vNN, the
+  /// ground truths in a folder vNN of their own.
+  BuildOptions forView(size_t k, size_t views) const;
 };
 
 struct BuildStats {

@@ -46,7 +46,7 @@ Scene phongSphereScene() {
 
 /// Inside of a hemispherical bowl (open upwards) standing on the ground.
 Scene concaveScene() {
-  Scene s{"concave", overheadCamera(), {}, {}, {}};
+  Scene s{"concave", overheadCamera(), {}, {}, {}, {}};
   s.camera.eye = {0, 3.0, 3.0};
   s.camera.target = {0, 0.4, 0};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
@@ -74,7 +74,7 @@ Scene concaveScene() {
 }
 
 Scene stepScene() {
-  Scene s{"step", overheadCamera(), {}, {}, {}};
+  Scene s{"step", overheadCamera(), {}, {}, {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
   // A long step: raised by 0.5 over the far half (z < 0) of the ground.
   s.meshes.push_back(makeBox({-6, 0, -6}, {6, 0.5, 0}, kBlocker, "step"));
@@ -82,7 +82,7 @@ Scene stepScene() {
 }
 
 Scene grid1dScene() {
-  Scene s{"grid1d", overheadCamera(), {}, {}, {}};
+  Scene s{"grid1d", overheadCamera(), {}, {}, {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
   TriangleMesh bars = emptyMesh("bars", kBlocker);
   for (int i = -6; i <= 6; ++i)  // thin bars along x, floating at height 0.5
@@ -93,7 +93,7 @@ Scene grid1dScene() {
 }
 
 Scene grid2dScene() {
-  Scene s{"grid2d", overheadCamera(), {}, {}, {}};
+  Scene s{"grid2d", overheadCamera(), {}, {}, {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 12, kGround, "ground"));
   TriangleMesh blocks = emptyMesh("blocks", kBlocker);
   for (int i = -6; i <= 6; ++i)

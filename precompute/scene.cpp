@@ -15,6 +15,22 @@ long long Scene::triangleCount() const {
   return n;
 }
 
+std::vector<std::string> Scene::objectNames() const {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < meshes.size(); ++i)
+    names.push_back(meshes[i].name.empty() ? concat("mesh ", i) : meshes[i].name);
+  for (size_t i = 0; i < spheres.size(); ++i) names.push_back(concat("sphere ", i));
+  return names;
+}
+
+Scene Scene::view(size_t k) const {
+  ACPCA_CHECK(k < viewCount(), "view ", k, " of ", viewCount());
+  Scene s = *this;
+  if (!views.empty()) s.camera = views[k];
+  s.views.clear();
+  return s;
+}
+
 Eigen::AlignedBox3d Scene::bounds() const {
   Eigen::AlignedBox3d box;
   for (const auto& m : meshes)

@@ -68,8 +68,19 @@ struct Scene {
   /// The files it was read from (scene file, meshes, textures): what no
   /// output may replace. Empty for a built-in scene.
   std::vector<std::string> files;
+  /// Several views of the scene ("cameras" in a scene file; docs/scenes.md,
+  /// "Several views"): each is precomputed on its own, camera set to it.
+  /// Empty: `camera` alone.
+  std::vector<Camera> views;
 
   long long triangleCount() const;
+  /// Each object's name in the order the ray tracer numbers them (meshes,
+  /// then spheres): what a pixel's object id indexes.
+  std::vector<std::string> objectNames() const;
+  /// The scene seen from view k (camera set to it); k = 0 with no views is
+  /// the scene itself.
+  Scene view(size_t k) const;
+  size_t viewCount() const { return views.empty() ? 1 : views.size(); }
   /// The bounding box of all geometry (empty for an empty scene).
   Eigen::AlignedBox3d bounds() const;
   /// Diagonal of the bounding box of all geometry (sets ray offsets).

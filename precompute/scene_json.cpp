@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 
 #include "core/error.h"
@@ -102,6 +103,50 @@ Camera readCamera(const Reader& r) {
     throw UserError(concat(r.where(), ": ", e.what()));
   }
   return c;
+}
+
+/// Most views one scene file may hold.
+constexpr int kMaxViews = 1000;
+
+/// "cameras": a list of cameras, or {"orbit": {...}}: `count` cameras on a
+/// circle of `radius` around `target`, `elevation_deg` above its horizontal
+/// plane, the first on +Z of the target, turning toward +X (docs/scenes.md).
+std::vector<Camera> readCameras(const json& value, const std::string& where) {
+  std::vector<Camera> views;
+  if (value.is_array()) {
+    if (value.empty() || value.size() > kMaxViews)
+      throw UserError(concat(where, ": expected 1..", kMaxViews, " cameras"));
+    for (size_t i = 0; i < value.size(); ++i)
+      views.push_back(readCamera(Reader(value[i], concat(where, "[", i, "]"))));
+    return views;
+  }
+  const Reader cameras(value, where);
+  cameras.allowOnly({"orbit"});
+  const Reader orbit = cameras.child("orbit");
+  orbit.allowOnly({"target", "radius", "elevation_deg", "count", "fov", "width", "height"});
+  const double radius = orbit.number("radius");
+  if (!(radius > 0)) throw UserError(concat(orbit.path("radius"), ": expected a positive number"));
+  const double elevation = orbit.numberIn("elevation_deg", -89, 89) * std::numbers::pi / 180;
+  const double count = orbit.number("count");
+  if (count != std::floor(count) || count < 1 || count > kMaxViews)
+    throw UserError(concat(orbit.path("count"), ": expected an integer in 1..", kMaxViews));
+  Camera c;
+  c.target = orbit.vec3("target");
+  c.fovDegrees = orbit.number("fov");
+  if (orbit.has("width")) c.size.width = positiveInt(orbit, "width");
+  if (orbit.has("height")) c.size.height = positiveInt(orbit, "height");
+  for (int k = 0; k < static_cast<int>(count); ++k) {
+    const double azimuth = 2 * std::numbers::pi * k / count;
+    c.eye = c.target + radius * Vec3(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+                                     std::cos(elevation) * std::cos(azimuth));
+    try {
+      c.validate();
+    } catch (const UserError& e) {
+      throw UserError(concat(orbit.where(), ": view ", k, ": ", e.what()));
+    }
+    views.push_back(c);
+  }
+  return views;
 }
 
 /// A material as the scene file gives it: the BRDF, and the albedo and texture
@@ -279,10 +324,17 @@ Scene loadSceneJson(const std::string& path) {
     throw UserError(concat(path, ": not valid JSON: ", e.what()));
   }
   const Reader root(doc, path);
-  root.allowOnly({"camera", "objects", "name"});
+  root.allowOnly({"camera", "cameras", "objects", "name"});
   Scene scene;
   scene.name = root.has("name") ? root.text("name") : fs::path(path).stem().string();
-  scene.camera = readCamera(root.child("camera"));
+  if (root.has("camera") == root.has("cameras"))
+    throw UserError(concat(path, ": give either 'camera' or 'cameras'"));
+  if (root.has("cameras")) {
+    scene.views = readCameras(root.at("cameras"), root.path("cameras"));
+    scene.camera = scene.views[0];
+  } else {
+    scene.camera = readCamera(root.child("camera"));
+  }
   const json& objects = root.at("objects");
   if (!objects.is_array() || objects.empty())
     throw UserError(concat(root.path("objects"), ": expected a non-empty array"));

@@ -66,6 +66,7 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
     header.indirectSamples = options.indirectSamples;
     header.indirectCacheCell = options.indirectCacheCell;
   }
+  header.objectNames = scene.objectNames();
   const ImageSize size = scene.camera.size;
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x) {
@@ -87,6 +88,7 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
                             firstHit.normal.data() + 3);
       header.positions.insert(header.positions.end(), firstHit.origin.data(),
                               firstHit.origin.data() + 3);
+      header.objects.push_back(firstHit.material);  // the ray tracer's geometry id
     }
   return header;
 }

@@ -24,8 +24,10 @@
 #include "relight/file_info.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/lighting_sampler.h"
 #include "relight/local_light.h"
 #include "relight/local_relight.h"
+#include "relight/pixel_labels.h"
 #include "relight/relight_source.h"
 #include "relight/rotation.h"
 #include "relight/spec_parsing.h"
@@ -140,6 +142,48 @@ class Relighter {
     std::fill(p, p + out.size(), 0.0f);
     for (long long r = 0; r < source_.header.rows(); ++r)
       p[source_.header.pixels[r]] = source_.header.coverage[r];
+    return out;
+  }
+
+  /// The view's per-pixel labels by AOV name: H x W (x C) float32, object
+  /// int32; the very values `relight --aov ... --label-format npy` writes.
+  py::dict labels(const std::string& aovs) const {
+    const std::vector<Aov> chosen = parseAovList(aovs);
+    requireAovs(source_.header, chosen, path_, isModel());
+    py::dict out;
+    for (const LabelLayer& layer : viewLabels(source_.header, chosen)) {
+      std::vector<py::ssize_t> shape{height(), width()};
+      if (layer.channels.size() > 1)
+        shape.push_back(static_cast<py::ssize_t>(layer.channels.size()));
+      if (layer.aov == Aov::Object) {
+        py::array_t<std::int32_t> ids(shape);
+        std::copy(layer.values.begin(), layer.values.end(), ids.mutable_data());
+        out[kAovNames.name(layer.aov)] = ids;
+      } else {
+        py::array_t<float> values(shape);
+        std::copy(layer.values.begin(), layer.values.end(), values.mutable_data());
+        out[kAovNames.name(layer.aov)] = values;
+      }
+    }
+    return out;
+  }
+
+  /// Each object's name, by the id the "object" label holds.
+  const std::vector<std::string>& objectNames() const { return source_.header.objectNames; }
+
+  /// The shading of a frame relit over a black or transparent background:
+  /// frame / albedo label, 0 where the albedo is 0 (H x W x 3), as the CLI's
+  /// FRAME_shading files hold it.
+  py::array_t<float> shading(const py::array_t<float, py::array::c_style>& frame) const {
+    const py::ssize_t channels = frame.ndim() == 3 ? frame.shape(2) : 0;
+    if (frame.ndim() != 3 || frame.shape(0) != height() || frame.shape(1) != width() ||
+        (channels != 3 && channels != 4))
+      throw ParameterError("frame", concat(frame.ndim(), " dimensions"),
+                           concat("is not ", height(), " x ", width(), " x 3 or 4"));
+    py::array_t<float> out(std::vector<py::ssize_t>{height(), width(), 3});
+    const std::vector<float> background(static_cast<size_t>(frame.size()), 0.0f);
+    frameShading(source_.header, frame.data(), background.data(), static_cast<int>(channels),
+                 out.mutable_data());
     return out;
   }
 
@@ -388,6 +432,15 @@ py::array_t<float> readImage(const std::string& path) {
   return out;
 }
 
+std::vector<std::string> imageChannelNames(const std::string& path) {
+  auto in = openingFile(path, [&] {
+    auto opened = OIIO::ImageInput::open(path);
+    if (!opened) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
+    return opened;
+  });
+  return in->spec().channelnames;
+}
+
 /// Light, PointLight, SphereLight and SpotLight: local lights (docs/lighting.md).
 void registerLights(py::module_& m) {
   py::class_<LocalLight>(m, "Light",
@@ -442,6 +495,32 @@ void registerLights(py::module_& m) {
       "A point light inside a cone of half_angle degrees around direction.");
 }
 
+/// Module functions over files and draws: images, their channels, and the
+/// lightings a sampled batch relights.
+void registerFiles(py::module_& m) {
+  m.def("read_image", &readImage, py::arg("path"),
+        "An image file (EXR, HDR, PNG, ...) as an H x W x C float32 array.");
+  m.def(
+      "draw_lightings",
+      [](size_t maps, int count, std::uint64_t seed, const std::string& rotation,
+         double exposureJitter) {
+        if (maps < 1) throw ParameterError("maps", maps, "give at least one map to draw from");
+        LightingSampling s{count, seed, kSampledRotationNames.parse(rotation), exposureJitter};
+        std::vector<std::tuple<size_t, double, double, double, double>> draws;
+        for (const LightingDraw& d : drawLightings(s, maps))
+          draws.emplace_back(d.map, d.rotation.yaw, d.rotation.pitch, d.rotation.roll,
+                             d.exposureOffset);
+        return draws;
+      },
+      py::arg("maps"), py::arg("count"), py::kw_only(), py::arg("seed") = 0,
+      py::arg("rotation") = "yaw", py::arg("exposure_jitter") = 0.0,
+      "The CLI's --env-sample draws: count tuples (map index, yaw, pitch, roll, exposure "
+      "offset) from `maps` maps, the same for the same seed everywhere.");
+  m.def("image_channel_names", &imageChannelNames, py::arg("path"),
+        "The names of an image file's channels, in read_image's order (labels.exr: albedo.R, "
+        "N.X, Z, ...).");
+}
+
 }  // namespace
 
 }  // namespace acpca::python
@@ -482,8 +561,7 @@ PYBIND11_MODULE(adaptive_cpca, m) {
         return openingFile(path, [&] { return toPython(describeFile(path)); });
       },
       py::arg("path"), "What a transport or model file holds (as `info --json`).");
-  m.def("read_image", &readImage, py::arg("path"),
-        "An image file (EXR, HDR, PNG, ...) as an H x W x C float32 array.");
+  registerFiles(m);
 
   py::class_<PyEnvironment>(m, "Environment",
                             "A lighting: a built-in map, an image file or a numpy array.")
@@ -516,6 +594,15 @@ PYBIND11_MODULE(adaptive_cpca, m) {
       .def_property_readonly("info", &Relighter::info)
       .def_property_readonly("coverage", &Relighter::coverage,
                              "H x W: the share of each pixel's camera samples that hit")
+      .def("labels", &Relighter::labels, py::arg("aovs") = "all",
+           "The view's per-pixel labels, by name (albedo, normal, depth, position, mask, "
+           "object): H x W (x C) arrays, as `relight --aov ... --label-format npy` writes them "
+           "(docs/datasets.md).")
+      .def_property_readonly("object_names", &Relighter::objectNames,
+                             "Each object's name, by the id the object label holds")
+      .def("shading", &Relighter::shading, py::arg("frame"),
+           "A frame's shading (relit / albedo, H x W x 3) from a frame relit with background "
+           "'black' or 'alpha', as the CLI's FRAME_shading files hold it.")
       .def("relight", &Relighter::relight, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("max_rank") = py::none(),
            py::arg("exposure") = 0.0, py::arg("background") = "env",

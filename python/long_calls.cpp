@@ -27,7 +27,8 @@ py::object precompute(const std::string& scene, const std::string& out,
                       const std::optional<std::pair<int, int>>& size, const std::string& camera,
                       int cubemap, int spp, const std::string& aa, int texelRays,
                       const std::string& precision, int bounces, int indirectSamples,
-                      double indirectCache, int threads, bool force, const py::object& progress) {
+                      double indirectCache, int threads, bool force, std::optional<int> view,
+                      const py::object& progress) {
   PrecomputeOptions o;
   o.bounces = bounces;
   o.indirectSamples = indirectSamples;
@@ -44,6 +45,14 @@ py::object precompute(const std::string& scene, const std::string& out,
   openingFile(isBuiltinScene(scene) ? std::string() : scene, [&] {
     runInterruptible([&](WorkContext& context) {
       Scene s = loadScene(scene);
+      // A scene of several views: one view per call (the CLI writes them all).
+      const int views = static_cast<int>(s.viewCount());
+      if (view && (*view < 0 || *view >= views))
+        throw ParameterError("view", *view, concat("is not one of the scene's 0..", views - 1));
+      if (!view && views > 1)
+        throw ParameterError("view", "None",
+                             concat("the scene has ", views, " views: give view=0..", views - 1));
+      s = s.view(view.value_or(0));
       if (size) s.camera.size = {size->first, size->second};
       applyCameraSpec(s, camera);
       s.validate();
@@ -112,12 +121,14 @@ void registerLongCalls(py::module_& m) {
         py::arg("precision") = precisionName(render.precision), py::arg("bounces") = render.bounces,
         py::arg("indirect_samples") = render.indirectSamples,
         py::arg("indirect_cache") = render.indirectCacheCell, py::arg("threads") = render.threads,
-        py::arg("force") = render.force, py::arg("progress") = py::none(),
+        py::arg("force") = render.force, py::arg("view") = py::none(),
+        py::arg("progress") = py::none(),
         "Ray-trace a scene (built-in name or JSON file) into the transport file `out`, as "
         "`adaptive-cpca precompute`; size is (width, height); bounces > 0 adds interreflections. "
         "progress(done, total) is called between image rows. Ctrl-C stops it and leaves no "
         "file. An image whose transport would not fit the disk or memory is refused before "
-        "any work unless force=True. Returns the figures `precompute --json` reports.");
+        "any work unless force=True. A scene file of several cameras needs view=K: that view "
+        "alone (the CLI's STEM_vK). Returns the figures `precompute --json` reports.");
   const CompressOptions c;
   m.def("compress", &compress, py::arg("transport"), py::arg("out"), py::kw_only(),
         py::arg("method") = methodName(c.method), py::arg("tolerance") = c.tolerance,

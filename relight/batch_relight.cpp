@@ -26,8 +26,11 @@
 #include "core/table.h"
 #include "core/text.h"
 #include "relight/batch_manifest.h"
+#include "relight/dataset_identity.h"
 #include "relight/dense_relight.h"
+#include "relight/envmap_export.h"
 #include "relight/file_hash.h"
+#include "relight/frame_labels.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
 #include "relight/model_relighter.h"
@@ -52,8 +55,29 @@ struct EnvInput {
 struct Frame {
   const EnvInput* input;
   EnvRotation rotation;
-  size_t lights;  ///< which of the batch's light sets (the line of its light path)
+  size_t lights;          ///< which of the batch's light sets (the line of its light path)
+  double exposure;        ///< stops: the batch's, plus a sampled draw's offset
+  long long sample = -1;  ///< the draw it relights (sampled lighting), or -1
 };
+
+/// The batch's frames, light set by light set (so each set's lights are
+/// relit once per rank): every map x rotation, or the sampled draws.
+std::vector<Frame> batchFrames(const BatchRelightOptions& a, const std::vector<EnvInput>& inputs,
+                               size_t lightSets) {
+  std::vector<Frame> frames;
+  std::vector<LightingDraw> draws;
+  if (a.sampling.count > 0) draws = drawLightings(a.sampling, inputs.size());
+  for (size_t set = 0; set < lightSets; ++set) {
+    for (size_t k = 0; k < draws.size(); ++k)
+      frames.push_back({&inputs[draws[k].map], draws[k].rotation, set,
+                        a.exposure + draws[k].exposureOffset, static_cast<long long>(k)});
+    if (!draws.empty()) continue;
+    for (const auto& in : inputs)
+      if (in.env)
+        for (const auto& r : a.rotations) frames.push_back({&in, r, set, a.exposure});
+  }
+  return frames;
+}
 
 /// The batch's sets of local lights: every combination of the --light
 /// lights' sweeps (one set when none sweeps, which may hold no light), each
@@ -127,7 +151,7 @@ class LightSetRows {
 };
 
 std::string extensionOf(ImageFormat f) {
-  return f == ImageFormat::Exr ? ".exr" : ".png";
+  return f == ImageFormat::Exr ? ".exr" : f == ImageFormat::Npy ? ".npy" : ".png";
 }
 
 /// Refuses a batch whose frames, uncompressed in every format (an upper
@@ -139,9 +163,15 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
   const int channels = a.background == Background::Alpha ? 4 : 3;
   long long frameBytes = 0;
   for (ImageFormat f : formats)
-    frameBytes += pixels * channels * (f == ImageFormat::Png ? 1 : a.exrFloat ? 4 : 2);
+    frameBytes += pixels * channels *
+                  (f == ImageFormat::Png                                            ? 1
+                   : f == ImageFormat::Npy || (f == ImageFormat::Exr && a.exrFloat) ? 4
+                                                                                    : 2);
   ResourceNeed need;
-  const size_t frames = std::max<size_t>(1, a.envs.size()) * a.rotations.size() * lightSets;
+  const size_t frames =
+      (a.sampling.count > 0 ? static_cast<size_t>(a.sampling.count)
+                            : std::max<size_t>(1, a.envs.size()) * a.rotations.size()) *
+      lightSets;
   need.what = concat(frames, " frame(s) of ", size.width, "x", size.height);
   need.diskBytes = frameBytes * static_cast<long long>(frames);
   need.largestFile = frameBytes;
@@ -215,6 +245,7 @@ ImageEncoding encodingFor(const BatchRelightOptions& a, bool batch) {
   e.exrFloat = a.exrFloat;
   e.exrCompression = a.exrCompression.value_or(batch ? kBatchExrCompression : ExrCompression::Zips);
   e.pngLevel = a.pngLevel;
+  e.tone = a.tone;
   return e;
 }
 
@@ -281,6 +312,34 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
   }
 }
 
+/// What a batch's views share on rank 0: the directory's manifests and each
+/// lighting file's SHA-256 (built-in lightings are named by their spec).
+struct BatchManifests {
+  BatchManifests(const BatchRelightOptions& a, const std::vector<EnvInput>& inputs, size_t views) {
+    std::vector<std::string> columns{"input", "env",      "yaw",    "pitch",
+                                     "roll",  "exposure", "lights", "output"};
+    if (views > 1) columns.insert(columns.begin(), "view");
+    csv.emplace((fs::path(a.out) / "manifest.csv").string(), columns);
+    jsonLines.emplace((fs::path(a.out) / "manifest.jsonl").string());
+    for (const EnvInput& in : inputs)
+      if (in.env && !in.spec.empty() && !isAnalyticEnvironment(in.spec))
+        hashes[&in] = sha256OfFile(in.spec);
+  }
+  std::optional<BatchManifest> csv;
+  std::optional<JsonLinesManifest> jsonLines;
+  std::unordered_map<const EnvInput*, std::string> hashes;
+};
+
+/// One view of a batch: its input, its place among the views, and the
+/// batch-wide number of its first frame.
+struct BatchView {
+  size_t index = 0, count = 1;
+  std::string input;
+  size_t firstFrame = 0;
+  /// "vNN_" before frame names, "_vNN" after label names (several views only).
+  std::string label() const { return concat("v", std::setw(2), std::setfill('0'), index); }
+};
+
 /// Rank 0's writing: every frame encoded and written on writing threads of
 /// its own while the next frames relight, each committed in frame order (its
 /// files renamed into place, then its manifest row, so a batch killed midway
@@ -290,37 +349,34 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 class FrameWriting {
  public:
   /// lightSpecs: per light set, its lights as canonical specs.
+  /// header: the view's (its labels are written now, before any frame).
+  /// manifests: the batch's (null for one image).
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
                const std::vector<ImageFormat>& formats, bool batch,
-               std::vector<std::vector<std::string>> lightSpecs, const CubeLattice& lattice)
+               const std::vector<std::vector<std::string>>& lightSpecs, const CubeLattice& lattice,
+               const TransportHeader& header, BatchView view, BatchManifests* manifests)
       : a_(a),
         frames_(frames),
         formats_(formats),
         batch_(batch),
         encoding_(encodingFor(a, batch)),
-        lightSpecs_(std::move(lightSpecs)),
+        lightSpecs_(lightSpecs),
         lattice_(lattice),
+        view_(std::move(view)),
+        manifests_(manifests),
+        labels_(header, a.aovs, a.labelFormat, a.background, encoding_),
         writer_(writingThreads(), kFramesInFlight) {
-    if (!batch) return;
-    manifest_.emplace((fs::path(a.out) / "manifest.csv").string(),
-                      std::vector<std::string>{"input", "env", "yaw", "pitch", "roll", "exposure",
-                                               "lights", "output"});
-    jsonLines_.emplace((fs::path(a.out) / "manifest.jsonl").string());
-    sh_.emplace(lattice);
-    // Lighting files named by their bytes; built-in lightings by their spec.
-    for (const Frame& f : frames)
-      if (!f.input->spec.empty() && !isAnalyticEnvironment(f.input->spec) &&
-          !hashes_.count(f.input))
-        hashes_[f.input] = sha256OfFile(f.input->spec);
+    labelPaths_ =
+        labels_.writeView(stemBeside(view_.count > 1 ? "labels_" + view_.label() : "labels"));
+    if (manifests_) sh_.emplace(lattice);
   }
 
-  /// Frame i's lattice lighting, where this rank made it: its labels are
-  /// projected now, instead of made again on a writing thread.
+  /// Frame i's lattice lighting, where this rank made it: kept for its
+  /// labels, instead of made again on a writing thread.
   void noteLighting(size_t i, const LatticeLighting& lighting) {
-    if (!sh_) return;
-    const auto sh9 = sh_->project(lighting);
+    if (!sh_ && !a_.lightingImages) return;
     const std::lock_guard<std::mutex> lock(knownMutex_);
-    known_[i] = sh9;
+    known_[i] = lighting;
   }
 
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
@@ -340,6 +396,7 @@ class FrameWriting {
     waiting_ += waiting.seconds();
   }
   const nlohmann::json& outputs() const { return outputs_; }
+  const std::vector<std::string>& labelPaths() const { return labelPaths_; }
   double writingSeconds() const { return writing_.load(); }
   double waitingSeconds() const { return waiting_; }
 
@@ -348,10 +405,27 @@ class FrameWriting {
   OrderedWriter::Commit encode(size_t i, const Image& image, double ms) {
     const Frame& f = frames_[i];
     const fs::path out(a_.out);
-    nlohmann::json sh9 = nlohmann::json::array();
-    if (sh_)
-      for (const Rgb& c : labelsOf(i)) sh9.push_back({c.x(), c.y(), c.z()});
     auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
+    nlohmann::json sh9 = nlohmann::json::array();
+    std::vector<std::string> lightingPaths;
+    if (sh_ || a_.lightingImages) {
+      const LatticeLighting lighting = lightingOf(i);
+      if (sh_)
+        for (const Rgb& c : sh_->project(lighting)) sh9.push_back({c.x(), c.y(), c.z()});
+      if (a_.lightingImages) {
+        const std::string path =
+            (batch_
+                 ? (out / frameName(f, ImageFormat::Exr)).replace_extension().string() + "_lighting"
+                 : stemBeside("lighting")) +
+            ".exr";
+        // The radiance the lattice holds, before exposure; 8R x 4R sees every texel.
+        const int r = lattice_.resolution();
+        files->push_back(std::make_unique<AtomicOutput>(path));
+        encodeImage(latticeRadianceToLatLong(lighting, lattice_, 8 * r, 4 * r),
+                    files->back()->tempPath(), path, ImageFormat::Exr, 0, encoding_);
+        lightingPaths.push_back(path);
+      }
+    }
     std::vector<std::string> paths;
     for (ImageFormat format : formats_) {
       fs::path path = out;
@@ -360,36 +434,57 @@ class FrameWriting {
       else if (formats_.size() > 1)
         path = out.parent_path() / (out.stem().string() + extensionOf(format));
       files->push_back(std::make_unique<AtomicOutput>(path.string()));
-      encodeImage(image, files->back()->tempPath(), path.string(), format, a_.exposure, encoding_);
+      encodeImage(image, files->back()->tempPath(), path.string(), format, f.exposure, encoding_);
       paths.push_back(path.string());
     }
-    return [this, i, ms, files, paths, sh9 = std::move(sh9)] {
+    std::vector<std::string> shading;
+    if (labels_.shading())
+      shading = labels_.encodeShading(
+          image, *f.input->env, rotationMatrix(f.rotation), f.exposure,
+          batch_ ? (out / frameName(f, ImageFormat::Exr)).replace_extension().string() + "_shading"
+                 : stemBeside("shading"),
+          *files);
+    return [this, i, ms, files, paths, shading, lightingPaths, sh9 = std::move(sh9)] {
       const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
       const std::string lights = joinedBySemicolons(lightSpecs_[f.lights]);
-      if (manifest_) {
-        manifest_->append({a_.input, f.input->spec, f.rotation.yaw, f.rotation.pitch,
-                           f.rotation.roll, a_.exposure, lights, joinedBySemicolons(paths)});
-        jsonLines_->append({{"frame", i},
-                            {"input", a_.input},
-                            {"env", f.input->spec},
-                            {"env_sha256", hashOf(f.input)},
-                            {"yaw", f.rotation.yaw},
-                            {"pitch", f.rotation.pitch},
-                            {"roll", f.rotation.roll},
-                            {"exposure", a_.exposure},
-                            {"lights", lightSpecs_[f.lights]},
-                            {"sh9", sh9},
-                            {"outputs", paths}});
+      if (manifests_) {
+        std::vector<Table::Cell> row{
+            view_.input,     f.input->spec, f.rotation.yaw, f.rotation.pitch,
+            f.rotation.roll, f.exposure,    lights,         joinedBySemicolons(paths)};
+        if (view_.count > 1) row.insert(row.begin(), static_cast<long long>(view_.index));
+        manifests_->csv->append(std::move(row));
+        nlohmann::json line = {{"frame", view_.firstFrame + i},
+                               {"input", view_.input},
+                               {"env", f.input->spec},
+                               {"env_sha256", hashOf(f.input)},
+                               {"yaw", f.rotation.yaw},
+                               {"pitch", f.rotation.pitch},
+                               {"roll", f.rotation.roll},
+                               {"exposure", f.exposure},
+                               {"lights", lightSpecs_[f.lights]},
+                               {"sh9", sh9},
+                               {"outputs", paths}};
+        if (view_.count > 1) line["view"] = view_.index;
+        if (f.sample >= 0) line["sample"] = f.sample;
+        if (labels_.any()) {
+          line["labels"] = labelPaths_;
+          line["shading"] = shading;
+        }
+        if (a_.lightingImages) line["lighting"] = lightingPaths;
+        manifests_->jsonLines->append(line);
       }
-      outputs_.push_back({{"env", f.input->spec},
-                          {"lights", lights},
-                          {"yaw", f.rotation.yaw},
-                          {"pitch", f.rotation.pitch},
-                          {"roll", f.rotation.roll},
-                          {"paths", paths},
-                          {"ms", ms}});
+      nlohmann::json output = {{"env", f.input->spec},
+                               {"lights", lights},
+                               {"yaw", f.rotation.yaw},
+                               {"pitch", f.rotation.pitch},
+                               {"roll", f.rotation.roll},
+                               {"paths", paths},
+                               {"ms", ms}};
+      if (view_.count > 1) output["view"] = view_.index;
+      if (labels_.shading()) output["shading"] = shading;
+      outputs_.push_back(std::move(output));
       if (a_.progress)
         a_.progress(static_cast<long long>(i + 1), static_cast<long long>(frames_.size()));
       addWriting(busy.seconds());
@@ -411,40 +506,50 @@ class FrameWriting {
   std::string frameName(const Frame& f, ImageFormat format) const {
     std::string name = f.input->spec.empty() ? "lights" : f.input->env->name();
     name += "_" + f.rotation.label();
+    if (f.sample >= 0) name = concat("sample_", std::setw(5), std::setfill('0'), f.sample);
     if (a_.movesLights()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
+    if (view_.count > 1) name = view_.label() + "_" + name;
     return name + extensionOf(format);
   }
 
   /// A lighting file's SHA-256; null for a built-in lighting.
   nlohmann::json hashOf(const EnvInput* input) const {
-    const auto at = hashes_.find(input);
-    return at == hashes_.end() ? nlohmann::json(nullptr) : nlohmann::json(at->second);
+    const auto at = manifests_->hashes.find(input);
+    return at == manifests_->hashes.end() ? nlohmann::json(nullptr) : nlohmann::json(at->second);
   }
 
-  /// Frame i's lighting labels: as noted, or (a frame another rank relit)
-  /// from its lattice lighting made again here, on a writing thread; the same
-  /// numbers either way.
-  std::array<Rgb, 9> labelsOf(size_t i) {
+  /// Frame i's lattice lighting: as noted, or (a frame another rank relit)
+  /// made again here, on a writing thread; the same numbers either way.
+  LatticeLighting lightingOf(size_t i) {
     {
       const std::lock_guard<std::mutex> lock(knownMutex_);
       if (const auto at = known_.find(i); at != known_.end()) {
-        const std::array<Rgb, 9> sh9 = at->second;
+        LatticeLighting lighting = std::move(at->second);
         known_.erase(at);
-        return sh9;
+        return lighting;
       }
     }
     const Frame& f = frames_[i];
-    return sh_->project(computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode));
+    return computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode);
   }
 
-  const std::vector<std::vector<std::string>> lightSpecs_;  ///< per light set: its lights
+  /// Where a label file of the view goes: the batch's directory, or beside
+  /// the one image (OUT_name).
+  std::string stemBeside(const std::string& name) const {
+    const fs::path out(a_.out);
+    return batch_ ? (out / name).string()
+                  : (out.parent_path() / (out.stem().string() + "_" + name)).string();
+  }
+
+  const std::vector<std::vector<std::string>>& lightSpecs_;  ///< per light set: its lights
   const CubeLattice& lattice_;
-  std::optional<BatchManifest> manifest_;
-  std::optional<JsonLinesManifest> jsonLines_;
+  const BatchView view_;
+  BatchManifests* const manifests_;
   std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
+  const FrameLabels labels_;
+  std::vector<std::string> labelPaths_;  ///< the view's labels
   std::mutex knownMutex_;
-  std::unordered_map<size_t, std::array<Rgb, 9>> known_;     ///< noted, not yet written
-  std::unordered_map<const EnvInput*, std::string> hashes_;  ///< lighting files' SHA-256
+  std::unordered_map<size_t, LatticeLighting> known_;  ///< noted, not yet written
   nlohmann::json outputs_ = nlohmann::json::array();
   std::atomic<double> writing_{0};
   double waiting_ = 0;
@@ -530,16 +635,34 @@ void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
 
 std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
                                          bool batch) {
-  if (format == "both") return {ImageFormat::Exr, ImageFormat::Png};
-  if (format == "exr") return {ImageFormat::Exr};
-  if (format == "png") return {ImageFormat::Png};
-  if (!format.empty()) throw ParameterError("image format", format, "is not exr, png or both");
-  if (batch) return {ImageFormat::Exr};
-  const std::string ext = fs::path(out).extension().string();
-  if (ext == ".exr") return {ImageFormat::Exr};
-  if (ext == ".png") return {ImageFormat::Png};
-  throw ParameterError("output path", out,
-                       "cannot tell the format from the extension; use .exr/.png or a format");
+  if (format.empty()) {
+    if (batch) return {ImageFormat::Exr};
+    const std::string ext = fs::path(out).extension().string();
+    if (ext == ".exr") return {ImageFormat::Exr};
+    if (ext == ".png") return {ImageFormat::Png};
+    if (ext == ".npy") return {ImageFormat::Npy};
+    throw ParameterError("output path", out,
+                         "cannot tell the format from the extension; use .exr/.png/.npy or a "
+                         "format");
+  }
+  // A comma-separated list, each format once; "both" is exr,png.
+  std::vector<ImageFormat> formats;
+  for (const std::string& name : splitText(format == "both" ? "exr,png" : format, ',')) {
+    const ImageFormat f = name == "exr"     ? ImageFormat::Exr
+                          : name == "png"   ? ImageFormat::Png
+                          : name == "png16" ? ImageFormat::Png16
+                          : name == "npy"   ? ImageFormat::Npy
+                                            : throw ParameterError("image format", format,
+                                                                   "is not a list of exr, png, "
+                                                                     "png16 and npy, or both");
+    if (std::find(formats.begin(), formats.end(), f) != formats.end() ||
+        (f == ImageFormat::Png && std::count(formats.begin(), formats.end(), ImageFormat::Png16)) ||
+        (f == ImageFormat::Png16 && std::count(formats.begin(), formats.end(), ImageFormat::Png)))
+      throw ParameterError("image format", format,
+                           "names a format twice (png and png16 share the extension)");
+    formats.push_back(f);
+  }
+  return formats;
 }
 
 void validateBatchRelight(const BatchRelightOptions& a) {
@@ -554,12 +677,23 @@ void validateBatchRelight(const BatchRelightOptions& a) {
   if (!(a.anchorSpread >= 0 && a.anchorSpread <= 64))
     throw ParameterError("anchor spread", a.anchorSpread, "is not in 0..64 texels");
   requireFinite(a.exposure, "exposure");
+  if (a.sampling.count == 0 && a.sampling.exposureJitter != 0)
+    throw ParameterError("exposure jitter", a.sampling.exposureJitter,
+                         "jitters drawn lightings: give a number of environment samples");
+  if (a.sampling.count != 0) {
+    validateLightingSampling(a.sampling);
+    if (a.envs.empty())
+      throw ParameterError("environment samples", a.sampling.count, "needs maps to draw from");
+    if (a.rotations.size() != 1 || !a.rotations[0].isIdentity())
+      throw ParameterError("rotation", "",
+                           "cannot be given with environment samples: each draw has its own");
+  }
   if (a.pngLevel < 0 || a.pngLevel > 9)
     throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
   const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, a.batch());
   // No frame may replace the model, the transport or a lighting it reads.
   std::vector<std::string> inputs = a.envs;
-  inputs.push_back(a.input);
+  for (const std::string& view : a.viewInputs()) inputs.push_back(view);
   if (!a.lightPath.empty()) inputs.push_back(a.lightPath);
   if (a.batch()) {
     refuseDirectoryOverInputs(a.out, inputs);
@@ -574,39 +708,43 @@ void validateBatchRelight(const BatchRelightOptions& a) {
         inputs);
 }
 
-BatchRelightResult relightBatch(const BatchRelightOptions& a) {
-  validateBatchRelight(a);
-  const bool batch = a.batch();
-  const fs::path out(a.out);
-  const std::vector<ImageFormat> formats = imageFormatsFor(a.format, a.out, batch);
-  const std::vector<EnvRotation>& rotations = a.rotations;
-  const Stopwatch wall;
-  BatchStages stages;
-  const RelightSource source = openRelightSource(a.input, a.maxRank);
-  stages.open = wall.seconds();
-  const CubeLattice lattice(source.header.cubemapResolution);
-  const std::vector<std::vector<LocalLight>> sets = lightSets(a);
-  requireFrameSpace(a, source.header.camera.size, formats, batch, sets.size());
-  if (batch) createOutputDirectory(a.out);
+namespace {
 
-  std::vector<EnvInput> inputs = loadInputs(a.envs, batch, a.warn);
-  // Local lights alone: one frame over a black environment.
-  if (inputs.empty()) inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
+/// What the views of a batch share while they relight one after another.
+struct BatchRun {
+  explicit BatchRun(const BatchRelightOptions& options)
+      : a(options),
+        batch(options.batch()),
+        formats(imageFormatsFor(options.format, options.out, batch)),
+        sets(lightSets(options)) {}
+  const BatchRelightOptions& a;
+  const bool batch;
+  const std::vector<ImageFormat> formats;
+  const std::vector<std::vector<LocalLight>> sets;
   std::vector<std::vector<std::string>> setSpecs;
-  for (const auto& set : sets) setSpecs.push_back(canonicalSpecs(set));
-  LightSetRows localRows(source, sets, a.anchorSpread, stages.localLights);
+  std::vector<EnvInput> inputs;
+  std::optional<BatchManifests> manifests;  ///< rank 0 of a batch
+  BatchStages stages;
+  std::vector<double> msPerFrame;
+  nlohmann::json outputs = nlohmann::json::array();
+  nlohmann::json labels = nlohmann::json::array();
+  size_t frames = 0;  ///< frames of the views done
+};
 
+/// One view's frames relit and (rank 0) written; returns its frame count.
+size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
+  const BatchRelightOptions& a = run.a;
+  BatchStages& stages = run.stages;
+  std::vector<double>& msPerFrame = run.msPerFrame;
+  const CubeLattice lattice(source.header.cubemapResolution);
+  LightSetRows localRows(source, run.sets, a.anchorSpread, stages.localLights);
   // Frames in groups: each group streams T once; memory stays flat for any count.
-  std::vector<Frame> frames;
-  // Light set by light set, so each set's lights are relit once (per rank).
-  for (size_t set = 0; set < sets.size(); ++set)
-    for (const auto& in : inputs)
-      if (in.env)
-        for (const auto& r : rotations) frames.push_back({&in, r, set});
+  const std::vector<Frame> frames = batchFrames(a, run.inputs, run.sets.size());
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
-  if (rank == 0) writing.emplace(a, frames, formats, batch, std::move(setSpecs), lattice);
-  std::vector<double> msPerFrame;
+  if (rank == 0)
+    writing.emplace(a, frames, run.formats, run.batch, run.setSpecs, lattice, source.header,
+                    std::move(view), run.manifests ? &*run.manifests : nullptr);
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
   // memory stays bounded): the same files for any K.
@@ -657,33 +795,77 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
             });
       });
   gather.finish();
-  if (writing) writing->finish();
-  if (rank != 0) {  // rank 0 wrote the images and reports
-    BatchRelightResult result;
-    result.method = source.method;
-    result.frames = static_cast<long long>(frames.size());
-    return result;
+  if (!writing) return frames.size();
+  writing->finish();
+  stages.writing += writing->writingSeconds();
+  stages.waitingForWriting += writing->waitingSeconds();
+  for (const auto& output : writing->outputs()) run.outputs.push_back(output);
+  for (const auto& path : writing->labelPaths()) run.labels.push_back(path);
+  return frames.size();
+}
+
+}  // namespace
+
+BatchRelightResult relightBatch(const BatchRelightOptions& a) {
+  validateBatchRelight(a);
+  const bool batch = a.batch();
+  if (batch) refuseAnotherDataset(a.out, datasetIdentity(a));
+  const Stopwatch wall;
+  BatchRun run(a);
+  const std::vector<std::string> views = a.viewInputs();
+  std::optional<RelightSource> source(openRelightSource(views[0], a.maxRank));
+  requireAovs(source->header, a.aovs, views[0], !source->dense);
+  run.stages.open = wall.seconds();
+  requireFrameSpace(a, source->header.camera.size, run.formats, batch,
+                    run.sets.size() * views.size());
+  if (batch) {
+    createOutputDirectory(a.out);
+    if (ranks::rank() == 0) writeDatasetIdentity(a.out, datasetIdentity(a));
+  }
+  // Sampled lighting draws from every map given: one that cannot be read
+  // stops the batch, so that a seed always makes the same frames.
+  run.inputs = loadInputs(a.envs, batch && a.sampling.count == 0, a.warn);
+  // Local lights alone: one frame over a black environment.
+  if (run.inputs.empty()) run.inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
+  for (const auto& set : run.sets) run.setSpecs.push_back(canonicalSpecs(set));
+  if (batch && ranks::rank() == 0) run.manifests.emplace(a, run.inputs, views.size());
+  for (size_t k = 0; k < views.size(); ++k) {
+    if (k > 0) {  // one view's model in memory at a time
+      source.reset();
+      const Stopwatch open;
+      source.emplace(openRelightSource(views[k], a.maxRank));
+      requireAovs(source->header, a.aovs, views[k], !source->dense);
+      run.stages.open += open.seconds();
+    }
+    run.frames += relightView(run, *source, BatchView{k, views.size(), views[k], run.frames});
   }
   BatchRelightResult result;
-  std::vector<std::string>& failed = result.failed;
-  for (const auto& in : inputs)
-    if (!in.env) failed.push_back(in.error);
-  stages.writing = writing->writingSeconds();
-  stages.waitingForWriting = writing->waitingSeconds();
+  if (ranks::rank() != 0) {  // rank 0 wrote the images and reports
+    result.method = source->method;
+    result.frames = static_cast<long long>(run.frames);
+    return result;
+  }
+  for (const auto& in : run.inputs)
+    if (!in.env) result.failed.push_back(in.error);
+  BatchStages& stages = run.stages;
   stages.wall = wall.seconds();
-  summarize(result, a, source, frames.size(), std::move(msPerFrame));
+  const size_t frames = run.frames;
+  summarize(result, a, *source, frames, std::move(run.msPerFrame));
   if (a.envs.empty())  // local lights alone: no environment was relit
     result.summary =
-        concat("relit ", frames.size(), " frame(s) from ", a.input, " (", source.method,
+        concat("relit ", frames, " frame(s) from ", a.input, " (", source->method,
                ") under local lights alone, ",
-               1e3 * stages.localLights / static_cast<double>(sets.size()), " ms per light set");
+               1e3 * stages.localLights / static_cast<double>(run.sets.size() * views.size()),
+               " ms per light set");
   result.stages = stages;
-  result.json["stages"] = stages.json(static_cast<long long>(frames.size()));
-  result.json["frames_per_second"] = stages.wall > 0 ? frames.size() / stages.wall : 0.0;
-  result.summary += concat("; ", frames.size(), " frame(s) written in ", stages.wall, " s (",
-                           stages.wall > 0 ? frames.size() / stages.wall : 0.0, " frames/s)");
-  result.json["outputs"] = writing->outputs();
-  result.json["failed"] = failed;
+  result.json["stages"] = stages.json(static_cast<long long>(frames));
+  result.json["frames_per_second"] = stages.wall > 0 ? frames / stages.wall : 0.0;
+  result.summary += concat("; ", frames, " frame(s) written in ", stages.wall, " s (",
+                           stages.wall > 0 ? frames / stages.wall : 0.0, " frames/s)");
+  result.json["outputs"] = run.outputs;
+  if (!a.aovs.empty()) result.json["labels"] = run.labels;
+  if (views.size() > 1) result.json["views"] = views;
+  result.json["failed"] = result.failed;
   return result;
 }
 

@@ -12,8 +12,10 @@
 
 #include "relight/image_output.h"
 #include "relight/lighting.h"
+#include "relight/lighting_sampler.h"
 #include "relight/local_relight.h"
 #include "relight/model_relighter.h"
+#include "relight/pixel_labels.h"
 #include "relight/rotation.h"
 
 namespace acpca {
@@ -23,8 +25,9 @@ namespace acpca {
 /// ParameterError ("maximum rank") for anything else.
 void applyRankLimit(const std::string& text, ModelRelighter& relighter);
 
-/// The image formats to write: "exr", "png" or "both"; empty picks EXR for a
-/// batch and otherwise the output's extension (ParameterError when it has none).
+/// The image formats to write: a comma-separated list of "exr", "png",
+/// "png16" and "npy", or "both" (exr,png); empty picks EXR for a batch and
+/// otherwise the output's extension (ParameterError when it has none).
 std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
                                          bool batch);
 
@@ -34,7 +37,16 @@ inline constexpr ExrCompression kBatchExrCompression = ExrCompression::Rle;
 inline constexpr int kBatchPngLevel = 1;
 
 struct BatchRelightOptions {
-  std::string input;              ///< model or transport file
+  std::string input;  ///< model or transport file (the first view)
+  /// Further views of the scene (a scene file's "cameras" make
+  /// STEM_v01.h5, ...): each is relit under every lighting in turn, its
+  /// frames named vNN_..., its labels labels_vNN.
+  std::vector<std::string> moreViews;
+  std::vector<std::string> viewInputs() const {
+    std::vector<std::string> all{input};
+    all.insert(all.end(), moreViews.begin(), moreViews.end());
+    return all;
+  }
   std::vector<std::string> envs;  ///< lighting specs or image files (may be empty with lights)
   /// Local lights (relight/local_light.h grammar), added to every frame;
   /// without envs they light the frames alone. A light whose numbers sweep
@@ -47,6 +59,9 @@ struct BatchRelightOptions {
   /// is relit under each line's lights (with `lights` added), line by line.
   std::string lightPath;
   std::vector<EnvRotation> rotations{EnvRotation{}};
+  /// Lightings drawn from `envs` instead of every map x rotation
+  /// (relight/lighting_sampler.h): count > 0 makes frames sample_NNNNN.
+  LightingSampling sampling;
   std::string out;     ///< an image, or a directory when batch
   std::string format;  ///< exr, png, both; empty: see imageFormatsFor
   Background background = Background::Env;
@@ -55,17 +70,29 @@ struct BatchRelightOptions {
   bool exrFloat = false;
   /// The EXR codec; unset: zips for one image, kBatchExrCompression for a batch.
   std::optional<ExrCompression> exrCompression;
-  int pngLevel = kBatchPngLevel;  ///< PNG deflate level, 0-9
-  std::string maxRank;            ///< see applyRankLimit; models only
-  int timingRepeats = 0;          ///< > 0: after a warm-up, time that many repeats
-  bool force = false;             ///< write even when the frames look too large for the disk
+  int pngLevel = kBatchPngLevel;      ///< PNG deflate level, 0-9
+  ToneCurve tone = ToneCurve::Clamp;  ///< PNG output's tone curve
+  /// Per-pixel labels (relight/pixel_labels.h): the view's once (labels.exr
+  /// in a batch's directory, else OUT_labels.exr beside the image), and with
+  /// shading, each frame's (FRAME_shading.exr).
+  std::vector<Aov> aovs;
+  LabelFormat labelFormat = LabelFormat::Exr;
+  /// Each frame's lattice lighting as a lat-long EXR (FRAME_lighting.exr):
+  /// the radiance the frame was relit under, after rotation, before exposure.
+  bool lightingImages = false;
+  std::string maxRank;    ///< see applyRankLimit; models only
+  int timingRepeats = 0;  ///< > 0: after a warm-up, time that many repeats
+  bool force = false;     ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
   std::function<void(const std::string&)> warn;  ///< a map skipped in a batch
   /// Whether the lights change from frame to frame: a light path or a sweep.
   bool movesLights() const {
     return !lightPath.empty() || std::any_of(lights.begin(), lights.end(), isLightSweep);
   }
-  bool batch() const { return envs.size() > 1 || rotations.size() > 1 || movesLights(); }
+  bool batch() const {
+    return envs.size() > 1 || rotations.size() > 1 || movesLights() || sampling.count > 0 ||
+           !moreViews.empty();
+  }
 };
 
 /// Where a batch's time went (seconds, on this rank). Writing runs on threads

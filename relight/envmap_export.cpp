@@ -52,6 +52,20 @@ Image latticeToLatLong(const LatticeLighting& lighting, const CubeLattice& latti
   return image;
 }
 
+Image latticeRadianceToLatLong(const LatticeLighting& lighting, const CubeLattice& lattice,
+                               int width, int height) {
+  constexpr double kPi = std::numbers::pi;
+  const std::vector<double> radiance = latticeRadiance(lighting, lattice);
+  Image image{width, height, 3, std::vector<float>(static_cast<size_t>(width) * height * 3)};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double phi = 2 * kPi * ((x + 0.5) / width - 0.5), theta = kPi * (y + 0.5) / height;
+      const int j = lattice.texelOf(directionFromAngles(theta, phi));
+      for (int c = 0; c < 3; ++c) image.at(x, y)[c] = static_cast<float>(radiance[3 * j + c]);
+    }
+  return image;
+}
+
 bool crossDirection(int x, int y, int faceSize, Vec3& direction) {
   const int fx = x / faceSize, fy = y / faceSize;
   // Face-local coordinates in [-1, 1], a to the right, b downwards.

@@ -14,6 +14,13 @@ namespace acpca {
 Image latticeToLatLong(const LatticeLighting& lighting, const CubeLattice& lattice, int width,
                        int height);
 
+/// Lat-long image of the lattice radiance: each pixel the radiance of the
+/// texel its centre falls in (a constant map stays constant; the image's
+/// energy is the lattice's up to that sampling). What a batch's lighting
+/// label holds.
+Image latticeRadianceToLatLong(const LatticeLighting& lighting, const CubeLattice& lattice,
+                               int width, int height);
+
 /// Horizontal cross, faces of faceSize pixels, laid out as seen from inside:
 ///          +Y
 ///     -X   -Z   +X   +Z

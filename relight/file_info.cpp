@@ -5,6 +5,7 @@
 
 #include "cluster/model_file.h"
 #include "core/text.h"
+#include "relight/pixel_labels.h"
 
 namespace acpca {
 
@@ -20,6 +21,24 @@ std::string positionsInWords(const TransportHeader& h, const std::string& remedy
   return h.hasPositions() ? "  positions    each pixel's world position (local lights)\n"
                           : concat("  positions    none (written before positions were stored; ",
                                    remedy, " for local lights)\n");
+}
+
+/// The AOVs the file can give, by name.
+nlohmann::json labelsJson(const TransportHeader& h) {
+  nlohmann::json names = nlohmann::json::array();
+  for (Aov aov : availableAovs(h)) names.push_back(kAovNames.name(aov));
+  return names;
+}
+
+std::string labelsInWords(const TransportHeader& h, const std::string& remedy) {
+  std::string names;
+  for (const auto& name : labelsJson(h))
+    names += (names.empty() ? "" : ", ") + name.get<std::string>();
+  const bool all = availableAovs(h).size() == parseAovList("all").size();
+  return concat("  labels       ", names,
+                all ? concat(" (", h.objectNames.size(), " object(s))")
+                    : concat(" (", remedy, " for the others)"),
+                "\n");
 }
 
 }  // namespace
@@ -57,6 +76,7 @@ nlohmann::json describeModel(const Model& m, const std::string& path) {
           {"transport_error", m.transportError},
           {"rank_histogram", rankHistogramJson(m)},
           {"positions", m.geometry.hasPositions()},
+          {"labels", labelsJson(m.geometry)},
           {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
 
@@ -83,7 +103,8 @@ nlohmann::json describeTransport(const TransportReader& t) {
           {"indirect_samples", h.bounces > 0 ? nlohmann::json(h.indirectSamples) : nullptr},
           {"indirect_cache_cell", h.bounces > 0 ? nlohmann::json(h.indirectCacheCell) : nullptr},
           {"stored_values", t.rows() * static_cast<long long>(t.rowLength())},
-          {"positions", h.hasPositions()}};
+          {"positions", h.hasPositions()},
+          {"labels", labelsJson(h)}};
 }
 
 nlohmann::json describeFile(const std::string& path) {
@@ -109,7 +130,8 @@ std::string describeInWords(const Model& m, const std::string& path) {
       << coeffPrecisionName(m.basisPrecision) << " bases, " << formatBytes(m.frameBytes())
       << " read per frame, " << formatBytes(double(bytes)) << " on disk\n"
       << "  error        " << m.transportError << " relative to T (Frobenius)\n"
-      << positionsInWords(m.geometry, "compress (or build) it again from a new transport");
+      << positionsInWords(m.geometry, "compress (or build) it again from a new transport")
+      << labelsInWords(m.geometry, "compress (or build) it again from a new transport");
   return out.str();
 }
 
@@ -140,7 +162,7 @@ std::string describeInWords(const TransportReader& t, const std::string& path) {
       << "  storage      " << precisionName(h.precision) << ", " << storedValues << " values, "
       << formatBytes(t.fileBytes()) << " on disk\n"
       << "  relight cost " << t.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
-      << positionsInWords(h, "precompute it again");
+      << positionsInWords(h, "precompute it again") << labelsInWords(h, "precompute it again");
   return out.str();
 }
 

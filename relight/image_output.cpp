@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/half.h"
+#include "relight/npy_file.h"
 
 namespace acpca {
 
@@ -24,6 +25,11 @@ Background parseBackground(const std::string& text) {
 double linearToSrgb(double v) {
   v = std::clamp(v, 0.0, 1.0);
   return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+}
+
+double toneMapped(double v, ToneCurve tone) {
+  if (tone == ToneCurve::Aces && v > 0) v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
+  return std::clamp(v, 0.0, 1.0);
 }
 
 namespace {
@@ -55,8 +61,8 @@ SrgbEncoder::Tables::Tables() {
 
 // The tables hold scaled values, so one set serves every exposure; built once
 // (7,650 pow calls), not once a frame.
-SrgbEncoder::SrgbEncoder(double exposureEv)
-    : scale_(static_cast<float>(std::exp2(exposureEv))), tables_(tables()) {}
+SrgbEncoder::SrgbEncoder(double exposureEv, ToneCurve tone)
+    : scale_(static_cast<float>(std::exp2(exposureEv))), tone_(tone), tables_(tables()) {}
 
 const SrgbEncoder::Tables& SrgbEncoder::tables() {
   static const Tables shared;
@@ -64,7 +70,9 @@ const SrgbEncoder::Tables& SrgbEncoder::tables() {
 }
 
 unsigned char SrgbEncoder::operator()(float linear) const {
-  const float scaled = linear * scale_;
+  float scaled = linear * scale_;
+  // A curve maps first; the tables then encode its value exactly.
+  if (tone_ != ToneCurve::Clamp) scaled = static_cast<float>(toneMapped(scaled, tone_));
   if (!(scaled > 0)) return 0;  // negative, zero or NaN
   if (scaled >= 1) return 255;
   const std::uint32_t bits = std::bit_cast<std::uint32_t>(scaled);
@@ -127,7 +135,8 @@ ImageComposer::ImageComposer(const TransportHeader& header)
 }
 
 void ImageComposer::background(Background background, const Environment& env,
-                               const Eigen::Matrix3d& rotation, float* pixels) const {
+                               const Eigen::Matrix3d& rotation, float* pixels,
+                               bool silhouettesOnly) const {
   const Camera& camera = camera_;
   const int width = camera.size.width, height = camera.size.height;
   const int channels = ImageComposer::channels(background);
@@ -145,8 +154,9 @@ void ImageComposer::background(Background background, const Environment& env,
     if (background != Background::Env) return;
     for (size_t i = backgroundRowStart_[y]; i < backgroundRowStart_[y + 1]; ++i) {
       const size_t pixel = backgroundPixel_[i];
-      const Rgb bg = env.radiance(inverse * backgroundRay_[i]);
       const float cov = coverage_[pixel];
+      if (silhouettesOnly && cov == 0) continue;
+      const Rgb bg = env.radiance(inverse * backgroundRay_[i]);
       float* out = pixels + pixel * channels;
       for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
     }
@@ -178,15 +188,56 @@ void encodePng8(int width, int height, int channels, const unsigned char* values
     throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
 }
 
+/// 16-bit sRGB: round(65535 linearToSrgb(tone(v 2^exposure))), alpha as
+/// coverage; by the formula, value by value (no table has 65,536 steps).
+void encodePng16(const Image& image, const std::string& file, const std::string& path,
+                 double exposureEv, const ImageEncoding& encoding) {
+  const double scale = std::exp2(exposureEv);
+  std::vector<std::uint16_t> values(image.pixels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, values.size(), 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const double v = image.pixels[i];
+                        const double coded =
+                            image.channels == 4 && i % 4 == 3
+                                ? std::clamp(v, 0.0, 1.0)
+                                : linearToSrgb(toneMapped(v * scale, encoding.tone));
+                        values[i] = static_cast<std::uint16_t>(std::lround(coded * 65535));
+                      }
+                    });
+  auto out = OIIO::ImageOutput::create(file);
+  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT16);
+  spec.attribute("png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9));
+  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT16, values.data()) &&
+        out->close()))
+    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+}
+
+/// float32 H x W x C, linear, times 2^exposure (alpha as coverage).
+void encodeNpy(const Image& image, const std::string& file, const std::string& path,
+               double exposureEv) {
+  const float scale = static_cast<float>(std::exp2(exposureEv));
+  std::vector<float> values(image.pixels);
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!(image.channels == 4 && i % 4 == 3)) values[i] *= scale;
+  writeNpy(file, path,
+           {static_cast<size_t>(image.height), static_cast<size_t>(image.width),
+            static_cast<size_t>(image.channels)},
+           values.data());
+}
+
 }  // namespace
 
 void encodeImage(const Image& image, const std::string& file, const std::string& path,
                  ImageFormat format, double exposureEv, const ImageEncoding& encoding) {
-  if (format != ImageFormat::Exr) {
-    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv).encode(image);
+  if (format == ImageFormat::Png) {
+    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv, encoding.tone).encode(image);
     return encodePng8(image.width, image.height, image.channels, bytes.data(), file, path,
                       encoding.pngLevel);
   }
+  if (format == ImageFormat::Png16) return encodePng16(image, file, path, exposureEv, encoding);
+  if (format == ImageFormat::Npy) return encodeNpy(image, file, path, exposureEv);
   auto out = OIIO::ImageOutput::create(file);
   if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
   const float scale = static_cast<float>(std::exp2(exposureEv));

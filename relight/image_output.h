@@ -27,7 +27,19 @@ inline constexpr EnumNames<Background, 3> kBackgroundNames{
     {{{Background::Env, "env"}, {Background::Black, "black"}, {Background::Alpha, "alpha"}}}};
 Background parseBackground(const std::string& text);  // env | black | alpha
 
-enum class ImageFormat { Exr, Png };
+/// EXR (linear, half or float), PNG (sRGB, 8 or 16 bits, tone mapped) or
+/// NumPy .npy (linear float32, H x W x C).
+enum class ImageFormat { Exr, Png, Png16, Npy };
+
+/// How PNG output maps linear values (after exposure) into [0, 1] before the
+/// sRGB transfer function: clamp, or the ACES filmic curve as fitted by
+/// Narkowicz (2015, "ACES Filmic Tone Mapping Curve"):
+/// x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1].
+enum class ToneCurve { Clamp, Aces };
+inline constexpr EnumNames<ToneCurve, 2> kToneCurveNames{
+    "tone curve", {{{ToneCurve::Clamp, "clamp"}, {ToneCurve::Aces, "aces"}}}};
+/// The curve's value of a linear value, in [0, 1].
+double toneMapped(double linear, ToneCurve tone);
 
 /// Places per-row RGB (albedo applied) into the image. Background pixels (and
 /// the uncovered part of silhouette pixels) show the rotated environment, black,
@@ -48,9 +60,11 @@ class ImageComposer {
   explicit ImageComposer(const TransportHeader& header);
   static int channels(Background background) { return background == Background::Alpha ? 4 : 3; }
   /// Every pixel's background part: (1 - coverage) x the environment seen
-  /// through it (Env) or 0, and alpha = coverage (Alpha).
+  /// through it (Env) or 0, and alpha = coverage (Alpha). `silhouettesOnly`:
+  /// the environment only where an object covers part of the pixel (what a
+  /// frame's shading takes away), 0 at pure background.
   void background(Background background, const Environment& env, const Eigen::Matrix3d& rotation,
-                  float* pixels) const;
+                  float* pixels, bool silhouettesOnly = false) const;
   /// Adds coverage x rowRgb (3 floats per row) at each row's pixel.
   void addRows(const float* rowRgb, float* pixels, int channels) const;
 
@@ -75,11 +89,12 @@ inline constexpr EnumNames<ExrCompression, 5> kExrCompressionNames{
       {ExrCompression::Piz, "piz"}}}};
 
 /// How an image file is encoded: EXR values in half or float and their codec,
-/// PNG's deflate level (0-9; zlib's 6 unless told).
+/// PNG's deflate level (0-9; zlib's 6 unless told) and tone curve.
 struct ImageEncoding {
   bool exrFloat = false;
   ExrCompression exrCompression = ExrCompression::Zips;
   int pngLevel = 6;
+  ToneCurve tone = ToneCurve::Clamp;
 };
 
 /// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
@@ -100,12 +115,12 @@ void writePng8(int width, int height, int channels, const unsigned char* values,
 double linearToSrgb(double v);
 
 /// 8-bit sRGB of linear values times 2^exposure, as PNG output writes them:
-/// round(255 * linearToSrgb(v * scale)). Exact and fast: the code is found
+/// round(255 * linearToSrgb(tone(v * scale))). Exact and fast: the code is found
 /// among the 255 float thresholds where it steps up (the map is monotone), so
 /// a viewer shows the very bytes a batch PNG holds.
 class SrgbEncoder {
  public:
-  explicit SrgbEncoder(double exposureEv);
+  explicit SrgbEncoder(double exposureEv, ToneCurve tone = ToneCurve::Clamp);
   unsigned char operator()(float linear) const;
   /// Every channel of the image (alpha, if any, is coverage in [0, 1], not tone mapped).
   std::vector<unsigned char> encode(const Image& image) const;
@@ -124,6 +139,7 @@ class SrgbEncoder {
   static const Tables& tables();
 
   float scale_;
+  ToneCurve tone_;
   const Tables& tables_;
 };
 

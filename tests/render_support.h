@@ -38,7 +38,7 @@ inline LoadedTransport precomputeInMemory(const Scene& scene, const PrecomputeOp
 /// A floor of `material` through the origin, seen from straight above (+Y),
 /// filling a size x size image.
 inline Scene floorScene(int size, const Material& material) {
-  Scene s{"floor", {}, {}, {}, {}};
+  Scene s{"floor", {}, {}, {}, {}, {}};
   s.camera.eye = {0, 5, 0};
   s.camera.target = {0, 0, 0};
   s.camera.up = {0, 0, -1};

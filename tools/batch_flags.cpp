@@ -18,18 +18,47 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                  "separated by spaces or ';'); every map and rotation is relit under each line");
   sub.add_option("--out", o.out, outHelp)->required();
   sub.add_option("--rotate", rotations, "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
-  sub.add_option("--format", o.format, "exr, png or both (default: from --out, exr in batch)");
+  sub.add_option("--format", o.format,
+                 "exr, png (8-bit), png16, npy, a comma-separated list of them, or both (exr,png); "
+                 "default: from --out, exr in a batch");
+  sub.add_option("--tone", tone,
+                 "PNG tone curve: clamp (default) or aces (Narkowicz's ACES filmic fit)");
   sub.add_option("--exr-compression", exrCompression,
                  "EXR codec: none, rle, zips, zip or piz (default: zips for one image, " +
                      std::string(kExrCompressionNames.name(kBatchExrCompression)) +
                      " for a batch)");
   sub.add_option("--png-level", o.pngLevel, "PNG deflate level, 0 (fastest) to 9")
       ->capture_default_str();
+  envSample =
+      sub.add_option("--env-sample", o.sampling.count,
+                     "Draw K lightings (map, rotation, exposure) from the --env maps instead of "
+                     "every map x rotation: frames sample_NNNNN, the same for the same --seed");
+  sub.add_option("--seed", o.sampling.seed, "Seed of the lighting draws (--env-sample)")
+      ->capture_default_str();
+  sub.add_option("--sample-rotation", sampleRotation,
+                 "Drawn rotations: yaw (level horizon, default) or sphere (uniform over all "
+                 "rotations)");
+  sub.add_option("--exposure-jitter", o.sampling.exposureJitter,
+                 "Drawn exposure offsets: uniform in +-STOPS (--env-sample)");
+  sub.add_option("--aov", aovs,
+                 "Per-pixel labels: " + kAovNames.list() +
+                     " (comma-separated), or the presets all, intrinsic, geometry; the view's "
+                     "are written once (labels.exr), shading per frame (docs/datasets.md)");
+  sub.add_flag("--lighting-exr", o.lightingImages,
+               "Write each frame's lattice lighting beside it, FRAME_lighting.exr (lat-long, "
+               "8R x 4R, before exposure)");
+  sub.add_option("--label-format", labelFormat, "Labels as exr (float), npy or both (default exr)");
   nameParameters(sub, {{"--env", {"environment"}},
                        {"--rotate", {"rotation"}},
                        {"--format", {"image format"}},
                        {"--exr-compression", {"EXR compression"}},
                        {"--png-level", {"PNG level"}},
+                       {"--aov", {"AOV"}},
+                       {"--tone", {"tone curve"}},
+                       {"--env-sample", {"environment samples"}},
+                       {"--sample-rotation", {"sampled rotation"}},
+                       {"--exposure-jitter", {"exposure jitter"}},
+                       {"--label-format", {"label format"}},
                        {"--out", {"output path"}}});
 }
 
@@ -37,8 +66,13 @@ void BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) cons
   o.rotations = parseRotationSpecs(rotations);
   o.envs = expandEnvironmentSpecs(envs);
   if (!exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(exrCompression);
+  o.aovs = parseAovList(aovs);
+  if (!tone.empty()) o.tone = kToneCurveNames.parse(tone);
+  if (!sampleRotation.empty()) o.sampling.rotation = kSampledRotationNames.parse(sampleRotation);
+  if (envSample->count() > 0) validateLightingSampling(o.sampling);
+  if (!labelFormat.empty()) o.labelFormat = kLabelFormatNames.parse(labelFormat);
   validateBatchRelight(o);
-  std::vector<std::string> inputs = joined(o.envs, {o.input});
+  std::vector<std::string> inputs = joined(o.envs, o.viewInputs());
   if (!o.lightPath.empty()) inputs.push_back(o.lightPath);
   refuseOutputsOverInputs(inputs, {jsonPath});
 }

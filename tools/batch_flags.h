@@ -1,7 +1,7 @@
 #pragma once
 // The flags `relight` and `bench batch` share: which frames (--env, --rotate),
-// where and how they are written (--out, --format, the codecs), bound to
-// BatchRelightOptions.
+// where and how they are written (--out, --format, the codecs, the labels),
+// bound to BatchRelightOptions.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
@@ -12,7 +12,8 @@ namespace acpca::cli {
 
 struct BatchFlags {
   std::vector<std::string> envs, rotations;
-  std::string exrCompression;
+  std::string exrCompression, aovs, labelFormat, sampleRotation, tone;
+  CLI::Option* envSample = nullptr;  ///< given at all: 0 is refused, not taken as none
 
   /// Declares the flags on `command`, bound to `options` (and this).
   void add(CLI::App& command, BatchRelightOptions& options, const std::string& outHelp);

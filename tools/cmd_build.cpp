@@ -6,6 +6,7 @@
 #include "eval/error_measures.h"
 #include "pipeline/streamed_build.h"
 #include "precompute/sampling_advice.h"
+#include "precompute/scene_views.h"
 #include "relight/environment.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -24,6 +25,32 @@ struct BuildArgs {
   std::vector<std::string> envs;
 };
 
+/// One view built into `out`; its report.
+nlohmann::json buildView(const BuildArgs& a, const Scene& scene, const std::string& out,
+                         BuildOptions o) {
+  // Under mpirun every rank renders tiles; rank 0 writes and reports, every
+  // rank logs the tiles it starts.
+  const bool lead = ranks::rank() == 0;
+  Progress progress("build " + scene.name, "rows", a.common.quiet || !lead);
+  o.progress = [&](long long done, long long total) { progress.update(done, total); };
+  o.log = stderrLog("build", a.common.quiet);
+  o.beforeTile = faultInjection("ACPCA_FAULT_TILE", "tile");
+  const BuildStats s = buildStreamed(scene, out, o);
+  progress.finish();
+  if (!lead) return nullptr;
+  for (const auto& [name, error] : s.imageErrors)
+    if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
+  if (!o.groundTruthDir.empty() && !a.common.quiet)
+    std::cerr << "ground-truth images (dense relight, EXR) in " << o.groundTruthDir << "\n";
+  if (!a.common.quiet)
+    std::cerr << "wrote " << out << ": " << methodName(o.compress.method) << ", "
+              << describeInWords(s) << "\n";
+  nlohmann::json report = sceneReport(out, scene);
+  report["method"] = methodName(o.compress.method);
+  report.update(toJson(s));
+  return report;
+}
+
 void run(const BuildArgs& a) {
   // Reject bad options before any work.
   BuildOptions o = a.options;
@@ -34,31 +61,19 @@ void run(const BuildArgs& a) {
                                                               : expandEnvironmentSpecs(a.envs);
   const Scene scene = a.render.loadScene();
   refuseOutputsOverInputs(scene.files, {a.common.jsonPath});
+  refuseBlindViews(scene);
   if (ranks::rank() == 0)
     for (const auto& w : samplingWarnings(scene, o.render)) std::cerr << "warning: " << w << "\n";
 
   ThreadLimit limit(a.common.threads);
-  // Under mpirun every rank renders tiles; rank 0 writes and reports, every
-  // rank logs the tiles it starts.
-  const bool lead = ranks::rank() == 0;
-  Progress progress("build " + scene.name, "rows", a.common.quiet || !lead);
-  o.progress = [&](long long done, long long total) { progress.update(done, total); };
-  o.log = stderrLog("build", a.common.quiet);
-  o.beforeTile = faultInjection("ACPCA_FAULT_TILE", "tile");
-  const BuildStats s = buildStreamed(scene, a.out, o);
-  progress.finish();
-  if (!lead) return;
-  for (const auto& [name, error] : s.imageErrors)
-    if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
-  if (!o.groundTruthDir.empty() && !a.common.quiet)
-    std::cerr << "ground-truth images (dense relight, EXR) in " << o.groundTruthDir << "\n";
-  if (!a.common.quiet)
-    std::cerr << "wrote " << a.out << ": " << methodName(o.compress.method) << ", "
-              << describeInWords(s) << "\n";
-  nlohmann::json report = sceneReport(a.out, scene);
-  report["method"] = methodName(o.compress.method);
-  report.update(toJson(s));
-  writeJson(a.common.jsonPath, report);
+  // Several views: a model each (STEM_vNN.EXT).
+  const size_t views = scene.viewCount();
+  nlohmann::json reports = nlohmann::json::array();
+  for (size_t k = 0; k < views; ++k)
+    reports.push_back(
+        buildView(a, scene.view(k), viewOutputPath(a.out, k, views), o.forView(k, views)));
+  if (ranks::rank() != 0) return;
+  writeJson(a.common.jsonPath, views == 1 ? reports[0] : nlohmann::json{{"views", reports}});
 }
 
 }  // namespace
@@ -69,7 +84,9 @@ void registerBuild(CLI::App& app) {
       "build",
       "Render and compress a scene tile by tile into a model, with no transport file on disk");
   args->render.add(*sub);
-  sub->add_option("--out", args->out, "Model file to write (HDF5)")->required();
+  sub->add_option("--out", args->out,
+                  "Model file to write (HDF5); a scene of several views writes STEM_vNN.h5")
+      ->required();
   args->compress.add(*sub, true);
   sub->add_flag("--resume", args->options.resume,
                 "Continue an interrupted build of the same scene and settings from its finished "

@@ -19,11 +19,14 @@ struct RelightArgs {
   std::string background = "env";
   BatchFlags batch;
   BatchRelightOptions options;
+  std::vector<std::string> views;  ///< the input files: one, or a file per view
 };
 
 void run(RelightArgs& a) {
   // Everything cheap is checked before any work.
   BatchRelightOptions& o = a.options;
+  o.input = a.views.front();
+  o.moreViews.assign(a.views.begin() + 1, a.views.end());
   o.background = parseBackground(a.background);
   a.batch.apply(o, a.common.jsonPath);
 
@@ -51,7 +54,9 @@ void registerRelight(CLI::App& app) {
   auto args = std::make_shared<RelightArgs>();
   auto* sub = app.add_subcommand(
       "relight", "Relight a model, or a transport file (dense ground truth), under lightings");
-  sub->add_option("input", args->options.input, "Model (M_FILE) or transport file (T_FILE)")
+  sub->add_option("input", args->views,
+                  "Model (M_FILE) or transport file (T_FILE); several: the views of one scene "
+                  "(STEM_v00.h5 STEM_v01.h5 ...), each relit under every lighting")
       ->required();
   args->batch.add(*sub, args->options, "Output image, or directory for several");
   sub->add_option("--exposure", args->options.exposure, "Exposure in stops applied to the outputs");

@@ -52,8 +52,16 @@ PrecomputeOptions RenderFlags::options(int threads) const {
 
 Scene RenderFlags::loadScene() const {
   Scene s = acpca::loadScene(scene);
-  if (!size.empty()) s.camera.size = parseImageSize(size, "--size");
-  applyCameraSpec(s, camera);
+  // --size and --camera apply to every view.
+  std::vector<Camera> views = s.views.empty() ? std::vector<Camera>{s.camera} : s.views;
+  for (Camera& view : views) {
+    s.camera = view;
+    if (!size.empty()) s.camera.size = parseImageSize(size, "--size");
+    applyCameraSpec(s, camera);
+    view = s.camera;
+  }
+  s.camera = views[0];
+  if (!s.views.empty()) s.views = views;
   s.validate();
   return s;
 }

@@ -1,8 +1,10 @@
 #include "transport/image_header.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "transport/cube_lattice.h"
 #include "transport/hdf5_handles.h"
 
@@ -20,9 +22,26 @@ Vec3 readVec3(hid_t f, const char* name, const std::string& ctx) {
   return {v[0], v[1], v[2]};
 }
 
+/// Object names as one attribute, a line each (a line break inside a name
+/// becomes a space).
+std::string joinedNames(const std::vector<std::string>& names) {
+  std::string joined;
+  for (size_t i = 0; i < names.size(); ++i) {
+    std::string name = names[i];
+    std::replace(name.begin(), name.end(), '\n', ' ');
+    joined += (i ? "\n" : "") + name;
+  }
+  return joined;
+}
+
+/// The names of joinedNames' text (one empty name for empty text).
+std::vector<std::string> splitNames(const std::string& joined) {
+  return joined.empty() ? std::vector<std::string>{""} : splitText(joined, '\n');
+}
+
 }  // namespace
 
-void writeImageHeader(hid_t f, const TransportHeader& h, bool withNormals, const std::string& ctx) {
+void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx) {
   h5::writeAttribute(f, "width", static_cast<long long>(h.camera.size.width), ctx);
   h5::writeAttribute(f, "height", static_cast<long long>(h.camera.size.height), ctx);
   h5::writeAttribute(f, "cubemap", static_cast<long long>(h.cubemapResolution), ctx);
@@ -38,11 +57,15 @@ void writeImageHeader(hid_t f, const TransportHeader& h, bool withNormals, const
   h5::writeDataset(f, "pixels", {n}, h.pixels.data(), ctx);
   h5::writeDataset(f, "albedo", {n, 3}, h.albedo.data(), ctx);
   h5::writeDataset(f, "coverage", {n}, h.coverage.data(), ctx);
-  if (withNormals) h5::writeDataset(f, "normal", {n, 3}, h.normals.data(), ctx);
+  if (!h.normals.empty() || n == 0) h5::writeDataset(f, "normal", {n, 3}, h.normals.data(), ctx);
   if (!h.positions.empty()) h5::writeDataset(f, "position", {n, 3}, h.positions.data(), ctx);
+  if (!h.objects.empty() || !h.objectNames.empty()) {
+    h5::writeDataset(f, "object", {n}, h.objects.data(), ctx);
+    h5::writeAttribute(f, "object_names", joinedNames(h.objectNames), ctx);
+  }
 }
 
-TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ctx) {
+TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string& ctx) {
   TransportHeader h;
   const long long width = h5::readIntAttribute(f, "width", ctx);
   const long long height = h5::readIntAttribute(f, "height", ctx);
@@ -77,17 +100,29 @@ TransportHeader readImageHeader(hid_t f, bool withNormals, const std::string& ct
   expectShape("pixels", {un});
   expectShape("albedo", {un, 3});
   expectShape("coverage", {un});
+  const bool withNormals = requireNormals || h5::hasDataset(f, "normal");
   if (withNormals) expectShape("normal", {un, 3});
   const bool withPositions = h5::hasDataset(f, "position");
   if (withPositions) expectShape("position", {un, 3});
+  const bool withObjects = h5::hasDataset(f, "object");
+  if (withObjects) expectShape("object", {un});
   h.pixels.resize(n);
   h.albedo.resize(3 * n);
   h.coverage.resize(n);
-  h.normals.assign(3 * n, 0.0f);
   h5::readDataset(f, "pixels", h.pixels.data(), ctx);
   h5::readDataset(f, "albedo", h.albedo.data(), ctx);
   h5::readDataset(f, "coverage", h.coverage.data(), ctx);
-  if (withNormals) h5::readDataset(f, "normal", h.normals.data(), ctx);
+  if (withNormals) {
+    h.normals.resize(3 * n);
+    h5::readDataset(f, "normal", h.normals.data(), ctx);
+    for (float x : h.normals)
+      if (!std::isfinite(x)) throw UserError(concat(ctx, ": dataset 'normal' is not finite"));
+  }
+  if (withObjects) {
+    h.objects.resize(n);
+    h5::readDataset(f, "object", h.objects.data(), ctx);
+    h.objectNames = splitNames(h5::readStringAttribute(f, "object_names", ctx));
+  }
   if (withPositions) {
     h.positions.resize(3 * n);
     h5::readDataset(f, "position", h.positions.data(), ctx);

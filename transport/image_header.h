@@ -11,17 +11,17 @@
 
 namespace acpca {
 
-/// Writes the shared attributes and per-pixel datasets; `withNormals` adds the
-/// "normal" dataset (transport files); "position" is written when the header
-/// holds positions (both kinds, from transport version 2 and model version 4).
-void writeImageHeader(hid_t file, const TransportHeader& header, bool withNormals,
-                      const std::string& context);
+/// Writes the shared attributes and per-pixel datasets; "normal", "position"
+/// and "object" (with the attribute "object_names") are written when the
+/// header holds them (transport version 3 and model version 5 hold all three).
+void writeImageHeader(hid_t file, const TransportHeader& header, const std::string& context);
 
 /// Reads what writeImageHeader wrote, checking every size against the image
-/// before allocating; without normals they are set to zero, and positions are
-/// left empty when the file has none (older files). Leaves the
-/// transport-only fields (samples, texel rays, precision) at their defaults.
-/// Throws UserError naming `context` (the file) and the field.
-TransportHeader readImageHeader(hid_t file, bool withNormals, const std::string& context);
+/// before allocating. Normals, positions and objects are left empty when the
+/// file has none (older files); `requireNormals` (transports) refuses a file
+/// without normals. Leaves the transport-only fields (samples, texel rays,
+/// precision) at their defaults. Throws UserError naming `context` (the file)
+/// and the field.
+TransportHeader readImageHeader(hid_t file, bool requireNormals, const std::string& context);
 
 }  // namespace acpca

@@ -37,9 +37,14 @@ void TransportHeader::validate(const std::string& context) const {
                            camera.size.height, " image"));
   if (static_cast<long long>(albedo.size()) != 3 * n ||
       static_cast<long long>(coverage.size()) != n ||
-      static_cast<long long>(normals.size()) != 3 * n ||
-      (!positions.empty() && static_cast<long long>(positions.size()) != 3 * n))
+      (!normals.empty() && static_cast<long long>(normals.size()) != 3 * n) ||
+      (!positions.empty() && static_cast<long long>(positions.size()) != 3 * n) ||
+      (!objects.empty() && static_cast<long long>(objects.size()) != n))
     throw UserError(concat(context, ": per-pixel arrays do not match the ", n, " rows"));
+  for (std::int32_t id : objects)
+    if (id < 0 || id >= static_cast<long long>(objectNames.size()))
+      throw UserError(concat(context, ": object id ", id, " is not one of the ", objectNames.size(),
+                             " objects"));
   for (float x : positions)
     if (!std::isfinite(x)) throw UserError(concat(context, ": pixel positions must be finite"));
   for (long long i = 0; i < n; ++i) {
@@ -68,6 +73,7 @@ hsize_t rowsPerChunk(int rowLength, Precision p) {
 TransportWriter::TransportWriter(const std::string& path, const TransportHeader& header)
     : output_(path), header_(header) {
   header_.validate(path);
+  ACPCA_CHECK(header_.hasNormals(), "a transport keeps every row's normal");
   const std::string& ctx = path;
   file_ = h5::createFile(output_.tempPath(), path);
   const hid_t f = file_.get();
@@ -83,7 +89,7 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
     h5::writeAttribute(f, "indirect_samples", static_cast<long long>(header.indirectSamples), ctx);
     h5::writeAttribute(f, "indirect_cache_cell", header.indirectCacheCell, ctx);
   }
-  writeImageHeader(f, header, true, ctx);
+  writeImageHeader(f, header, ctx);
   const hsize_t n = header.rows();
 
   // The lattice itself, so that readers (h5py) need not re-derive it:

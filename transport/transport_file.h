@@ -21,8 +21,10 @@ Precision parsePrecision(const std::string& text);  // "f16" | "f32"
 const char* precisionName(Precision p);
 
 inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
-/// Version 2 added the per-pixel `position`; version 1 files are read without it.
-inline constexpr int kTransportVersion = 2;
+/// Version 2 added the per-pixel `position`, version 3 the per-pixel `object`
+/// and the scene's object names (docs/formats.md); earlier files are read
+/// without them.
+inline constexpr int kTransportVersion = 3;
 inline constexpr int kOldestTransportVersion = 1;
 
 /// Everything about a transport except its rows.
@@ -51,8 +53,15 @@ struct TransportHeader {
   /// 3 per row: the world point the first hit sample's shadow rays start from
   /// (local lights are seen from there); empty in files made before version 2.
   std::vector<float> positions;
+  /// 1 per row: which of objectNames the first hit sample met; empty in
+  /// files made before transport version 3 and model version 5.
+  std::vector<std::int32_t> objects;
+  std::vector<std::string> objectNames;  ///< the scene's objects, in id order
 
   bool hasPositions() const { return rows() == 0 || !positions.empty(); }
+  /// Models made before version 5 hold no normals (transports always do).
+  bool hasNormals() const { return rows() == 0 || !normals.empty(); }
+  bool hasObjects() const { return rows() == 0 || !objects.empty(); }
 
   long long rows() const { return static_cast<long long>(pixels.size()); }
   int latticeSize() const { return 6 * cubemapResolution * cubemapResolution; }

@@ -1,7 +1,8 @@
 """Reads a batch the CLI wrote (`adaptive-cpca relight ... --out DIR`) into
-numpy batches: images as (N, H, W, 3) float32 and each frame's labels from
-DIR/manifest.jsonl (docs/formats.md, "Batch manifest"). numpy, json and the
-module only: no deep-learning framework.
+numpy batches: images as (N, H, W, 3) float32, each frame's labels from
+DIR/manifest.jsonl (docs/formats.md, "Batch manifest") and, for a batch made
+with --aov, its shading and the view's per-pixel labels (docs/datasets.md).
+numpy, json and the module only: no deep-learning framework.
 
   PYTHONPATH=build/python /usr/bin/python3 python/examples/load_dataset.py DIR --batch 8
 """
@@ -21,20 +22,49 @@ def read_manifest(directory):
         return [json.loads(line) for line in f if line.strip()]
 
 
-def frame_image(frame, directory):
-    """The frame's first EXR as (H, W, 3) float32 linear RGB. Output paths are
-    as the batch wrote them; where one does not resolve from here, the file of
-    that name in the directory is read, so a dataset can be read from anywhere."""
-    path = next(p for p in frame["outputs"] if p.endswith(".exr"))
-    if not os.path.exists(path):
-        path = os.path.join(directory, os.path.basename(path))
-    return ac.read_image(path)[..., :3]
+def resolved(path, directory):
+    """A path as the batch wrote it; where it does not resolve from here, the
+    file of that name in the directory, so a dataset can be read from anywhere."""
+    return path if os.path.exists(path) else os.path.join(directory, os.path.basename(path))
+
+
+def frame_image(frame, directory, key="outputs"):
+    """The frame's first EXR (or, for shading, .npy) as (H, W, 3) float32 linear RGB."""
+    path = resolved(next(p for p in frame[key] if p.endswith((".exr", ".npy"))), directory)
+    return (np.load(path) if path.endswith(".npy") else ac.read_image(path))[..., :3]
+
+
+def view_labels(frame, directory):
+    """The per-pixel labels of the frame's view by AOV name (albedo, normal,
+    depth, position, mask, object): from the .npy files where the batch wrote
+    them, else from labels.exr's channels. Empty for a batch without --aov."""
+    paths = [resolved(p, directory) for p in frame.get("labels", [])]
+    npys = [p for p in paths if p.endswith(".npy")]
+    if npys:  # labels_AOV.npy
+        return {os.path.basename(p)[:-4].split("_")[-1]: np.load(p) for p in npys}
+    if not paths:
+        return {}
+    # labels.exr: channels grouped by layer, each AOV's in the order written.
+    image = ac.read_image(paths[0])
+    channels = {"albedo": ["albedo.R", "albedo.G", "albedo.B"], "normal": ["N.X", "N.Y", "N.Z"],
+                "depth": ["Z"], "position": ["P.X", "P.Y", "P.Z"], "mask": ["A"],
+                "object": ["object"]}
+    names = ac.image_channel_names(paths[0])
+    labels = {}
+    for aov, wanted in channels.items():
+        if all(c in names for c in wanted):
+            value = image[..., [names.index(c) for c in wanted]]
+            labels[aov] = value[..., 0].astype(np.int32) if aov == "object" else (
+                value[..., 0] if len(wanted) == 1 else value)
+    return labels
 
 
 def batches(directory, batch_size, shuffle=False, seed=0):
     """Yields (images, labels): images (B, H, W, 3) float32; labels a dict of
-    arrays, `sh9` (B, 9, 3), `yaw`, `pitch`, `roll`, `exposure` (B,), and
-    lists `env`, `env_sha256`, `lights`, `frame`."""
+    arrays, `sh9` (B, 9, 3), `yaw`, `pitch`, `roll`, `exposure` (B,), with
+    --aov shading `shading` (B, H, W, 3), and lists `env`, `env_sha256`,
+    `lights`, `frame`, `sample` (None unless drawn). The view's per-pixel
+    labels: view_labels()."""
     frames = read_manifest(directory)
     order = np.arange(len(frames))
     if shuffle:
@@ -43,10 +73,13 @@ def batches(directory, batch_size, shuffle=False, seed=0):
         chosen = [frames[i] for i in order[start:start + batch_size]]
         images = np.stack([frame_image(f, directory) for f in chosen]).astype(np.float32)
         labels = {
+            **({"shading": np.stack([frame_image(f, directory, "shading") for f in chosen])}
+               if all(f.get("shading") for f in chosen) else {}),
             "sh9": np.array([f["sh9"] for f in chosen], dtype=np.float64),
             **{k: np.array([f[k] for f in chosen], dtype=np.float64)
                for k in ("yaw", "pitch", "roll", "exposure")},
-            **{k: [f.get(k) for f in chosen] for k in ("env", "env_sha256", "lights", "frame")},
+            **{k: [f.get(k) for f in chosen]
+               for k in ("env", "env_sha256", "lights", "frame", "sample")},
         }
         yield images, labels
 

@@ -269,12 +269,24 @@ def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path,
     h5py = pytest.importorskip("h5py")
     current = ac.Relighter(model).relight(ac.Environment("sky"))
     with h5py.File(model, "r") as f:
-        assert f.attrs["version"] == 4
-        assert f["position"].shape == f["albedo"].shape
+        assert f.attrs["version"] == 5
+        assert f["position"].shape == f["albedo"].shape == f["normal"].shape
+        assert f["object"].shape == f["coverage"].shape
         assert "compress_seconds" not in f.attrs and "peak_memory_bytes" not in f.attrs
-    # Version 3 had no pixel positions: read, and relit as before.
-    old = tmp_path / "v3.h5"
+    # Version 4 had no normals or objects: read and relit as before, and the
+    # labels that need them are refused naming what to run again.
+    old = tmp_path / "v4.h5"
     old.write_bytes(open(model, "rb").read())
+    with h5py.File(old, "r+") as f:
+        f.attrs["version"] = 4
+        del f["normal"], f["object"]
+        del f.attrs["object_names"]
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert set(ac.Relighter(str(old)).labels("albedo,depth,mask")) == {"albedo", "depth", "mask"}
+    for aov in ("normal", "object"):
+        with pytest.raises(ac.Error, match=f"'{aov}' label.*compress"):
+            ac.Relighter(str(old)).labels(aov)
+    # Version 3 had no pixel positions either.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 3
         del f["position"]
@@ -453,6 +465,23 @@ def test_the_loader_example_reads_a_cli_batch_into_numpy_batches(tmp_path, model
     assert np.allclose(sh9[3:, 0], 2 * np.sqrt(np.pi), rtol=1e-12)
     assert np.allclose(sh9[3:, 1:], 0, atol=1e-12)
     assert [labels["yaw"].tolist() for _, labels in got] == [[0, 120, 240, 0], [120, 240]]
+    assert load_dataset.view_labels(frames[0], str(out)) == {}
+    assert "shading" not in got[0][1]
+    # With --aov: the shading beside each frame, and the view's labels from
+    # labels.exr or the .npy files alike.
+    for label_format in ("exr", "npy"):
+        labelled = tmp_path / label_format
+        cli("relight", model, "--env", "sky", "--rotate", "0:360:180", "--background", "black",
+            "--aov", "all", "--label-format", label_format, "--out", str(labelled))
+        lines = load_dataset.read_manifest(str(labelled))
+        (images, labels), = load_dataset.batches(str(labelled), 4)
+        assert labels["shading"].shape == (2, 40, 40, 3)
+        view = load_dataset.view_labels(lines[0], str(labelled))
+        expected = ac.Relighter(model).labels()
+        assert view.keys() == expected.keys()
+        for name in view:
+            assert view[name].dtype == expected[name].dtype, name
+            assert np.array_equal(view[name], expected[name]), name
     # Shuffled: the same frames in another order, the same for the same seed.
     shuffled = [labels["frame"] for _, labels in load_dataset.batches(str(out), 6, True, 3)]
     assert sorted(shuffled[0]) == list(range(6)) and shuffled[0] != list(range(6))
@@ -470,3 +499,88 @@ def test_a_lighting_made_once_relights_as_the_environment_does(model):
     assert np.allclose(r.lighting(ac.Environment("constant:1")).energy, 4 * np.pi, rtol=1e-9)
     other = ac.Relighter(TRANSPORT)  # the same 6x8x8 lattice: accepted
     assert other.relight(light).shape == (40, 40, 3)
+
+
+def test_labels_are_the_clis_files_and_the_files_own_pixels(tmp_path, model):
+    h5py = pytest.importorskip("h5py")
+    out = tmp_path / "ds"
+    cli("relight", model, "--env", "sky", "--rotate", "0", "--rotate", "40", "--background",
+        "black", "--exr-float", "--aov", "all", "--label-format", "both", "--out", str(out))
+    r = ac.Relighter(model)
+    labels = r.labels()
+    assert list(labels) == ["albedo", "normal", "depth", "position", "mask", "object"]
+    for name, array in labels.items():
+        on_disk = np.load(out / f"labels_{name}.npy")
+        assert on_disk.dtype == array.dtype and np.array_equal(on_disk, array), name
+    assert labels["object"].dtype == np.int32
+    # The same numbers in the EXR, channel by channel (float: exact).
+    exr = ac.read_image(str(out / "labels.exr"))
+    assert exr.shape == (40, 40, 12)
+    # Against the model file itself, read by h5py.
+    with h5py.File(model, "r") as f:
+        pixels = f["pixels"][:]
+        coverage, albedo = f["coverage"][:], f["albedo"][:]
+        raw = f.attrs["object_names"]  # a fixed-length string: bytes in h5py
+        names = (raw.decode() if isinstance(raw, bytes) else raw).split("\n")
+        ys, xs = np.divmod(pixels, 40)
+        assert np.array_equal(labels["mask"][ys, xs], coverage)
+        assert np.array_equal(labels["albedo"][ys, xs], albedo * coverage[:, None])
+        assert np.array_equal(labels["normal"][ys, xs], f["normal"][:])
+        assert np.array_equal(labels["object"][ys, xs], f["object"][:])
+    assert r.object_names == names and "ground" in names
+    background = np.ones((40, 40), bool)
+    background[ys, xs] = False
+    assert (labels["object"][background] == -1).all() and (labels["mask"][background] == 0).all()
+    n = labels["normal"][ys, xs]
+    assert np.allclose(np.linalg.norm(n, axis=1), 1, atol=1e-5)
+    # Shading: the CLI's files, and shading x albedo is the frame.
+    lines = [json.loads(line) for line in open(out / "manifest.jsonl")]
+    assert [len(line["shading"]) for line in lines] == [2, 2]
+    for line, yaw in zip(lines, (0, 40)):
+        frame = r.relight(ac.Environment("sky"), yaw=yaw, background="black")
+        shading = r.shading(frame)
+        assert np.array_equal(shading, np.load(line["shading"][1]))
+        assert np.array_equal(frame, ac.read_image(line["outputs"][0]))
+        assert np.allclose(shading * labels["albedo"], frame, rtol=1e-6, atol=0)
+        assert str(out / "labels.exr") in line["labels"]
+
+
+def test_drawn_lightings_are_the_clis_and_relight_to_its_frames(tmp_path, model):
+    maps = ["sky", "sun:50,30,4,1000", "constant:1"]
+    out = tmp_path / "sampled"
+    cli("relight", model, *[a for m in maps for a in ("--env", m)], "--env-sample", "5",
+        "--seed", "99", "--sample-rotation", "sphere", "--exposure-jitter", "0.5",
+        "--exposure", "1", "--exr-float", "--out", str(out))
+    lines = [json.loads(line) for line in open(out / "manifest.jsonl")]
+    draws = ac.draw_lightings(len(maps), 5, seed=99, rotation="sphere", exposure_jitter=0.5)
+    assert len(draws) == len(lines) == 5
+    r = ac.Relighter(model)
+    for (index, yaw, pitch, roll, offset), line in zip(draws, lines):
+        assert line["env"] == maps[index] and line["sample"] == lines.index(line)
+        assert (line["yaw"], line["pitch"], line["roll"]) == (yaw, pitch, roll)
+        assert line["exposure"] == 1 + offset and abs(offset) <= 0.5
+        image = r.relight(ac.Environment(maps[index]), yaw=yaw, pitch=pitch, roll=roll,
+                          exposure=1 + offset)
+        assert np.array_equal(image, ac.read_image(line["outputs"][0]))
+    assert ac.draw_lightings(3, 5, seed=100) != ac.draw_lightings(3, 5, seed=99)
+    with pytest.raises(ac.Error, match="environment samples"):
+        ac.draw_lightings(3, 0)
+
+
+def test_a_scene_of_several_views_is_precomputed_one_view_per_call(tmp_path):
+    scene = tmp_path / "orbit.json"
+    scene.write_text("""{"cameras": {"orbit": {"target": [0, 0.5, 0], "radius": 5,
+        "elevation_deg": 20, "count": 2, "fov": 30, "width": 16, "height": 12}},
+        "objects": [{"shape": "sphere", "center": [0, 0.6, 0], "radius": 0.6,
+                     "material": {"type": "diffuse", "albedo": [0.7, 0.3, 0.2]}}]}""")
+    cli("precompute", "--scene", str(scene), "--cubemap", "4", "--spp", "1",
+        "--out", str(tmp_path / "t.h5"))
+    with pytest.raises(ac.Error, match="2 views: give view=0..1"):
+        ac.precompute(str(scene), str(tmp_path / "p.h5"), cubemap=4, spp=1)
+    with pytest.raises(ac.Error, match="view '2'"):
+        ac.precompute(str(scene), str(tmp_path / "p.h5"), cubemap=4, spp=1, view=2)
+    ac.precompute(str(scene), str(tmp_path / "p.h5"), cubemap=4, spp=1, view=1)
+    mine, theirs = ac.Relighter(str(tmp_path / "p.h5")), ac.Relighter(str(tmp_path / "t_v01.h5"))
+    assert mine.info["camera"] == theirs.info["camera"]
+    sky = ac.Environment("sky")
+    assert np.array_equal(mine.relight(sky), theirs.relight(sky))

@@ -8,6 +8,8 @@ Run by scripts/cycles/compare.sh inside Blender:
       --scene S.json --width W --height H --env lattice.exr --ours ours.exr \
       --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV] \
       [--light SPEC ...] [--closed-form]
+or, for scripts/cycles/labels.sh, with --passes instead of --ours: the Normal,
+Depth and DiffCol passes into --out as a multilayer EXR.
 
 The fairness rules of the fair-comparison rules of docs/design.md section 7: the same
 geometry (our Y-up world is Blender's (x, -z, y)), a pinhole camera with our
@@ -53,12 +55,15 @@ def parse_args():
     p.add_argument("--closed-form", action="store_true",
                    help="also compare Cycles with the closed form of a sphere light over "
                         "the scene's one plane (diffuse, the light above its horizon)")
-    p.add_argument("--ours", required=True, help="our dense relight, black background, EXR")
+    p.add_argument("--ours", help="our dense relight, black background, EXR")
     p.add_argument("--out", required=True)
     p.add_argument("--samples", type=int, default=512)
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--bounces", type=int, default=0, help="indirect bounces (ours: --bounces)")
     p.add_argument("--json", help="write the comparison here")
+    p.add_argument("--passes", action="store_true",
+                   help="write --out as a multilayer EXR with the Normal, Depth and DiffCol "
+                        "passes (labels.sh compares them with our labels); no comparison")
     return p.parse_args(argv)
 
 
@@ -524,6 +529,12 @@ def main():
         print("object", o.name, o.type, [s.material.name for s in o.material_slots if s.material],
               tuple(round(v, 4) for v in o.dimensions))
     bpy.context.scene.render.filepath = os.path.abspath(a.out)
+    if a.passes:  # the label passes beside Combined, one multilayer file
+        layer = bpy.context.view_layer
+        layer.use_pass_normal = layer.use_pass_z = layer.use_pass_diffuse_color = True
+        bpy.context.scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+        bpy.ops.render.render(write_still=True)
+        return
     bpy.ops.render.render(write_still=True)
     result = compare(os.path.abspath(a.ours), os.path.abspath(a.out), a.width, a.height)
     result.update({"scene": a.scene, "samples": a.samples, "seed": a.seed, "lights": a.light})

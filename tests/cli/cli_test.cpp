@@ -5,10 +5,13 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -96,6 +99,35 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
   ASSERT_TRUE(std::getline(lines, first) && std::getline(lines, second));
   EXPECT_EQ(nlohmann::json::parse(first)["env_sha256"], sum.output.substr(0, 64));
   EXPECT_TRUE(nlohmann::json::parse(second)["env_sha256"].is_null()) << second;
+
+  // Every format of one frame holds its values: float EXR and .npy alike,
+  // the 16-bit PNG their sRGB codes (ACES-mapped under --tone aces).
+  const RunResult formats = runCli("relight " + transport_ +
+                                   " --env sky --rotate 0:90:45 --exposure 1 --exr-float --format "
+                                   "exr,npy,png16 --tone aces --quiet --out " +
+                                   out.file("formats"));
+  ASSERT_EQ(formats.status, 0) << formats.output;
+  auto exr = OIIO::ImageInput::open(out.file("formats/sky_y45.exr"));
+  auto png = OIIO::ImageInput::open(out.file("formats/sky_y45.png"));
+  ASSERT_TRUE(exr && png);
+  std::vector<float> linear(20 * 16 * 3);
+  std::vector<std::uint16_t> codes(linear.size());
+  ASSERT_TRUE(exr->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, linear.data()));
+  ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT16, codes.data()));
+  std::ifstream npyFile(out.file("formats/sky_y45.npy"), std::ios::binary);
+  const std::string npy((std::istreambuf_iterator<char>(npyFile)),
+                        std::istreambuf_iterator<char>());
+  ASSERT_GE(npy.size(), linear.size() * 4);
+  std::vector<float> fromNpy(linear.size());
+  std::memcpy(fromNpy.data(), npy.data() + npy.size() - linear.size() * 4, linear.size() * 4);
+  EXPECT_EQ(fromNpy, linear);
+  for (size_t i = 0; i < linear.size(); ++i) {
+    const double v = linear[i];  // exposure applied
+    const double aces =
+        std::clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0);
+    const double srgb = aces <= 0.0031308 ? 12.92 * aces : 1.055 * std::pow(aces, 1 / 2.4) - 0.055;
+    ASSERT_NEAR(codes[i], 65535 * srgb, 0.51) << i;
+  }
 }
 
 TEST_F(Cli, ParameterErrorsNameTheFlagThatSetsThem) {
@@ -112,6 +144,14 @@ TEST_F(Cli, ParameterErrorsNameTheFlagThatSetsThem) {
            {"compress " + transport_ + " --method block --block -4" + t, "--block '-4'"},
            {"relight " + transport_ + " --env sky --rotate 0:0:5" + image, "--rotate '0:0:5'"},
            {"relight " + transport_ + " --env sun:1,2" + image, "--env 'sun:1,2'"},
+           {"relight " + transport_ + " --env sky --aov albedo,diffuse" + image, "--aov 'diffuse'"},
+           {"relight " + transport_ + " --env sky --aov all --label-format tiff" + image,
+            "--label-format 'tiff'"},
+           {"relight " + transport_ + " --env sky --format png,png16" + image,
+            "--format 'png,png16'"},
+           {"relight " + transport_ + " --env sky --tone reinhard" + image, "--tone 'reinhard'"},
+           {"relight " + transport_ + " --env sky --env-sample 0" + image, "--env-sample '0'"},
+           {"relight " + transport_ + " --env sky --env-sample 2 --seed x" + image, "--seed"},
            {"bench relight " + transport_ + " --frames 0", "--frames '0'"}}) {
     expectFailure(args, flag);
   }

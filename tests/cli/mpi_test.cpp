@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 
 #include "cluster/model_file.h"
@@ -221,6 +222,50 @@ TEST(Mpi, BatchRelightWritesTheSameImagesForAnyRankCount) {
       EXPECT_EQ(jsonLines, test::readFile(alone + "/manifest.jsonl"));
     }
   }
+}
+
+/// Every file of a batch's directory, by name: its bytes, with the directory's
+/// own path (which the manifests name) written as "OUT".
+std::map<std::string, std::string> datasetFiles(const std::string& directory) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::directory_iterator(directory)) {
+    std::string bytes = test::readFile(entry.path().string());
+    for (size_t at; (at = bytes.find(directory)) != std::string::npos;)
+      bytes.replace(at, directory.size(), "OUT");
+    files[entry.path().filename().string()] = bytes;
+  }
+  return files;
+}
+
+TEST(Mpi, ASampledDatasetIsTheSameBytesForAnyRankCountAndItsSeedAlone) {
+  TempDir dir;
+  ASSERT_EQ(runCli("precompute --scene plant --size 24x20 --cubemap 4 --spp 2 --quiet --out " +
+                   dir.file("t.h5"))
+                .status,
+            0);
+  ASSERT_EQ(runCli("compress " + dir.file("t.h5") + " --method adaptive-binary --quiet --out " +
+                   dir.file("m.h5"))
+                .status,
+            0);
+  const auto dataset = [&](const std::string& name, const std::string& seed, int ranks) {
+    const std::string out = dir.file(name);
+    const RunResult r = runCli("relight " + dir.file("m.h5") +
+                                   " --env sky --env sun:50,30,4,1000 --env constant:1 "
+                                   "--env-sample 7 --sample-rotation sphere --exposure-jitter 1 "
+                                   "--aov all --label-format both --quiet --seed " +
+                                   seed + " --out " + out,
+                               ranks > 1 ? mpirun(ranks) : "");
+    EXPECT_EQ(r.status, 0) << r.output;
+    return datasetFiles(out);
+  };
+  const auto alone = dataset("alone", "11", 1);
+  EXPECT_EQ(alone.size(), 7 * 3 + 7 + 3u);  // frames, shading .exr/.npy; labels; manifests, dataset
+  EXPECT_EQ(dataset("again", "11", 1), alone);
+  for (int ranks : {2, 3}) EXPECT_EQ(dataset("ranks" + std::to_string(ranks), "11", ranks), alone);
+  // Another seed: other draws, so other manifests.
+  const auto other = dataset("other", "12", 1);
+  EXPECT_NE(other.at("manifest.csv"), alone.at("manifest.csv"));
+  EXPECT_EQ(other.at("labels.exr"), alone.at("labels.exr"));  // the view is the same
 }
 
 TEST(Mpi, CommandsThatDoNotDealTheirWorkRefuseToRunOnSeveralRanks) {

@@ -98,6 +98,25 @@ TEST(OutputOverInput, ABatchDirectoryHoldingAnInputIsRefused) {
             0);
 }
 
+TEST(OutputOverInput, ABatchDirectoryOfAnotherDatasetIsRefusedAndItsOwnIsRemade) {
+  TempDir dir;
+  const std::string t = dir.file("t.h5");
+  ASSERT_EQ(runCli("precompute " + kSmall + " --out " + t).status, 0);
+  const std::string out = " --quiet --out " + dir.file("set");
+  const std::string batch = "relight " + t + " --env sky --env-sample 3 --seed 5 --aov mask";
+  ASSERT_EQ(runCli(batch + out).status, 0);
+  const std::string manifest = test::readFile(dir.file("set/manifest.jsonl"));
+  ASSERT_EQ(runCli(batch + out).status, 0) << "the same batch again";
+  EXPECT_EQ(test::readFile(dir.file("set/manifest.jsonl")), manifest);
+  // Another seed, other labels, other maps: each named, nothing written.
+  expectFailure("relight " + t + " --env sky --env-sample 3 --seed 6 --aov mask" + out,
+                "holds another dataset (sampling: ");
+  expectFailure(batch + ",albedo" + out, "holds another dataset (aovs: [\"mask\"] there");
+  expectFailure("relight " + t + " --env sky --rotate 0:90:45" + out, "holds another dataset");
+  EXPECT_EQ(test::readFile(dir.file("set/manifest.jsonl")), manifest);
+  EXPECT_FALSE(fs::exists(dir.file("set/sky_y45.exr")));
+}
+
 TEST(OutputOverInput, ASceneAndTheMeshItNamesAreInputsOfPrecomputeAndBuild) {
   TempDir dir;
   fs::copy_file(std::string(ACPCA_DATA_DIR) + "/meshes/icosahedron.obj", dir.file("ico.obj"));

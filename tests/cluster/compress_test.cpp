@@ -279,6 +279,11 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
   EXPECT_EQ(back.coeffF32, one.coeffF32);
   EXPECT_EQ(back.clusterRows, one.clusterRows);
   EXPECT_NEAR(back.totalCost(), one.totalCost(), 1e-9);
+  // Version 5 keeps what the labels need: each pixel's normal and object.
+  EXPECT_EQ(back.geometry.normals, one.geometry.normals);
+  EXPECT_EQ(back.geometry.objects, one.geometry.objects);
+  EXPECT_EQ(back.geometry.objectNames, one.geometry.objectNames);
+  EXPECT_TRUE(back.geometry.hasNormals() && back.geometry.hasObjects());
   EXPECT_THROW(readModel(path()), UserError);
 
   // Every stored value finite, but a basis value times a coefficient

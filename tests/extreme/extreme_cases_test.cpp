@@ -258,7 +258,7 @@ TEST(ExtremeData, ShadowedClustersGetRankZeroAndNoClusterOutranksItsRows) {
 /// A diffuse floor alone: every row is cos+ / pi of its texel, the same for
 /// every pixel: rank one.
 Scene floorScene(double viewFromNormalDegrees) {
-  Scene s{"floor", {}, {}, {}, {}};
+  Scene s{"floor", {}, {}, {}, {}, {}};
   s.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 40, {}, "floor"));
   const double a = viewFromNormalDegrees * M_PI / 180;
   s.camera.eye = {0, 6 * std::cos(a), 6 * std::sin(a)};

@@ -40,7 +40,7 @@ PrecomputeOptions bounceOptions(int bounces, double cacheCell, int cubemap = 16)
 /// The inside of a thin hemispherical shell of radius 1 opening upwards (rim
 /// at y = 1, bottom at y = 0), with its exact normals, seen from its axis.
 Scene shellScene(float albedo, int size) {
-  Scene s{"shell", {}, {}, {}, {}};
+  Scene s{"shell", {}, {}, {}, {}, {}};
   s.camera.eye = {0, 4.5, 0};
   s.camera.target = {0, 0, 0};
   s.camera.up = {0, 0, -1};
@@ -137,7 +137,7 @@ TEST(Interreflections, LightFromBelowTheRimNeverReachesInsideTheShell) {
 /// An open corner: a floor and a wall of albedo 1 meeting at a right angle.
 /// No point sees more than half of its cosine-weighted view taken by the other.
 Scene furnaceCorner(int size) {
-  Scene s{"corner", {}, {}, {}, {}};
+  Scene s{"corner", {}, {}, {}, {}, {}};
   s.camera.eye = {0, 1.6, 2.6};
   s.camera.target = {0, 0.5, -0.5};
   s.camera.fovDegrees = 40;
@@ -215,7 +215,7 @@ TEST(Interreflections, MoreBouncesNeverDarkenAnyValue) {
 
 TEST(Interreflections, BouncedLightCarriesTheColourItBouncedOff) {
   // A white sphere on a red floor: its lower half turns red under white light.
-  Scene scene{"bleed", {}, {}, {}, {}};
+  Scene scene{"bleed", {}, {}, {}, {}, {}};
   scene.camera.eye = {0, 1.2, 4};
   scene.camera.target = {0, 0.8, 0};
   scene.camera.fovDegrees = 30;

@@ -78,7 +78,7 @@ TEST(Precompute, CosineLawOnAnUnoccludedFloor) {
 
 /// Floor point right below a sphere of radius r at height h, seen from the side.
 Scene sphereOverFloor(double r, double h) {
-  Scene s{"occluded-floor", {}, {}, {}, {}};
+  Scene s{"occluded-floor", {}, {}, {}, {}, {}};
   s.camera.eye = {4, 0.4, 0};
   s.camera.target = {0, 0, 0};
   s.camera.fovDegrees = 20;
@@ -136,7 +136,7 @@ TEST(Precompute, StepCastsItsShadowWhereGeometrySaysUnderALowSun) {
 
 /// A sphere seen from above: its visible normals point every way horizontally.
 Scene sphereFromAbove() {
-  Scene s{"sphere-above", {}, {}, {}, {}};
+  Scene s{"sphere-above", {}, {}, {}, {}, {}};
   s.camera.eye = {0, 6, 0};
   s.camera.target = {0, 0, 0};
   s.camera.up = {0, 0, -1};

@@ -154,7 +154,7 @@ TEST(ShadingNormals, CreasesStaySharpAndFileModesParse) {
   sliver.triangles = {{0, 1, 2}, {0, 3, 1}};
   smoothNormals(sliver);
   for (const auto& n : sliver.normals) EXPECT_NEAR(n.norm(), 1, 1e-6);
-  EXPECT_NO_THROW(Scene({"s", {}, {sliver}, {}, {}}).validate());
+  EXPECT_NO_THROW(Scene({"s", {}, {sliver}, {}, {}, {}}).validate());
   EXPECT_THROW(kNormalModeNames.parse("phong"), ParameterError);
 }
 

@@ -167,7 +167,7 @@ TEST(AntiAliasing, CheckerEdgePixelsHoldTheFractionsOfTheSamplePattern) {
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c) rgb.push_back((x < w / 2) == (y < w / 2) ? 1.0f : 0.0f);
   const Vec3 centre(0.013, -0.021, 0);
-  Scene scene{"checker", frontCamera(size), {}, {}, {}};
+  Scene scene{"checker", frontCamera(size), {}, {}, {}, {}};
   scene.meshes.push_back(makeQuad(centre, {0, 0, 1}, 4, {}, "checker"));
   scene.meshes[0].material.albedo.setOnes();
   scene.meshes[0].albedoTexture = std::make_shared<const Texture>("checker", w, w, rgb);
@@ -206,7 +206,7 @@ TEST(AntiAliasing, CheckerEdgePixelsHoldTheFractionsOfTheSamplePattern) {
 /// lights the +X side and the wall shades the rest.
 Scene wallOnTextureEdge(int size, const Eigen::Vector3f& shaded, const Eigen::Vector3f& lit) {
   constexpr double edge = 0.017;
-  Scene scene{"wall", {}, {}, {}, {}};
+  Scene scene{"wall", {}, {}, {}, {}, {}};
   // Looking straight down at the edge: it halves the middle column of an odd
   // image, on the boundary of the reference's finer pixels too.
   scene.camera.eye = {edge, 3, 0};

@@ -129,7 +129,7 @@ TEST(SceneJson, MeshNormalsComeFromTheFileOrAreMadeSmoothOrFlat) {
 
 TEST(CameraFraming, TheSceneFillsTheViewFromAnyDirectionAndFloorsAreLeftOut) {
   // A sphere of radius 50 far from the origin, on a floor 1000 wide.
-  Scene scene{"framed", {}, {}, {}, {}};
+  Scene scene{"framed", {}, {}, {}, {}, {}};
   scene.spheres.push_back({{300, 50, -200}, 50, Material{}});
   scene.meshes.push_back(makeQuad({0, 0, 0}, {0, 1, 0}, 1000, Material{}, "floor"));
   scene.camera.size = {96, 64};
@@ -166,6 +166,62 @@ void expectError(const std::string& path, const std::string& needle) {
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
   }
+}
+
+TEST(SceneJson, AnOrbitPlacesItsCamerasFromPlusZTowardPlusXAndAListIsTakenAsIs) {
+  TempDir dir;
+  const std::string sphere =
+      R"({"shape": "sphere", "center": [0,0,0], "radius": 1, "material": {"type": "diffuse", "albedo": [1,1,1]}})";
+  const Scene orbit = loadSceneJson(
+      writeFile(dir, "orbit.json",
+                R"({"cameras": {"orbit": {"target": [1, 2, 3], "radius": 4, "elevation_deg": 30,
+          "count": 4, "fov": 35, "width": 20, "height": 10}}, "objects": [)" +
+                    sphere + "]}"));
+  ASSERT_EQ(orbit.viewCount(), 4u);
+  const double c = 4 * std::cos(std::numbers::pi / 6), h = 4 * std::sin(std::numbers::pi / 6);
+  const Vec3 target(1, 2, 3);
+  const Vec3 expected[4] = {{0, h, c}, {c, h, 0}, {0, h, -c}, {-c, h, 0}};  // +Z, then +X
+  for (size_t k = 0; k < 4; ++k) {
+    const Camera& view = orbit.views[k];
+    EXPECT_LT((view.eye - target - expected[k]).norm(), 1e-12) << k;
+    EXPECT_EQ(view.target, target);
+    EXPECT_EQ(view.up, Vec3(0, 1, 0));
+    EXPECT_EQ(view.size.width, 20);
+    EXPECT_EQ(view.fovDegrees, 35);
+    EXPECT_EQ(orbit.view(k).camera.eye, view.eye);
+    EXPECT_TRUE(orbit.view(k).views.empty());
+  }
+  EXPECT_EQ(orbit.camera.eye, orbit.views[0].eye);
+  const Scene list = loadSceneJson(writeFile(
+      dir, "list.json",
+      std::string(
+          R"({"cameras": [{"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 40},
+          {"eye": [5, 0, 0], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 20}], "objects": [)") +
+          sphere + "]}"));
+  ASSERT_EQ(list.viewCount(), 2u);
+  EXPECT_EQ(list.views[1].fovDegrees, 20);
+  // One camera: one view, the scene itself.
+  const Scene one = loadSceneJson(
+      writeFile(dir, "one.json", std::string("{") + kCamera + R"(, "objects": [)" + sphere + "]}"));
+  EXPECT_EQ(one.viewCount(), 1u);
+  EXPECT_TRUE(one.views.empty());
+  // Both keys, neither, an empty list, a count of 0, a flat elevation.
+  expectError(
+      writeFile(dir, "both.json",
+                std::string("{") + kCamera + R"(, "cameras": [], "objects": [)" + sphere + "]}"),
+      "either 'camera' or 'cameras'");
+  expectError(writeFile(dir, "empty.json", R"({"cameras": [], "objects": [)" + sphere + "]}"),
+              "cameras: expected 1..");
+  expectError(writeFile(dir, "zero.json",
+                        R"({"cameras": {"orbit": {"target": [0,0,0], "radius": 4,
+                  "elevation_deg": 0, "count": 0, "fov": 35}}, "objects": [)" +
+                            sphere + "]}"),
+              "count");
+  expectError(writeFile(dir, "pole.json",
+                        R"({"cameras": {"orbit": {"target": [0,0,0], "radius": 4,
+                  "elevation_deg": 90, "count": 2, "fov": 35}}, "objects": [)" +
+                            sphere + "]}"),
+              "elevation_deg");
 }
 
 TEST(SceneJson, ErrorsNameTheKey) {

@@ -3,10 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
+#include <OpenImageIO/imageio.h>
+
+#include <fstream>
+#include <iterator>
+
 #include "relight/image_output.h"
+#include "tests/temp_dir.h"
 
 namespace acpca {
 namespace {
@@ -54,6 +61,56 @@ TEST(SrgbEncoder, LeavesAlphaAsCoverage) {
   EXPECT_EQ(bytes[7], 255);
   EXPECT_EQ(bytes[0], formula(0.5f, 1));
   EXPECT_EQ(bytes[6], formula(0.01f, 1));
+}
+
+TEST(ToneCurve, AcesIsNarkowiczsFitClampedAndMonotone) {
+  EXPECT_EQ(toneMapped(0, ToneCurve::Aces), 0);
+  EXPECT_NEAR(toneMapped(1, ToneCurve::Aces), 2.54 / 3.16, 1e-15);  // 0.8038
+  // Middle grey: 0.18 (0.4818) / (0.18 (1.0274) + 0.14) = 0.086724 / 0.324932.
+  EXPECT_NEAR(toneMapped(0.18, ToneCurve::Aces), 0.266899, 1e-6);
+  EXPECT_EQ(toneMapped(100, ToneCurve::Aces), 1);
+  EXPECT_EQ(toneMapped(-1, ToneCurve::Aces), 0);
+  EXPECT_EQ(toneMapped(0.5, ToneCurve::Clamp), 0.5);
+  EXPECT_EQ(toneMapped(2, ToneCurve::Clamp), 1);
+  double last = 0;
+  for (double v = 0; v < 20; v += 0.01) {
+    const double t = toneMapped(v, ToneCurve::Aces);
+    ASSERT_GE(t, last) << v;
+    last = t;
+  }
+  // The 8-bit encoder through the curve: the formula's code.
+  const SrgbEncoder encode(1, ToneCurve::Aces);
+  for (float v : {0.001f, 0.09f, 0.5f, 3.0f, 40.0f})
+    EXPECT_EQ(encode(v), std::lround(255 * linearToSrgb(toneMapped(2.0 * v, ToneCurve::Aces))))
+        << v;
+}
+
+TEST(ImageFormats, SixteenBitPngAndNpyHoldTheValuesAsTheyShould) {
+  test::TempDir dir;
+  Image image{3, 1, 3, {0.0f, 0.25f, 0.5f, 0.5f, 1.0f, 4.0f, 0.0031308f, 0.125f, 2.0f}};
+  const std::string png = dir.file("a.png"), npy = dir.file("a.npy");
+  encodeImage(image, png, png, ImageFormat::Png16, 1, ImageEncoding{});
+  auto in = OIIO::ImageInput::open(png);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().format, OIIO::TypeDesc::UINT16);
+  std::vector<std::uint16_t> codes(9);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT16, codes.data()));
+  // x 2^1, then sRGB: 0.5 -> 1.0 and 0.25 -> 0.5, whose sRGB value is
+  // 0.735357 (188 of 255 in 8 bits): 48191.6 of 65535.
+  EXPECT_EQ(codes[0], 0);
+  EXPECT_EQ(codes[1], 48192);
+  EXPECT_EQ(codes[2], 65535);
+  EXPECT_EQ(codes[5], 65535);  // clamped
+  // 0.0031308 x 2 is past the linear toe: 1.055 (0.0062616)^(1/2.4) - 0.055.
+  EXPECT_EQ(codes[6], std::lround(65535 * (1.055 * std::pow(0.0062616, 1 / 2.4) - 0.055)));
+  encodeImage(image, npy, npy, ImageFormat::Npy, 1, ImageEncoding{});
+  std::ifstream file(npy, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("'shape': (1, 3, 3)"), std::string::npos);
+  ASSERT_GE(bytes.size(), 36u);
+  float last[9];
+  std::memcpy(last, bytes.data() + bytes.size() - 36, 36);
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(last[i], 2 * image.pixels[i]) << i;  // linear, x 2^1
 }
 
 }  // namespace

@@ -24,7 +24,9 @@ TransportHeader smallHeader(Precision precision, int rows) {
   h.cubemapResolution = 2;
   h.precision = precision;
   h.scene = "synthetic";
+  h.objectNames = {"floor", "", "plant\nleaf"};  // an empty name, and one holding a line break
   for (int r = 0; r < rows; ++r) {
+    h.objects.push_back(r % 3);
     h.pixels.push_back(r * 3 % 32);
     h.albedo.insert(h.albedo.end(), {0.1f * r, 0.5f, 0.25f});
     h.coverage.push_back(1.0f);
@@ -129,6 +131,10 @@ TEST_P(TransportRoundTrip, WritesInBlocksAndReadsBack) {
   EXPECT_EQ(reader.header().albedo, header.albedo);
   EXPECT_EQ(reader.header().positions, header.positions);
   EXPECT_TRUE(reader.header().hasPositions());
+  EXPECT_EQ(reader.header().normals, header.normals);
+  EXPECT_EQ(reader.header().objects, header.objects);
+  EXPECT_EQ(reader.header().objectNames,
+            (std::vector<std::string>{"floor", "", "plant leaf"}));  // a name is one line
   EXPECT_EQ(reader.header().scene, "synthetic");
   EXPECT_EQ(reader.header().camera.size.width, 8);
   std::vector<float> back(rows.size());
@@ -282,27 +288,42 @@ TEST(TransportFile, HeaderValidationNamesTheProblem) {
   h = smallHeader(Precision::F16, 3);
   h.positions.pop_back();
   EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.objects[1] = 3;  // one past the names
+  EXPECT_THROW(h.validate("x"), UserError);
+  h = smallHeader(Precision::F16, 3);
+  h.objects.pop_back();
+  EXPECT_THROW(h.validate("x"), UserError);
 }
 
-/// Turns a file written now into one as version 1 wrote it: no positions.
-void makeVersionOneFile(const std::string& path) {
+/// Turns a file written now into one as an earlier version wrote it: without
+/// objects (version 2), and without positions either (version 1).
+void makeOlderFile(const std::string& path, long long version) {
   h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
   ASSERT_GE(file.get(), 0);
-  ASSERT_GE(H5Ldelete(file.get(), "position", H5P_DEFAULT), 0);
+  ASSERT_GE(H5Ldelete(file.get(), "object", H5P_DEFAULT), 0);
+  ASSERT_GE(H5Adelete(file.get(), "object_names"), 0);
+  if (version < 2) {
+    ASSERT_GE(H5Ldelete(file.get(), "position", H5P_DEFAULT), 0);
+  }
   ASSERT_GE(H5Adelete(file.get(), "version"), 0);
-  h5::writeAttribute(file.get(), "version", 1LL, path);
+  h5::writeAttribute(file.get(), "version", version, path);
 }
 
-TEST(TransportFile, VersionOneFilesAreReadWithoutPositions) {
-  TempDir dir;
-  const std::string path = dir.file("v1.h5");
-  const TransportHeader written = writeSmallTransport(path, Precision::F16, 5);
-  makeVersionOneFile(path);
-  const TransportReader reader(path);
-  EXPECT_FALSE(reader.header().hasPositions());
-  EXPECT_EQ(reader.header().albedo, written.albedo);
-  std::vector<float> rows(5 * reader.rowLength());
-  reader.readRows(0, 5, rows.data());  // the rows are as readable as before
+TEST(TransportFile, EarlierVersionsAreReadWithoutWhatTheyLacked) {
+  for (long long version : {1, 2}) {
+    TempDir dir;
+    const std::string path = dir.file("old.h5");
+    const TransportHeader written = writeSmallTransport(path, Precision::F16, 5);
+    makeOlderFile(path, version);
+    const TransportReader reader(path);
+    EXPECT_FALSE(reader.header().hasObjects());
+    EXPECT_EQ(reader.header().hasPositions(), version == 2);
+    EXPECT_EQ(reader.header().albedo, written.albedo);
+    EXPECT_EQ(reader.header().normals, written.normals);
+    std::vector<float> rows(5 * reader.rowLength());
+    reader.readRows(0, 5, rows.data());  // the rows are as readable as before
+  }
 }
 
 TEST(TransportFile, VersionsOutsideTheReadRangeAreRefusedByNumber) {
