@@ -140,7 +140,10 @@ EvalReport runEvaluation(const TransportReader& transport, const EvalOptions& o,
     sweep.log = o.log;
     sweepMethods(data, sweep, keep);
   }
-  if (wants(o, "haar")) {
+  if (wants(o, "haar") && transport.header().isLightSet()) {
+    log("haar: skipped: its wavelets live on the cube map's faces, and this transport is over a "
+        "captured light set");
+  } else if (wants(o, "haar")) {
     const Stopwatch build;
     HaarTransport haar(transport, o.haarBits);
     const double buildSeconds = build.seconds();

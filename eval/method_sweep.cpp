@@ -9,6 +9,7 @@
 #include "core/stopwatch.h"
 #include "eval/error_measures.h"
 #include "relight/dense_relight.h"
+#include "relight/domain_lighting.h"
 #include "relight/lighting.h"
 
 namespace acpca {
@@ -36,9 +37,8 @@ EvaluationData loadEvaluationData(const TransportReader& transport, std::vector<
   EvaluationData d;
   d.transport = &transport;
   d.envs = envs.empty() ? defaultEvaluationSet() : std::move(envs);
-  const CubeLattice lattice(transport.header().cubemapResolution);
-  for (const auto& e : d.envs)
-    d.lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
+  const DomainLighting domain(transport.header());
+  for (const auto& e : d.envs) d.lightings.push_back(domain(*loadEnvironment(e), {}));
   d.truth = denseRelight(transport, d.lightings);
   return d;
 }

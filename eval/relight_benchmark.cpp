@@ -13,6 +13,7 @@
 #include "core/text.h"
 #include "eval/error_measures.h"
 #include "eval/sparse_transport.h"
+#include "relight/domain_lighting.h"
 #include "relight/lighting.h"
 #include "relight/memory_bandwidth.h"
 #include "relight/model_relighter.h"
@@ -203,10 +204,9 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
       reader.emplace(a.transport);
       requireSameImage(a.transport, reader->header().pixels, a.model, pixels);
     }
-    const CubeLattice lattice(mainModel.geometry.cubemapResolution);
+    const DomainLighting domain(mainModel.geometry);
     std::vector<LatticeLighting> lightings;
-    for (const auto& e : envs)
-      lightings.push_back(computeLighting(*loadEnvironment(e), lattice, {}));
+    for (const auto& e : envs) lightings.push_back(domain(*loadEnvironment(e), {}));
     std::vector<Measured> levels =
         measureModel(mainModel, a.model, lightings, a.frames, paired, true);
     main = levels[0];

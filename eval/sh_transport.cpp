@@ -26,15 +26,21 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
     throw UserError(
         concat("SH normal groups: cube resolution ", normalResolution, " is outside 1..64"));
   const TransportHeader& header = transport.header();
-  const CubeLattice lattice(header.cubemapResolution), coarse(normalResolution);
-  sh_ = shOnLattice(lattice, bands);
+  // The columns: the lattice's texels, or a captured light set's lights
+  // (the basis fits over the light directions, weighted by their cells).
+  const ColumnGeometry columns = columnGeometry(header);
+  const CubeLattice coarse(normalResolution);
+  sh_ = shAtDirections(columns.directions, bands);
   shTransposed_ = sh_.transpose().cast<float>();
 
   // Groups: rows by the coarse texel their normal falls in, numbered in texel order.
   std::vector<int> texelOfRow(rows_);
   std::vector<Vec3> normal(rows_);
   for (long long p = 0; p < rows_; ++p) {
-    Vec3 n(header.normals[3 * p], header.normals[3 * p + 1], header.normals[3 * p + 2]);
+    // Captured images have no normals: their rows are one group.
+    Vec3 n = header.normals.empty() ? Vec3::UnitZ()
+                                    : Vec3(header.normals[3 * p], header.normals[3 * p + 1],
+                                           header.normals[3 * p + 2]);
     if (!(n.norm() > 0) || !n.allFinite()) n = Vec3::UnitZ();  // support comes from its texels
     normal[p] = n.normalized();
     texelOfRow[p] = coarse.texelOf(normal[p]);
@@ -57,7 +63,7 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
   // One pass over T: b = Y^T W f and the energy of every row, and the texels
   // each group's rows light.
   Eigen::MatrixXd weightedSh = sh_;
-  for (int j = 0; j < latticeSize_; ++j) weightedSh.row(j) *= lattice.solidAngle(j);
+  for (int j = 0; j < latticeSize_; ++j) weightedSh.row(j) *= columns.solidAngles[j];
   // With R, G and B rows each channel's row is fitted on its own: fit row
   // p channels + c (the row-major [count, channels l] block read as
   // [count channels, l]).
@@ -79,7 +85,7 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
           for (int j = 0; j < latticeSize_; ++j) {
             const double f = block(r, j);
             if (f == 0) continue;
-            energy += lattice.solidAngle(j) * f * f;
+            energy += columns.solidAngles[j] * f * f;
             std::atomic_ref<unsigned char> flag(mask[j]);
             if (!flag.load(std::memory_order_relaxed)) flag.store(1, std::memory_order_relaxed);
           }
@@ -93,12 +99,12 @@ ShTransport::ShTransport(const TransportReader& transport, int maxCoefficients,
   tbb::parallel_for(0, groupCount, [&](int g) {
     const double horizon = -std::sqrt(std::max(0.0, 1 - lowestCosine[g] * lowestCosine[g]));
     for (int j = 0; j < latticeSize_; ++j)
-      if (lit[g][j] || lattice.direction(j).dot(groupNormal[g]) >= horizon)
+      if (lit[g][j] || columns.directions[j].dot(groupNormal[g]) >= horizon)
         supports_[g].push_back(j);
     Eigen::MatrixXd rootWeighted(supports_[g].size(), maxCoefficients_);
     for (size_t k = 0; k < supports_[g].size(); ++k) {
       const int j = supports_[g][k];
-      rootWeighted.row(k) = sh_.row(j) * std::sqrt(lattice.solidAngle(j));
+      rootWeighted.row(k) = sh_.row(j) * std::sqrt(columns.solidAngles[j]);
     }
     grams_[g] = rootWeighted.transpose() * rootWeighted;
   });

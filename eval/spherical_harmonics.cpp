@@ -51,10 +51,17 @@ void evaluateSh(int bands, const Vec3& d, double* out) {
 }
 
 Eigen::MatrixXd shOnLattice(const CubeLattice& lattice, int bands) {
-  Eigen::MatrixXd y(lattice.size(), shCount(bands));
+  std::vector<Vec3> directions;
+  for (int j = 0; j < lattice.size(); ++j) directions.push_back(lattice.direction(j));
+  return shAtDirections(directions, bands);
+}
+
+Eigen::MatrixXd shAtDirections(const std::vector<Vec3>& directions, int bands) {
+  const int n = static_cast<int>(directions.size());
+  Eigen::MatrixXd y(n, shCount(bands));
   std::vector<double> values(shCount(bands));
-  for (int j = 0; j < lattice.size(); ++j) {
-    evaluateSh(bands, lattice.direction(j), values.data());
+  for (int j = 0; j < n; ++j) {
+    evaluateSh(bands, directions[j], values.data());
     for (int i = 0; i < shCount(bands); ++i) y(j, i) = values[i];
   }
   return y;

@@ -26,6 +26,8 @@ void evaluateSh(int bands, const Vec3& d, double* out);
 
 /// SH functions at every texel centre of the lattice: latticeSize x bands^2.
 Eigen::MatrixXd shOnLattice(const CubeLattice& lattice, int bands);
+/// The same at any directions (a captured light set's lights): directions x coefficients.
+Eigen::MatrixXd shAtDirections(const std::vector<Vec3>& directions, int bands);
 
 enum class ShFit {
   Uls,  ///< unconstrained least squares, c = A^-1 b (eq. 8)

@@ -65,7 +65,8 @@ class MaterialReader {
       std::vector<float> rgb;
       rgb.reserve(3 * texels);
       for (size_t t = 0; t < texels; ++t)
-        for (int c : {2, 1, 0}) rgb.push_back(srgbToLinear(m.embeddedBytes[4 * t + c] / 255.0f));
+        for (int c : {2, 1, 0})
+          rgb.push_back(static_cast<float>(srgbToLinear(m.embeddedBytes[4 * t + c] / 255.0)));
       return std::make_shared<const Texture>(name, int(m.embeddedWidth), int(m.embeddedHeight),
                                              std::move(rgb));
     }

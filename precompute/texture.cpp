@@ -47,7 +47,7 @@ std::shared_ptr<const Texture> readOpened(OIIO::ImageInput& in, const std::strin
         throw UserError(
             concat(name, ": texel (", t % spec.width, ", ", t / spec.width, ") is not finite"));
       if (v < 0) ++negatives, v = 0;
-      rgb[3 * t + c] = encoded ? srgbToLinear(v) : v;
+      rgb[3 * t + c] = encoded ? static_cast<float>(srgbToLinear(v)) : v;
     }
   if (negatives > 0) warn(concat(name, ": ", negatives, " negative texel values clamped to 0"));
   return std::make_shared<const Texture>(name, spec.width, spec.height, std::move(rgb));
@@ -88,11 +88,6 @@ Eigen::Vector3f Texture::sample(const Eigen::Vector2f& uv) const {
   const int ya = wrap(y0, height_), yb = wrap(y0 + 1, height_);
   return (1 - ty) * ((1 - tx) * texel(xa, ya) + tx * texel(xb, ya)) +
          ty * ((1 - tx) * texel(xa, yb) + tx * texel(xb, yb));
-}
-
-float srgbToLinear(float encoded) {
-  const float c = std::clamp(encoded, 0.0f, 1.0f);
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 std::shared_ptr<const Texture> loadTexture(const std::string& path) {

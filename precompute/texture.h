@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/srgb.h"
+
 namespace acpca {
 
 class Texture {
@@ -31,9 +33,6 @@ class Texture {
   int width_, height_;
   std::vector<float> rgb_;
 };
-
-/// sRGB transfer function inverted: an encoded value in [0, 1] to linear.
-float srgbToLinear(float encoded);
 
 /// Reads a texture with OpenImageIO (PNG, JPEG, TGA, EXR, ...). Grey images
 /// give grey albedo; alpha is ignored. Throws UserError naming the file for a

@@ -20,6 +20,7 @@
 #include "python/opening_file.h"
 #include "python/to_python.h"
 #include "relight/batch_relight.h"
+#include "relight/domain_lighting.h"
 #include "relight/environment.h"
 #include "relight/file_info.h"
 #include "relight/image_output.h"
@@ -105,8 +106,14 @@ struct PyLighting {
   std::shared_ptr<const Environment> env;
   EnvRotation rotation;
   LatticeLighting values;
-  int cubemap = 0;
+  std::string domain;  ///< what it was made for: "6x8x8", "331 lights"
 };
+
+/// A file's lighting domain in words, to tell lightings of one from another's.
+std::string domainName(const TransportHeader& h) {
+  return h.isLightSet() ? concat(h.lights.size(), " lights")
+                        : concat("6x", h.cubemapResolution, "x", h.cubemapResolution);
+}
 
 std::string rankText(const RankLimit& limit) {
   if (!limit) return "";
@@ -125,7 +132,7 @@ class Relighter {
       return 0;
     });
     py::gil_scoped_release release;
-    lattice_ = std::make_unique<CubeLattice>(source_.header.cubemapResolution);
+    domain_ = std::make_unique<DomainLighting>(source_.header);
     composer_ = std::make_unique<ImageComposer>(source_.header);
   }
 
@@ -191,11 +198,11 @@ class Relighter {
   /// (to relight it several times, or to time the relight alone).
   PyLighting lighting(const PyEnvironment& env, double yaw, double pitch, double roll,
                       bool fastRotation) const {
-    PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, lattice_->resolution()};
+    PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, domainName(source_.header)};
     validateRotation(l.rotation);
     py::gil_scoped_release release;
-    l.values = computeLighting(*env.env, *lattice_, l.rotation,
-                               fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+    l.values = (*domain_)(*env.env, l.rotation,
+                          fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
     return l;
   }
 
@@ -215,11 +222,11 @@ class Relighter {
                                      OutArgument out, const std::vector<LocalLight>& lights,
                                      double anchorSpread) {
     requireFinite(exposure, "exposure");
-    const Background bg = kBackgroundNames.parse(background);
-    if (lighting.cubemap != lattice_->resolution())
-      throw ParameterError("lighting", concat("6x", lighting.cubemap, "x", lighting.cubemap),
-                           concat("was made for another lattice than ", path_, "'s 6x",
-                                  lattice_->resolution(), "x", lattice_->resolution()));
+    const Background bg = backgroundOf(background);
+    if (lighting.domain != domainName(source_.header))
+      throw ParameterError(
+          "lighting", lighting.domain,
+          concat("was made for another lattice than ", path_, "'s ", domainName(source_.header)));
     OutArray image = outputArray(out, {}, bg);
     {
       py::gil_scoped_release release;
@@ -248,7 +255,7 @@ class Relighter {
                                   const std::optional<DoubleArray>& lightPositions) {
     requireFinite(exposure, "exposure");
     for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
-    const Background bg = kBackgroundNames.parse(background);
+    const Background bg = backgroundOf(background);
     if (envs.empty() || rotations.empty())
       throw ParameterError("batch", "", "give at least one environment and one rotation");
     const std::vector<std::vector<LocalLight>> sets = lightSets(lights, lightPositions);
@@ -266,7 +273,7 @@ class Relighter {
       };
       const auto lightingOf = [&](size_t i) {
         const auto [env, rotation] = frameOf(i);
-        return computeLighting(*env, *lattice_, rotation, mode);
+        return (*domain_)(*env, rotation, mode);
       };
       for (size_t set = 0; set < sets.size(); ++set) {
         const std::vector<float> local = localRows(sets[set], anchorSpread);
@@ -296,6 +303,16 @@ class Relighter {
   }
 
  private:
+  /// A background by name; empty: env, or black for a captured light set
+  /// (it has no camera to see the environment through), where env is refused.
+  Background backgroundOf(const std::string& name) const {
+    const bool captured = source_.header.isLightSet();
+    const Background bg =
+        kBackgroundNames.parse(name.empty() ? (captured ? "black" : "env") : name);
+    requireBackgroundShown(source_.header, bg, path_);
+    return bg;
+  }
+
   /// The batch's light sets: the lights as given, or, with positions (F x K
   /// x 3 for K lights), F sets of those lights moved to each row's positions.
   static std::vector<std::vector<LocalLight>> lightSets(
@@ -411,7 +428,7 @@ class Relighter {
 
   std::string path_;
   RelightSource source_;
-  std::unique_ptr<CubeLattice> lattice_;
+  std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
   std::unique_ptr<ImageComposer> composer_;
 };
 
@@ -605,16 +622,15 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            "'black' or 'alpha', as the CLI's FRAME_shading files hold it.")
       .def("relight", &Relighter::relight, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("max_rank") = py::none(),
-           py::arg("exposure") = 0.0, py::arg("background") = "env",
-           py::arg("fast_rotation") = false, py::arg("out") = py::none(),
-           py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("exposure") = 0.0, py::arg("background") = "", py::arg("fast_rotation") = false,
+           py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels,
            "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it; "
-           "lights (Light, PointLight, ...) are added, and light it alone when env is None.")
+           "lights (Light, PointLight, ...) are added, and light it alone when env is None. "
+           "background: 'env' (default; 'black' for a captured light set), 'black' or 'alpha'.")
       .def("relight", &Relighter::relightLighting, py::arg("lighting"), py::kw_only(),
-           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
-           py::arg("background") = "env", py::arg("out") = py::none(),
-           py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",
+           py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels,
            "The same from a Lighting made by lighting(): the integration is not repeated.")
       .def("lighting", &Relighter::lighting, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
@@ -622,9 +638,9 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            "The environment under a rotation, integrated onto this file's lattice: a Lighting.")
       .def("relight_batch", &Relighter::relightBatch, py::arg("envs"), py::kw_only(),
            py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
-           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0,
-           py::arg("background") = "env", py::arg("fast_rotation") = false,
-           py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
+           py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",
+           py::arg("fast_rotation") = false, py::arg("out") = py::none(),
+           py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("light_positions") = py::none(),
            "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major; "
            "the lights are added to every frame. light_positions (F x K x 3, K lights): F "

@@ -1,12 +1,16 @@
-// precompute and compress from Python, with the CLI's options, a progress
+// precompute, compress and import from Python, with the CLI's options, a progress
 // callback, the GIL released and Ctrl-C honoured (interruptible.h).
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
+#include <pybind11/numpy.h>
+
+#include "capture/olat_import.h"
 #include "cluster/compress.h"
 #include "cluster/model_file.h"
 #include "core/error.h"
@@ -22,6 +26,8 @@
 namespace acpca::python {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 py::object precompute(const std::string& scene, const std::string& out,
                       const std::optional<std::pair<int, int>>& size, const std::string& camera,
@@ -108,6 +114,87 @@ py::object compress(const std::string& transport, const std::string& out, const 
   return toPython(summaryJson(model));
 }
 
+using FloatImages = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// Rows of an (N, 3) array as vectors, N = `count`; `name` in errors.
+std::vector<Eigen::Vector3d> vectorsOf(const Doubles& a, size_t count, const std::string& name) {
+  if (a.ndim() != 2 || a.shape(1) != 3 || static_cast<size_t>(a.shape(0)) != count)
+    throw ParameterError(name, concat(a.ndim(), "-d array"),
+                         concat("must be ", count, " x 3 (one row per image)"));
+  std::vector<Eigen::Vector3d> v;
+  for (size_t k = 0; k < count; ++k) v.emplace_back(a.at(k, 0), a.at(k, 1), a.at(k, 2));
+  return v;
+}
+
+py::object importTransport(const py::object& images, const Doubles& directions,
+                           const std::string& out, const std::optional<Doubles>& intensities,
+                           const std::optional<std::string>& mask, double cellCap,
+                           const std::string& precision, const std::string& encoding,
+                           const py::object& progress) {
+  OlatImportOptions o;
+  o.out = out;
+  o.mask = mask.value_or("");
+  o.precision = parsePrecision(precision);
+  o.capDegrees = cellCap;
+  o.name = fs::path(out).stem().string();
+  const ImageEncoding decoding =
+      encoding == "linear" ? ImageEncoding::Linear
+      : encoding == "srgb" ? ImageEncoding::Srgb
+      : encoding == "auto"
+          ? ImageEncoding::Auto
+          : throw ParameterError("encoding", encoding, "is not auto, linear or srgb");
+  // The images: paths, or an (N, H, W, 3) array of linear values.
+  std::optional<FloatImages> pixels;
+  std::vector<std::string> paths;
+  if (py::isinstance<py::array>(images)) {
+    pixels = images.cast<FloatImages>();
+    if (pixels->ndim() != 4 || pixels->shape(3) != 3 || pixels->shape(0) < 1)
+      throw ParameterError("images", concat(pixels->ndim(), "-d array"),
+                           "must be N x H x W x 3 (linear RGB)");
+  } else {
+    paths = images.cast<std::vector<std::string>>();
+    if (paths.empty()) throw ParameterError("images", "[]", "give one image per light");
+  }
+  const size_t count = pixels ? static_cast<size_t>(pixels->shape(0)) : paths.size();
+  OlatLights lights;
+  for (const Eigen::Vector3d& d : vectorsOf(directions, count, "directions")) {
+    if (!(d.norm() > 0) || !d.allFinite())
+      throw ParameterError("directions", concat(d.transpose()), "a direction must not be zero");
+    lights.directions.push_back(d.normalized());
+  }
+  lights.irradiance = intensities ? vectorsOf(*intensities, count, "intensities")
+                                  : std::vector<Eigen::Vector3d>(count, Eigen::Vector3d::Ones());
+  OlatImportResult result;
+  openingFile(paths.empty() ? o.mask : paths.front(), [&] {
+    std::vector<std::string> inputs = paths;
+    if (!o.mask.empty()) inputs.push_back(o.mask);
+    refuseOutputOverInputs(out, inputs);
+    runInterruptible([&](WorkContext& context) {
+      o.progress = [&](long long done, long long total) {
+        context.check();
+        if (!progress.is_none()) context.callPython([&] { progress(done, total); });
+      };
+      const auto source = pixels ? imagesInMemory(pixels->data(), static_cast<int>(count),
+                                                  {static_cast<int>(pixels->shape(2)),
+                                                   static_cast<int>(pixels->shape(1))})
+                                 : openImageFiles(paths, decoding);
+      result = importOlat(*source, lights, o);
+    });
+    return 0;
+  });
+  const TransportHeader& h = result.header;
+  return toPython(nlohmann::json{{"out", out},
+                                 {"lights", h.lights.size()},
+                                 {"width", h.camera.size.width},
+                                 {"height", h.camera.size.height},
+                                 {"occupied_pixels", h.rows()},
+                                 {"channels", h.channels},
+                                 {"uncovered_sr", h.lights.uncoveredSolidAngle()},
+                                 {"saturated_values", result.saturatedValues},
+                                 {"seconds", result.seconds}});
+}
+
 }  // namespace
 
 void registerLongCalls(py::module_& m) {
@@ -141,6 +228,17 @@ void registerLongCalls(py::module_& m) {
         py::arg("force") = c.force, py::arg("progress") = py::none(),
         "Compress a transport into a model file, as `adaptive-cpca compress`; progress(message) "
         "is called at each stage, where Ctrl-C stops it (nothing is written).");
+  m.def("import_transport", &importTransport, py::arg("images"), py::arg("directions"),
+        py::kw_only(), py::arg("out"), py::arg("intensities") = py::none(),
+        py::arg("mask") = py::none(), py::arg("cell_cap") = 0.0, py::arg("precision") = "f16",
+        py::arg("encoding") = "auto", py::arg("progress") = py::none(),
+        "A captured one-light-at-a-time set into the transport file `out`, as `adaptive-cpca "
+        "import`: images an (N, H, W, 3) float array of linear values or N image paths "
+        "(encoding 'auto': 8/16-bit ones sRGB-decoded; 'linear'; 'srgb'), directions (N, 3) "
+        "from the subject toward each light, intensities (N, 3) the irradiance each "
+        "delivered (default 1), mask an image path (default: pixels black in every image are "
+        "background), cell_cap the cells' cap in degrees (0: the default). progress(done, "
+        "total) is called per band of image rows. Returns what `import --json` reports.");
 }
 
 }  // namespace acpca::python

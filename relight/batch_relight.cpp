@@ -25,9 +25,11 @@
 #include "core/stopwatch.h"
 #include "core/table.h"
 #include "core/text.h"
+#include "core/warning.h"
 #include "relight/batch_manifest.h"
 #include "relight/dataset_identity.h"
 #include "relight/dense_relight.h"
+#include "relight/domain_lighting.h"
 #include "relight/envmap_export.h"
 #include "relight/file_hash.h"
 #include "relight/frame_labels.h"
@@ -122,12 +124,12 @@ std::string joinedBySemicolons(const std::vector<std::string>& texts) {
   return joined;
 }
 
-/// A light set's rows, relit when first asked for; frames come set by set,
-/// so earlier sets are dropped.
-class LightSetRows {
+/// The rows of a frame's local lights, relit when first asked for; frames
+/// come set by set, so earlier sets are dropped.
+class LocalLightRows {
  public:
-  LightSetRows(const RelightSource& source, const std::vector<std::vector<LocalLight>>& sets,
-               double anchorSpread, double& seconds)
+  LocalLightRows(const RelightSource& source, const std::vector<std::vector<LocalLight>>& sets,
+                 double anchorSpread, double& seconds)
       : source_(source), sets_(sets), anchorSpread_(anchorSpread), seconds_(seconds) {}
   /// Empty when the set has no lights.
   const std::vector<float>& of(size_t set) {
@@ -353,22 +355,23 @@ class FrameWriting {
   /// manifests: the batch's (null for one image).
   FrameWriting(const BatchRelightOptions& a, const std::vector<Frame>& frames,
                const std::vector<ImageFormat>& formats, bool batch,
-               const std::vector<std::vector<std::string>>& lightSpecs, const CubeLattice& lattice,
-               const TransportHeader& header, BatchView view, BatchManifests* manifests)
+               const std::vector<std::vector<std::string>>& lightSpecs,
+               const DomainLighting& domain, const TransportHeader& header, BatchView view,
+               BatchManifests* manifests)
       : a_(a),
         frames_(frames),
         formats_(formats),
         batch_(batch),
         encoding_(encodingFor(a, batch)),
         lightSpecs_(lightSpecs),
-        lattice_(lattice),
+        domain_(domain),
         view_(std::move(view)),
         manifests_(manifests),
         labels_(header, a.aovs, a.labelFormat, a.background, encoding_),
         writer_(writingThreads(), kFramesInFlight) {
     labelPaths_ =
         labels_.writeView(stemBeside(view_.count > 1 ? "labels_" + view_.label() : "labels"));
-    if (manifests_) sh_.emplace(lattice);
+    if (manifests_) sh_.emplace(domain);
   }
 
   /// Frame i's lattice lighting, where this rank made it: kept for its
@@ -418,10 +421,12 @@ class FrameWriting {
                  ? (out / frameName(f, ImageFormat::Exr)).replace_extension().string() + "_lighting"
                  : stemBeside("lighting")) +
             ".exr";
-        // The radiance the lattice holds, before exposure; 8R x 4R sees every texel.
-        const int r = lattice_.resolution();
+        // The radiance the lattice (or a light set's cells) holds, before
+        // exposure; 8R x 4R sees every texel.
+        const int r = domain_.mapLattice().resolution();
         files->push_back(std::make_unique<AtomicOutput>(path));
-        encodeImage(latticeRadianceToLatLong(lighting, lattice_, 8 * r, 4 * r),
+        encodeImage(latticeRadianceToLatLong(domain_.mapLighting(lighting), domain_.mapLattice(),
+                                             8 * r, 4 * r),
                     files->back()->tempPath(), path, ImageFormat::Exr, 0, encoding_);
         lightingPaths.push_back(path);
       }
@@ -530,7 +535,7 @@ class FrameWriting {
       }
     }
     const Frame& f = frames_[i];
-    return computeLighting(*f.input->env, lattice_, f.rotation, a_.rotationMode);
+    return domain_(*f.input->env, f.rotation, a_.rotationMode);
   }
 
   /// Where a label file of the view goes: the batch's directory, or beside
@@ -542,7 +547,7 @@ class FrameWriting {
   }
 
   const std::vector<std::vector<std::string>>& lightSpecs_;  ///< per light set: its lights
-  const CubeLattice& lattice_;
+  const DomainLighting& domain_;
   const BatchView view_;
   BatchManifests* const manifests_;
   std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
@@ -711,6 +716,27 @@ void validateBatchRelight(const BatchRelightOptions& a) {
 namespace {
 
 /// What the views of a batch share while they relight one after another.
+/// How much of the frames' lighting fell on directions a captured light
+/// set has no cell for (the image cannot show it).
+struct UncoveredLighting {
+  /// Shares of a frame's energy below this are not worth a word.
+  static constexpr double kNegligible = 1e-3;
+  long long frames = 0;
+  double largest = 0;
+  void note(double share) {
+    if (share <= kNegligible) return;
+    ++frames;
+    largest = std::max(largest, share);
+  }
+  void report() const {
+    if (frames > 0)
+      warn(concat(frames,
+                  " frame(s) are lit partly from directions no captured light stands for "
+                  "(up to ",
+                  100 * largest, "% of a frame's lighting): their images leave that light out"));
+  }
+};
+
 struct BatchRun {
   explicit BatchRun(const BatchRelightOptions& options)
       : a(options),
@@ -729,21 +755,33 @@ struct BatchRun {
   nlohmann::json outputs = nlohmann::json::array();
   nlohmann::json labels = nlohmann::json::array();
   size_t frames = 0;  ///< frames of the views done
+  UncoveredLighting uncovered;
 };
+
+/// Refuses, before any frame, what a captured light set cannot do: show the
+/// environment behind it (it has no camera) or take local lights (no
+/// positions); the fast rotation resamples a cube lattice.
+void requireLightingDomain(const TransportHeader& h, const BatchRun& run, const std::string& path) {
+  const BatchRelightOptions& a = run.a;
+  if (!h.isLightSet()) return;
+  requireBackgroundShown(h, a.background, path);
+  for (const auto& lights : run.sets) requireLocalLightsApply(h, path, false, lights);
+  DomainLighting::requireRotationMode(true, a.rotationMode);
+}
 
 /// One view's frames relit and (rank 0) written; returns its frame count.
 size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const BatchRelightOptions& a = run.a;
   BatchStages& stages = run.stages;
   std::vector<double>& msPerFrame = run.msPerFrame;
-  const CubeLattice lattice(source.header.cubemapResolution);
-  LightSetRows localRows(source, run.sets, a.anchorSpread, stages.localLights);
+  const DomainLighting domain(source.header);
+  LocalLightRows localRows(source, run.sets, a.anchorSpread, stages.localLights);
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<Frame> frames = batchFrames(a, run.inputs, run.sets.size());
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
   if (rank == 0)
-    writing.emplace(a, frames, run.formats, run.batch, run.setSpecs, lattice, source.header,
+    writing.emplace(a, frames, run.formats, run.batch, run.setSpecs, domain, source.header,
                     std::move(view), run.manifests ? &*run.manifests : nullptr);
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
@@ -770,7 +808,9 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const auto lightingOf = [&](size_t k) {
     const Frame& f = frames[mine[k]];
     const Stopwatch watch;
-    LatticeLighting lighting = computeLighting(*f.input->env, lattice, f.rotation, a.rotationMode);
+    double uncovered = 0;
+    LatticeLighting lighting = domain(*f.input->env, f.rotation, a.rotationMode, &uncovered);
+    run.uncovered.note(uncovered);
     if (writing) writing->noteLighting(mine[k], lighting);
     stages.lighting += watch.seconds();
     return lighting;
@@ -815,6 +855,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   const std::vector<std::string> views = a.viewInputs();
   std::optional<RelightSource> source(openRelightSource(views[0], a.maxRank));
   requireAovs(source->header, a.aovs, views[0], !source->dense);
+  requireLightingDomain(source->header, run, views[0]);
   run.stages.open = wall.seconds();
   requireFrameSpace(a, source->header.camera.size, run.formats, batch,
                     run.sets.size() * views.size());
@@ -835,10 +876,12 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
       const Stopwatch open;
       source.emplace(openRelightSource(views[k], a.maxRank));
       requireAovs(source->header, a.aovs, views[k], !source->dense);
+      requireLightingDomain(source->header, run, views[k]);
       run.stages.open += open.seconds();
     }
     run.frames += relightView(run, *source, BatchView{k, views.size(), views[k], run.frames});
   }
+  run.uncovered.report();
   BatchRelightResult result;
   if (ranks::rank() != 0) {  // rank 0 wrote the images and reports
     result.method = source->method;

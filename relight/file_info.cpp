@@ -1,6 +1,7 @@
 #include "relight/file_info.h"
 
 #include <filesystem>
+#include <numbers>
 #include <sstream>
 
 #include "cluster/model_file.h"
@@ -18,6 +19,7 @@ nlohmann::json cameraJson(const Camera& c) {
 }
 
 std::string positionsInWords(const TransportHeader& h, const std::string& remedy) {
+  if (h.isLightSet()) return "  positions    none (captured images hold no geometry)\n";
   return h.hasPositions() ? "  positions    each pixel's world position (local lights)\n"
                           : concat("  positions    none (written before positions were stored; ",
                                    remedy, " for local lights)\n");
@@ -36,9 +38,31 @@ std::string labelsInWords(const TransportHeader& h, const std::string& remedy) {
     names += (names.empty() ? "" : ", ") + name.get<std::string>();
   const bool all = availableAovs(h).size() == parseAovList("all").size();
   return concat("  labels       ", names,
-                all ? concat(" (", h.objectNames.size(), " object(s))")
-                    : concat(" (", remedy, " for the others)"),
+                all              ? concat(" (", h.objectNames.size(), " object(s))")
+                : h.isLightSet() ? std::string(" (captured images hold no geometry or albedo)")
+                                 : concat(" (", remedy, " for the others)"),
                 "\n");
+}
+
+/// The lighting domain: the lattice, or a captured light set.
+std::string domainInWords(const TransportHeader& h, const std::string& ofBases = "") {
+  if (!h.isLightSet())
+    return concat("  lattice      6x", h.cubemapResolution, "x", h.cubemapResolution, " = ",
+                  h.latticeSize(), " directions", ofBases, "\n");
+  const double uncovered = h.lights.uncoveredSolidAngle();
+  return concat("  lights       ", h.lights.describe(), ofBases, "\n", "  uncovered    ",
+                formatted("%.4g", uncovered), " sr (",
+                formatted("%.2f", 100 * uncovered / (4 * std::numbers::pi)),
+                "% of the sphere): lighting from there does not reach the images\n");
+}
+
+nlohmann::json lightsJson(const TransportHeader& h) {
+  if (!h.isLightSet()) return nullptr;
+  return {{"count", h.lights.size()},
+          {"cells", h.lights.cells == CellSource::Given ? "given" : "capped-voronoi"},
+          {"cap_deg", h.lights.cells == CellSource::Given ? nlohmann::json(nullptr)
+                                                          : nlohmann::json(h.lights.capDegrees)},
+          {"uncovered_sr", h.lights.uncoveredSolidAngle()}};
 }
 
 }  // namespace
@@ -56,34 +80,37 @@ nlohmann::json rankHistogramJson(const Model& m) {
 nlohmann::json describeModel(const Model& m, const std::string& path) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(path, ec);
-  return {{"kind", "model"},
-          {"camera", cameraJson(m.geometry.camera)},
-          {"width", m.geometry.camera.size.width},
-          {"height", m.geometry.camera.size.height},
-          {"occupied_pixels", m.rows()},
-          {"cubemap", m.geometry.cubemapResolution},
-          {"row_layout", rowLayoutName(m.geometry.channels)},
-          {"global_bases", m.globalBases()},
-          {"clusters", m.clusters()},
-          {"cost_per_pixel", m.costPerPixel()},
-          {"total_cost", m.totalCost()},
-          {"bytes", ec ? -1 : static_cast<long long>(bytes)},
-          {"bytes_per_frame", m.frameBytes()},
-          {"method", m.method},
-          {"scene", m.geometry.scene},
-          {"coeffs", coeffPrecisionName(m.precision)},
-          {"bases", coeffPrecisionName(m.basisPrecision)},
-          {"transport_error", m.transportError},
-          {"rank_histogram", rankHistogramJson(m)},
-          {"positions", m.geometry.hasPositions()},
-          {"labels", labelsJson(m.geometry)},
-          {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
+  return {
+      {"kind", "model"},
+      {"camera", m.geometry.isLightSet() ? nlohmann::json(nullptr) : cameraJson(m.geometry.camera)},
+      {"lights", lightsJson(m.geometry)},
+      {"width", m.geometry.camera.size.width},
+      {"height", m.geometry.camera.size.height},
+      {"occupied_pixels", m.rows()},
+      {"cubemap", m.geometry.cubemapResolution},
+      {"row_layout", rowLayoutName(m.geometry.channels)},
+      {"global_bases", m.globalBases()},
+      {"clusters", m.clusters()},
+      {"cost_per_pixel", m.costPerPixel()},
+      {"total_cost", m.totalCost()},
+      {"bytes", ec ? -1 : static_cast<long long>(bytes)},
+      {"bytes_per_frame", m.frameBytes()},
+      {"method", m.method},
+      {"scene", m.geometry.scene},
+      {"coeffs", coeffPrecisionName(m.precision)},
+      {"bases", coeffPrecisionName(m.basisPrecision)},
+      {"transport_error", m.transportError},
+      {"rank_histogram", rankHistogramJson(m)},
+      {"positions", m.geometry.hasPositions()},
+      {"labels", labelsJson(m.geometry)},
+      {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
 
 nlohmann::json describeTransport(const TransportReader& t) {
   const auto& h = t.header();
   return {{"kind", "transport"},
-          {"camera", cameraJson(h.camera)},
+          {"camera", h.isLightSet() ? nlohmann::json(nullptr) : cameraJson(h.camera)},
+          {"lights", lightsJson(h)},
           {"width", h.camera.size.width},
           {"height", h.camera.size.height},
           {"occupied_pixels", t.rows()},
@@ -119,9 +146,8 @@ std::string describeInWords(const Model& m, const std::string& path) {
   out << path << ": " << m.method << " model of scene '" << m.geometry.scene << "'\n"
       << "  image        " << m.geometry.camera.size.width << "x" << m.geometry.camera.size.height
       << ", " << m.rows() << " occupied pixels\n"
-      << "  lattice      6x" << m.geometry.cubemapResolution << "x" << m.geometry.cubemapResolution
-      << ", N = " << m.globalBases() << " global bases"
-      << (m.geometry.channels == 3 ? " over R, G and B rows" : "") << "\n"
+      << domainInWords(m.geometry, concat(", N = ", m.globalBases(), " global bases",
+                                          m.geometry.channels == 3 ? " over R, G and B rows" : ""))
       << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks "
       << rankSummary(m) << "\n"
       << "  cost         " << m.totalCost() << " multiply-adds per frame, " << m.costPerPixel()
@@ -142,19 +168,20 @@ std::string describeInWords(const TransportReader& t, const std::string& path) {
   out << path << ": transport of scene '" << h.scene << "'\n"
       << "  image        " << h.camera.size.width << "x" << h.camera.size.height << ", " << t.rows()
       << " occupied pixels (" << 100.0 * t.rows() / h.camera.size.pixels() << "%)\n"
-      << "  lattice      6x" << h.cubemapResolution << "x" << h.cubemapResolution << " = "
-      << t.latticeSize() << " directions\n"
-      << "  sampling     " << h.samplesPerPixel << " sample(s) per pixel, " << h.texelRays
-      << " ray(s) per texel\n"
-      << "  light        "
-      << (h.bounces > 0 ? concat("direct and up to ", h.bounces, " bounce(s): ", h.indirectSamples,
-                                 " paths per traced sample, ",
-                                 h.indirectCacheCell > 0
-                                     ? concat("visibility cache cell ", h.indirectCacheCell,
-                                              " of the scene's extent")
-                                     : std::string("exact visibility at every vertex"))
-                        : std::string("direct"))
-      << "\n"
+      << domainInWords(h)
+      << (h.isLightSet() ? "  source       captured images (imported), no camera\n"
+                         : concat("  sampling     ", h.samplesPerPixel, " sample(s) per pixel, ",
+                                  h.texelRays, " ray(s) per texel\n"))
+      << (h.isLightSet() ? "" : "  light        ")
+      << (h.isLightSet()  ? std::string()
+          : h.bounces > 0 ? concat("direct and up to ", h.bounces,
+                                   " bounce(s): ", h.indirectSamples, " paths per traced sample, ",
+                                   h.indirectCacheCell > 0
+                                       ? concat("visibility cache cell ", h.indirectCacheCell,
+                                                " of the scene's extent")
+                                       : std::string("exact visibility at every vertex"),
+                                   "\n")
+                          : std::string("direct\n"))
       << "  rows         "
       << (h.channels == 3 ? "R, G and B side by side (3 x l values per pixel)"
                           : "one per pixel, shared by R, G and B")

@@ -22,9 +22,13 @@ Background parseBackground(const std::string& text) {
   return kBackgroundNames.parse(text);
 }
 
-double linearToSrgb(double v) {
-  v = std::clamp(v, 0.0, 1.0);
-  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+void requireBackgroundShown(const TransportHeader& header, Background background,
+                            const std::string& path) {
+  if (header.isLightSet() && background == Background::Env)
+    throw ParameterError("background", "env",
+                         concat(path,
+                                " is a captured light set: no camera sees the environment "
+                                "behind it (use black or alpha)"));
 }
 
 double toneMapped(double v, ToneCurve tone) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/srgb.h"
 #include "relight/environment.h"
 #include "transport/transport_file.h"
 
@@ -26,6 +27,10 @@ inline constexpr EnumNames<Background, 3> kBackgroundNames{
     "background",
     {{{Background::Env, "env"}, {Background::Black, "black"}, {Background::Alpha, "alpha"}}}};
 Background parseBackground(const std::string& text);  // env | black | alpha
+/// Refuses Background::Env for a captured light set, which has no camera to
+/// see the environment through: a ParameterError naming "background" and `path`.
+void requireBackgroundShown(const TransportHeader& header, Background background,
+                            const std::string& path);
 
 /// EXR (linear, half or float), PNG (sRGB, 8 or 16 bits, tone mapped) or
 /// NumPy .npy (linear float32, H x W x C).
@@ -110,9 +115,6 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
 /// atomically; throws UserError naming the path.
 void writePng8(int width, int height, int channels, const unsigned char* values,
                const std::string& path);
-
-/// sRGB transfer function of a linear value in [0, 1].
-double linearToSrgb(double v);
 
 /// 8-bit sRGB of linear values times 2^exposure, as PNG output writes them:
 /// round(255 * linearToSrgb(tone(v * scale))). Exact and fast: the code is found

@@ -309,6 +309,10 @@ void shadeCluster(const PackedModel& m, const T* coefficients,
 void requireLocalLightsApply(const TransportHeader& header, const std::string& path, bool model,
                              const std::vector<LocalLight>& lights) {
   if (lights.empty()) return;
+  if (header.isLightSet())
+    throw UserError(concat(path,
+                           ": is a captured light set: local lights need each pixel's "
+                           "position, which captured images do not hold"));
   if (!header.hasPositions())
     throw UserError(
         concat(path,

@@ -105,7 +105,7 @@ void ModelRelighter::reserveGroup(size_t frames) {
 }
 
 void ModelRelighter::lightGlobal(const LatticeLighting* const* lightings, size_t frames) {
-  const long long l = 6LL * m_.geometry.cubemapResolution * m_.geometry.cubemapResolution;
+  const long long l = m_.geometry.latticeSize();
   const int n = m_.globalBases;
   const int seen = static_cast<int>(m_.seenTexels.size());
   // With R, G and B rows side by side, channel c's light meets only the c-th

@@ -27,6 +27,8 @@ std::vector<Aov> presetAovs(const std::string& name) {
 /// What an AOV needs that older files lack, and since which versions.
 bool fileGives(const TransportHeader& h, Aov aov) {
   switch (aov) {
+    case Aov::Albedo:  // an imported image holds albedo and shading as one
+      return !h.isLightSet();
     case Aov::Normal:
       return h.hasNormals();
     case Aov::Depth:
@@ -176,6 +178,10 @@ void requireAovs(const TransportHeader& header, const std::vector<Aov>& aovs,
                  const std::string& path, bool model) {
   for (Aov aov : aovs) {
     if (fileGives(header, aov)) continue;
+    if (header.isLightSet())
+      throw UserError(concat(path, ": cannot give the '", kAovNames.name(aov),
+                             "' label: a captured light set holds images, not the geometry or "
+                             "albedo under them (its labels are mask and shading)"));
     const std::string remedy =
         model ? "compress (or build) it again with this version, from a transport made by it"
               : "run precompute again with this version";

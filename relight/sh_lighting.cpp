@@ -41,6 +41,26 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
   }
 }
 
+ShProjector::ShProjector(const DomainLighting& domain) : ShProjector(domain.mapLattice()) {
+  const LightCells* cells = domain.cells();
+  if (!cells) return;
+  // Each cell's mean Y: its texels' means weighted by the solid angle each
+  // gives the cell.
+  const CubeLattice& fine = cells->lattice();
+  std::vector<std::array<double, 9>> sum(cells->cells(), std::array<double, 9>{});
+  std::vector<double> area(cells->cells(), 0.0);
+  for (int j = 0; j < fine.size(); ++j)
+    for (const LightCells::Share* s = cells->begin(j); s != cells->end(j); ++s) {
+      const double w = s->fraction * fine.solidAngle(j);
+      for (int b = 0; b < 9; ++b) sum[s->cell][b] += w * meanY_[j][b];
+      area[s->cell] += w;
+    }
+  meanY_.assign(cells->cells(), std::array<double, 9>{});
+  for (int k = 0; k < cells->cells(); ++k)
+    if (area[k] > 0)
+      for (int b = 0; b < 9; ++b) meanY_[k][b] = sum[k][b] / area[k];
+}
+
 std::array<Rgb, 9> ShProjector::project(const LatticeLighting& lighting) const {
   ACPCA_CHECK(lighting.size() == 3 * meanY_.size(), "lighting of ", lighting.size() / 3,
               " texels for a lattice of ", meanY_.size());

@@ -6,6 +6,7 @@
 #include <array>
 #include <vector>
 
+#include "relight/domain_lighting.h"
 #include "relight/environment.h"
 #include "transport/cube_lattice.h"
 
@@ -22,6 +23,9 @@ std::array<double, 9> realSh9(const Vec3& d);
 class ShProjector {
  public:
   explicit ShProjector(const CubeLattice& lattice);
+  /// A file's domain: its lattice, or a captured light set's cells (the
+  /// lighting of each taken as uniform over the cell, as for a texel).
+  explicit ShProjector(const DomainLighting& domain);
   /// Nine RGB coefficients: constant radiance 1 gives 2 sqrt(pi) for (0,0).
   std::array<Rgb, 9> project(const LatticeLighting& lighting) const;
 

@@ -17,7 +17,7 @@ bash scripts/setup.sh
 source scripts/compiler-cache.sh
 
 targets=(fuzz_transport_file fuzz_model_file fuzz_hdf5_headers fuzz_scene_json fuzz_environment
-  fuzz_mesh_file fuzz_light_spec)
+  fuzz_mesh_file fuzz_light_spec fuzz_lights_file)
 cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACPCA_FUZZ=ON -DACPCA_BUILD_TESTS=OFF "${compiler_cache_flags[@]}" \
   -DACPCA_WERROR="${ACPCA_WERROR:-0}" >/dev/null
@@ -27,7 +27,7 @@ cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 cli=build/tools/adaptive-cpca
 seeds=build-fuzz/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment,fuzz_mesh_file,fuzz_light_spec}
+mkdir -p "$seeds"/{fuzz_transport_file,fuzz_model_file,fuzz_hdf5_headers,fuzz_scene_json,fuzz_environment,fuzz_mesh_file,fuzz_light_spec,fuzz_lights_file}
 "$cli" precompute --scene sphere --size 4x4 --cubemap 2 --quiet --out "$seeds/fuzz_transport_file/f16.h5"
 "$cli" precompute --scene step --size 3x3 --cubemap 1 --precision f32 --quiet \
   --out "$seeds/fuzz_transport_file/f32.h5"
@@ -40,6 +40,9 @@ printf 'point:1,2,3,4' >"$seeds/fuzz_light_spec/point"
 printf 'sphere:0,3,1,0.5,10,20,30' >"$seeds/fuzz_light_spec/sphere"
 printf 'spot:0,4,0,0,-1,0,30,5' >"$seeds/fuzz_light_spec/spot"
 printf 'point:-1:1:0.5,2,0:3:1,4' >"$seeds/fuzz_light_spec/sweep"
+printf 'image,x,y,z,r,g,b\na.png,0,1,0,1,1,1\nb.png,1,0,0,2,2,2\n' >"$seeds/fuzz_lights_file/csv"
+printf '{"center": [0, 1, 0], "lights": [{"image": "a.exr", "position": [0, 5, 0], "intensity": 2}, {"image": "b.exr", "direction": [1, 0, 0], "solid_angle": 0.5}]}' \
+  >"$seeds/fuzz_lights_file/json"
 "$cli" envmap sky --cubemap 2 --size 8x4 --quiet --out "$seeds/sky.exr"
 # The environment target's first byte picks the format: 1 is EXR.
 { printf '\001'; cat "$seeds/sky.exr"; } >"$seeds/fuzz_environment/sky"

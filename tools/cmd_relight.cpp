@@ -9,6 +9,7 @@
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
+#include "transport/image_header.h"
 
 namespace acpca::cli {
 
@@ -16,7 +17,7 @@ namespace {
 
 struct RelightArgs {
   CommonOptions common;
-  std::string background = "env";
+  std::string background;  ///< empty: env, or black for a captured light set
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -27,7 +28,9 @@ void run(RelightArgs& a) {
   BatchRelightOptions& o = a.options;
   o.input = a.views.front();
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
-  o.background = parseBackground(a.background);
+  o.background = parseBackground(!a.background.empty()        ? a.background
+                                 : fileHoldsLightSet(o.input) ? "black"
+                                                              : "env");
   a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -60,7 +63,8 @@ void registerRelight(CLI::App& app) {
       ->required();
   args->batch.add(*sub, args->options, "Output image, or directory for several");
   sub->add_option("--exposure", args->options.exposure, "Exposure in stops applied to the outputs");
-  sub->add_option("--background", args->background, "env, black or alpha");
+  sub->add_option("--background", args->background,
+                  "env, black or alpha (default: env; black for a captured light set)");
   sub->add_option("--frames", args->options.timingRepeats,
                   "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
   sub->add_option("--max-rank", args->options.maxRank,

@@ -7,6 +7,7 @@
 #include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
+#include "transport/image_header.h"
 #include "viewer/display_check.h"
 #include "viewer/viewer.h"
 
@@ -15,8 +16,8 @@ namespace acpca::cli {
 namespace {
 
 struct ViewArgs {
-  ViewerOptions options;  ///< the flags that set a field of it directly
-  std::string background = "env", script, rotate;
+  ViewerOptions options;                   ///< the flags that set a field of it directly
+  std::string background, script, rotate;  ///< background empty: env (black: a light set)
   std::vector<std::string> envs, lights;
   int threads = 0;
   bool quiet = false;
@@ -25,7 +26,9 @@ struct ViewArgs {
 void run(const ViewArgs& a) {
   ViewerOptions o = a.options;
   if (!a.envs.empty()) o.envSpecs = expandEnvironmentSpecs(a.envs);
-  o.background = parseBackground(a.background);
+  o.background = parseBackground(!a.background.empty()            ? a.background
+                                 : fileHoldsLightSet(o.modelPath) ? "black"
+                                                                  : "env");
   if (!a.rotate.empty()) o.initial = parseViewerRotation(a.rotate, o.initial);
   for (const std::string& spec : a.lights) o.initial.lights.push_back(parseLocalLight(spec));
   if (!o.initial.lights.empty()) o.initial.selectedLight = 0;
@@ -58,7 +61,8 @@ void registerView(CLI::App& app) {
   sub->add_option("--exposure", args->options.initial.exposure, "Initial exposure in stops");
   sub->add_option("--rank-percent", args->options.initial.rankPercent,
                   "Initial share of each cluster's bases, 0..100 (the quality/speed trackbar)");
-  sub->add_option("--background", args->background, "env or black");
+  sub->add_option("--background", args->background,
+                  "env or black (default: env; black for a captured light set)");
   sub->add_option("--save-dir", args->options.saveDir,
                   "Where the s key writes EXR + PNG (default .)");
   sub->add_option("--script", args->script,

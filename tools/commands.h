@@ -10,6 +10,7 @@ void registerBuild(CLI::App& app);
 void registerRelight(CLI::App& app);
 void registerEnvmap(CLI::App& app);
 void registerInfo(CLI::App& app);
+void registerImport(CLI::App& app);
 void registerScenes(CLI::App& app);
 void registerBench(CLI::App& app);
 void registerView(CLI::App& app);

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   acpca::cli::registerRelight(app);
   acpca::cli::registerEnvmap(app);
   acpca::cli::registerInfo(app);
+  acpca::cli::registerImport(app);
   acpca::cli::registerScenes(app);
   acpca::cli::registerBench(app);
   acpca::cli::registerEval(app);

@@ -39,6 +39,58 @@ std::vector<std::string> splitNames(const std::string& joined) {
   return joined.empty() ? std::vector<std::string>{""} : splitText(joined, '\n');
 }
 
+constexpr const char* kCellSourceNames[] = {"capped-voronoi", "given"};
+
+void writeLightSet(hid_t f, const LightSet& lights, const std::string& ctx) {
+  const hsize_t n = lights.size();
+  std::vector<double> directions, irradiance;
+  for (int k = 0; k < lights.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      directions.push_back(lights.directions[k][c]);
+      irradiance.push_back(lights.irradiance[k][c]);
+    }
+  h5::writeDataset(f, "light_direction", {n, 3}, directions.data(), ctx);
+  h5::writeDataset(f, "light_solid_angle", {n}, lights.solidAngles.data(), ctx);
+  h5::writeDataset(f, "light_irradiance", {n, 3}, irradiance.data(), ctx);
+  h5::writeAttribute(f, "light_cells",
+                     std::string(kCellSourceNames[static_cast<int>(lights.cells)]), ctx);
+  if (lights.cells == CellSource::CappedVoronoi)
+    h5::writeAttribute(f, "light_cell_cap_deg", lights.capDegrees, ctx);
+}
+
+/// The light set of a file whose "cubemap" attribute is 0, checked.
+LightSet readLightSet(hid_t f, const std::string& ctx) {
+  const std::vector<hsize_t> shape = h5::datasetShape(f, "light_direction", ctx);
+  if (shape.size() != 2 || shape[1] != 3 || shape[0] < 1 || shape[0] > kMaxLights)
+    throw UserError(concat(ctx, ": dataset 'light_direction' has the wrong shape"));
+  const hsize_t n = shape[0];
+  if (h5::datasetShape(f, "light_solid_angle", ctx) != std::vector<hsize_t>{n} ||
+      h5::datasetShape(f, "light_irradiance", ctx) != std::vector<hsize_t>{n, 3})
+    throw UserError(concat(ctx, ": the light datasets differ in count"));
+  std::vector<double> directions(3 * n), irradiance(3 * n);
+  LightSet lights;
+  lights.solidAngles.resize(n);
+  h5::readTyped(f, "light_direction", H5T_NATIVE_DOUBLE, directions.data(), ctx);
+  h5::readTyped(f, "light_solid_angle", H5T_NATIVE_DOUBLE, lights.solidAngles.data(), ctx);
+  h5::readTyped(f, "light_irradiance", H5T_NATIVE_DOUBLE, irradiance.data(), ctx);
+  for (hsize_t k = 0; k < n; ++k) {
+    lights.directions.emplace_back(directions[3 * k], directions[3 * k + 1], directions[3 * k + 2]);
+    lights.irradiance.emplace_back(irradiance[3 * k], irradiance[3 * k + 1], irradiance[3 * k + 2]);
+  }
+  const std::string cells = h5::readStringAttribute(f, "light_cells", ctx);
+  if (cells == kCellSourceNames[0]) {
+    lights.cells = CellSource::CappedVoronoi;
+    lights.capDegrees = h5::readDoubleAttribute(f, "light_cell_cap_deg", ctx);
+  } else if (cells == kCellSourceNames[1]) {
+    lights.cells = CellSource::Given;
+  } else {
+    throw UserError(
+        concat(ctx, ": attribute 'light_cells' is '", cells, "', not capped-voronoi or given"));
+  }
+  lights.validate(ctx);
+  return lights;
+}
+
 }  // namespace
 
 void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx) {
@@ -47,10 +99,14 @@ void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx)
   h5::writeAttribute(f, "cubemap", static_cast<long long>(h.cubemapResolution), ctx);
   h5::writeAttribute(f, "scene", h.scene, ctx);
   h5::writeAttribute(f, "occupied_pixels", h.rows(), ctx);
-  h5::writeAttribute(f, "camera_eye", toVector(h.camera.eye), ctx);
-  h5::writeAttribute(f, "camera_target", toVector(h.camera.target), ctx);
-  h5::writeAttribute(f, "camera_up", toVector(h.camera.up), ctx);
-  h5::writeAttribute(f, "camera_fov_deg", h.camera.fovDegrees, ctx);
+  if (h.isLightSet()) {
+    writeLightSet(f, h.lights, ctx);  // captured: no camera
+  } else {
+    h5::writeAttribute(f, "camera_eye", toVector(h.camera.eye), ctx);
+    h5::writeAttribute(f, "camera_target", toVector(h.camera.target), ctx);
+    h5::writeAttribute(f, "camera_up", toVector(h.camera.up), ctx);
+    h5::writeAttribute(f, "camera_fov_deg", h.camera.fovDegrees, ctx);
+  }
   // Written only for RGB rows, so files of scalar rows stay as they were.
   if (h.channels != 1) h5::writeAttribute(f, "channels", static_cast<long long>(h.channels), ctx);
   const hsize_t n = h.rows();
@@ -65,6 +121,16 @@ void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx)
   }
 }
 
+bool fileHoldsLightSet(const std::string& path) {
+  try {
+    const h5::Handle file = h5::openFileReadOnly(path);
+    return h5::hasAttribute(file.get(), "cubemap") &&
+           h5::readIntAttribute(file.get(), "cubemap", path) == 0;
+  } catch (const UserError&) {
+    return false;
+  }
+}
+
 TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string& ctx) {
   TransportHeader h;
   const long long width = h5::readIntAttribute(f, "width", ctx);
@@ -73,14 +139,20 @@ TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string&
     throw UserError(concat(ctx, ": image size ", width, "x", height, " is out of range"));
   h.camera.size = {static_cast<int>(width), static_cast<int>(height)};
   const long long cubemap = h5::readIntAttribute(f, "cubemap", ctx);
-  if (cubemap < 1 || cubemap > CubeLattice::kMaxResolution)
+  // 0: a light set's file (transport version 4, model version 6).
+  if (cubemap < 0 || cubemap > CubeLattice::kMaxResolution)
     throw UserError(concat(ctx, ": cube-map resolution ", cubemap, " is out of range"));
   h.cubemapResolution = static_cast<int>(cubemap);
   h.scene = h5::readStringAttribute(f, "scene", ctx);
-  h.camera.eye = readVec3(f, "camera_eye", ctx);
-  h.camera.target = readVec3(f, "camera_target", ctx);
-  h.camera.up = readVec3(f, "camera_up", ctx);
-  h.camera.fovDegrees = h5::readDoubleAttribute(f, "camera_fov_deg", ctx);
+  if (cubemap == 0) {
+    h.lights = readLightSet(f, ctx);
+    requireNormals = false;
+  } else {
+    h.camera.eye = readVec3(f, "camera_eye", ctx);
+    h.camera.target = readVec3(f, "camera_target", ctx);
+    h.camera.up = readVec3(f, "camera_up", ctx);
+    h.camera.fovDegrees = h5::readDoubleAttribute(f, "camera_fov_deg", ctx);
+  }
   if (h5::hasAttribute(f, "channels")) {
     const long long channels = h5::readIntAttribute(f, "channels", ctx);
     if (channels != 1 && channels != 3)

@@ -20,9 +20,17 @@ const char* precisionName(Precision p) {
 }
 
 void TransportHeader::validate(const std::string& context) const {
-  camera.validate();
-  if (cubemapResolution < 1 || cubemapResolution > CubeLattice::kMaxResolution)
-    throw UserError(concat(context, ": cube-map resolution ", cubemapResolution, " out of range"));
+  if (isLightSet()) {
+    lights.validate(context);
+    validateImageSize(camera.size, context);
+    if (cubemapResolution != 0)
+      throw UserError(concat(context, ": a light set's transport has no cube map"));
+  } else {
+    camera.validate();
+    if (cubemapResolution < 1 || cubemapResolution > CubeLattice::kMaxResolution)
+      throw UserError(
+          concat(context, ": cube-map resolution ", cubemapResolution, " out of range"));
+  }
   if (samplesPerPixel < 1 || texelRays < 1)
     throw UserError(concat(context, ": samples per pixel and rays per texel must be >= 1"));
   if (channels != 1 && channels != 3)
@@ -58,6 +66,14 @@ void TransportHeader::validate(const std::string& context) const {
     if (!(c >= 0 && c <= 1)) throw UserError(concat(context, ": coverage must be in [0, 1]"));
 }
 
+ColumnGeometry columnGeometry(const TransportHeader& header) {
+  if (header.isLightSet()) return {header.lights.directions, header.lights.solidAngles};
+  const CubeLattice lattice(header.cubemapResolution);
+  ColumnGeometry columns{{}, lattice.solidAngles()};
+  for (int j = 0; j < lattice.size(); ++j) columns.directions.push_back(lattice.direction(j));
+  return columns;
+}
+
 namespace {
 
 constexpr const char* kRowsDataset = "transport";
@@ -73,7 +89,8 @@ hsize_t rowsPerChunk(int rowLength, Precision p) {
 TransportWriter::TransportWriter(const std::string& path, const TransportHeader& header)
     : output_(path), header_(header) {
   header_.validate(path);
-  ACPCA_CHECK(header_.hasNormals(), "a transport keeps every row's normal");
+  ACPCA_CHECK(header_.hasNormals() || header_.isLightSet(),
+              "a transport of a scene keeps every row's normal");
   const std::string& ctx = path;
   file_ = h5::createFile(output_.tempPath(), path);
   const hid_t f = file_.get();
@@ -92,15 +109,15 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   writeImageHeader(f, header, ctx);
   const hsize_t n = header.rows();
 
-  // The lattice itself, so that readers (h5py) need not re-derive it:
+  // The columns' directions and solid angles (texels, or a light set's
+  // lights and cells), so that readers (h5py) need not re-derive them:
   // B = albedo * (T @ (radiance * solid_angle)).
-  const CubeLattice lattice(header.cubemapResolution);
+  const ColumnGeometry columns = columnGeometry(header);
   std::vector<double> directions;
-  for (int j = 0; j < lattice.size(); ++j)
-    directions.insert(directions.end(), lattice.direction(j).data(),
-                      lattice.direction(j).data() + 3);
+  for (const Vec3& d : columns.directions)
+    directions.insert(directions.end(), {d.x(), d.y(), d.z()});
   const hsize_t l = header.latticeSize();
-  h5::writeDataset(f, "lattice_solid_angle", {l}, lattice.solidAngles().data(), ctx);
+  h5::writeDataset(f, "lattice_solid_angle", {l}, columns.solidAngles.data(), ctx);
   h5::writeDataset(f, "lattice_direction", {l, 3}, directions.data(), ctx);
   const hsize_t width = header.rowLength();
   const hsize_t dims[2] = {n, width}, maxDims[2] = {H5S_UNLIMITED, width};

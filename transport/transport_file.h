@@ -11,6 +11,7 @@
 #include "core/enum_names.h"
 #include "transport/camera.h"
 #include "transport/hdf5_handles.h"
+#include "transport/light_set.h"
 
 namespace acpca {
 
@@ -22,15 +23,17 @@ const char* precisionName(Precision p);
 
 inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
 /// Version 2 added the per-pixel `position`, version 3 the per-pixel `object`
-/// and the scene's object names (docs/formats.md); earlier files are read
-/// without them.
-inline constexpr int kTransportVersion = 3;
+/// and the scene's object names, version 4 the light set of captured
+/// transports (docs/formats.md); earlier files are read without them.
+inline constexpr int kTransportVersion = 4;
 inline constexpr int kOldestTransportVersion = 1;
 
 /// Everything about a transport except its rows.
 struct TransportHeader {
-  Camera camera;  ///< camera.size is the image size
-  int cubemapResolution = 32;
+  Camera camera;               ///< camera.size is the image size; the rest unset for a light set
+  int cubemapResolution = 32;  ///< 0 for a light set
+  /// The lighting domain of a captured transport (empty: the cube lattice).
+  LightSet lights;
   int samplesPerPixel = 1;
   int texelRays = 1;
   Precision precision = Precision::F16;
@@ -64,12 +67,25 @@ struct TransportHeader {
   bool hasObjects() const { return rows() == 0 || !objects.empty(); }
 
   long long rows() const { return static_cast<long long>(pixels.size()); }
-  int latticeSize() const { return 6 * cubemapResolution * cubemapResolution; }
+  /// Imported images over a light set: no camera, no geometry per pixel.
+  bool isLightSet() const { return !lights.empty(); }
+  /// Columns of the lighting domain: cube-lattice texels, or lights.
+  int latticeSize() const {
+    return isLightSet() ? lights.size() : 6 * cubemapResolution * cubemapResolution;
+  }
   /// Values per row: channels x latticeSize, channel c's at [c l, (c + 1) l).
   int rowLength() const { return channels * latticeSize(); }
   /// Throws UserError when sizes or values do not agree (context names the file).
   void validate(const std::string& context) const;
 };
+
+/// Each column's direction and solid angle: the lattice's texels, or a light
+/// set's lights and their cells.
+struct ColumnGeometry {
+  std::vector<Vec3> directions;
+  std::vector<double> solidAngles;
+};
+ColumnGeometry columnGeometry(const TransportHeader& header);
 
 /// Writes a transport file row block by row block, in increasing row order.
 /// The file appears under its final name only after finish().

@@ -46,7 +46,8 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
   if (envs_.empty()) throw ParameterError("environment", "", "give at least one lighting");
   const TransportHeader& g = relighter_->geometry();
-  lattice_ = std::make_unique<CubeLattice>(g.cubemapResolution);
+  domain_ = std::make_unique<DomainLighting>(g);
+  requireBackgroundShown(g, options.background, options.modelPath);
   composer_ = std::make_unique<ImageComposer>(g);
   context_.envs = static_cast<int>(envs_.size());
   context_.camera = g.camera;
@@ -97,7 +98,7 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
     const Environment& env = *envs_[state.env];
     const EnvRotation rotation = rotationOf(state);
     Stopwatch t;
-    lighting_ = computeLighting(env, *lattice_, rotation, options_.rotationMode);
+    lighting_ = (*domain_)(env, rotation, options_.rotationMode);
     times_.lighting = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
     t.restart();
@@ -190,7 +191,8 @@ void Viewer::drawOverlays(const ViewState& state, cv::Mat& image) const {
   if (state.lightingInset) {
     // What the lattice holds of the rotated lighting, as a small lat-long.
     const int w = std::clamp(width_ / 3, 16, 256), h = w / 2;
-    const Image inset = latticeToLatLong(lighting_, *lattice_, w, h);
+    const Image inset =
+        latticeToLatLong(domain_->mapLighting(lighting_), domain_->mapLattice(), w, h);
     const cv::Mat picture = toneMappedBgr(inset, state.exposure);
     if (w + 2 <= width_ && h + 2 <= height_) {
       image(cv::Rect(0, 0, w + 2, h + 2)).setTo(cv::Scalar(255, 255, 255));

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "relight/domain_lighting.h"
 #include "relight/environment.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
@@ -93,7 +94,7 @@ class Viewer {
   ViewerOptions options_;
   std::unique_ptr<ModelRelighter> relighter_;
   std::vector<std::unique_ptr<Environment>> envs_;
-  std::unique_ptr<CubeLattice> lattice_;
+  std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
   int width_ = 0, height_ = 0, maxRank_ = 0;
   std::vector<int> clusterOfPixel_;  ///< -1 for background
   ViewContext context_;

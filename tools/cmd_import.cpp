@@ -1,0 +1,127 @@
+// `adaptive-cpca import`: a one-light-at-a-time image set and its lights file
+// -> a transport file over the light set (docs/formats.md, "Captured transport").
+#include <filesystem>
+#include <iostream>
+#include <set>
+
+#include "capture/lights_file.h"
+#include "capture/olat_import.h"
+#include "core/warning.h"
+#include "tools/cli_common.h"
+#include "tools/commands.h"
+
+namespace acpca::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ImportArgs {
+  CommonOptions common;
+  std::string lights, out, mask, precision = "f16";
+  bool linear = false, srgb = false;
+  double capDegrees = 0;
+};
+
+/// Images beside the listed ones, of their kinds, that the lights file leaves
+/// out: a list that lost lines, or a folder of another set.
+void warnOfUnlistedImages(const LightsFile& file) {
+  std::set<fs::path> listed, folders;
+  std::set<std::string> kinds;
+  for (const LightEntry& e : file.lights) {
+    const fs::path p = fs::path(e.imagePath).lexically_normal();
+    listed.insert(p);
+    folders.insert(p.parent_path());
+    kinds.insert(p.extension().string());
+  }
+  long long unlisted = 0;
+  for (const fs::path& folder : folders) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder.empty() ? "." : folder, ec))
+      if (entry.is_regular_file() && kinds.count(entry.path().extension().string()) &&
+          !listed.count((folder / entry.path().filename()).lexically_normal()))
+        ++unlisted;
+  }
+  if (unlisted > 0)
+    warn(concat(file.path, " lists ", file.lights.size(), " images; ", unlisted,
+                " more of their kind lie beside them unlisted"));
+}
+
+void run(const ImportArgs& a) {
+  const LightsFile file = readLightsFile(a.lights);
+  std::vector<std::string> paths;
+  OlatLights lights;
+  for (const LightEntry& e : file.lights) {
+    paths.push_back(e.imagePath);
+    lights.directions.push_back(e.direction);
+    lights.irradiance.push_back(e.irradiance);
+    if (file.cellsGiven()) lights.solidAngles.push_back(e.solidAngle);
+  }
+  std::vector<std::string> inputs = paths;
+  inputs.push_back(a.lights);
+  if (!a.mask.empty()) inputs.push_back(a.mask);
+  refuseOutputsOverInputs(inputs, {a.out, a.common.jsonPath});
+  if (!a.common.quiet) warnOfUnlistedImages(file);
+
+  OlatImportOptions o;
+  o.out = a.out;
+  o.mask = a.mask;
+  o.precision = parsePrecision(a.precision);
+  o.capDegrees = a.capDegrees;
+  o.name = fs::path(a.lights).stem().string();
+  ThreadLimit limit(a.common.threads);
+  const auto images = openImageFiles(paths, a.linear ? ImageEncoding::Linear
+                                            : a.srgb ? ImageEncoding::Srgb
+                                                     : ImageEncoding::Auto);
+  Progress progress("import " + o.name, "image rows", a.common.quiet);
+  o.progress = [&](long long done, long long total) { progress.update(done, total); };
+  const OlatImportResult r = importOlat(*images, lights, o);
+  progress.finish();
+  const TransportHeader& h = r.header;
+  if (!a.common.quiet)
+    std::cerr << "wrote " << a.out << ": " << h.lights.describe() << ", " << h.rows()
+              << " covered pixels of " << h.camera.size.width << "x" << h.camera.size.height << ", "
+              << (h.channels == 3 ? "RGB" : "grey") << " rows, "
+              << formatBytes(double(r.bytesWritten)) << " in " << r.seconds << " s\n";
+  writeJson(a.common.jsonPath, {{"out", a.out},
+                                {"lights", h.lights.size()},
+                                {"width", h.camera.size.width},
+                                {"height", h.camera.size.height},
+                                {"occupied_pixels", h.rows()},
+                                {"channels", h.channels},
+                                {"cells", h.lights.describe()},
+                                {"uncovered_sr", h.lights.uncoveredSolidAngle()},
+                                {"saturated_values", r.saturatedValues},
+                                {"saturated_images", r.saturatedImages},
+                                {"bytes", r.bytesWritten},
+                                {"seconds", r.seconds},
+                                {"peak_memory_bytes", peakMemoryBytes()}});
+}
+
+}  // namespace
+
+void registerImport(CLI::App& app) {
+  auto args = std::make_shared<ImportArgs>();
+  auto* sub = app.add_subcommand(
+      "import", "Make a transport file of a captured one-light-at-a-time image set");
+  sub->add_option("lights", args->lights,
+                  "Lights file (JSON or CSV): each light's image, direction and intensity")
+      ->required();
+  sub->add_option("--out", args->out, "Transport file to write (HDF5)")->required();
+  sub->add_option("--mask", args->mask,
+                  "Coverage image: its alpha (or first) channel, 0 = background; default: pixels "
+                  "black in every image are background");
+  auto* linear = sub->add_flag("--linear", args->linear,
+                               "Take 8/16-bit images as linear values (default: sRGB-decoded)");
+  sub->add_flag("--srgb", args->srgb, "sRGB-decode every image, floating-point ones too")
+      ->excludes(linear);
+  sub->add_option("--cell-cap", args->capDegrees,
+                  "Largest angle (degrees) a light's cell reaches from it; default: the largest "
+                  "angle from a light to its nearest neighbour")
+      ->check(CLI::Range(0.0, 180.0));
+  sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");
+  args->common.add(*sub);
+  sub->callback([args] { run(*args); });
+}
+
+}  // namespace acpca::cli
