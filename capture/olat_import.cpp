@@ -109,6 +109,22 @@ void warnOfTally(const BandTally& tally, long long saturated, int saturatedImage
 
 }  // namespace
 
+nlohmann::json importReport(const OlatImportResult& r, const std::string& out) {
+  const TransportHeader& h = r.header;
+  return {{"out", out},
+          {"lights", h.lights.size()},
+          {"width", h.camera.size.width},
+          {"height", h.camera.size.height},
+          {"occupied_pixels", h.rows()},
+          {"channels", h.channels},
+          {"cells", h.lights.describe()},
+          {"uncovered_sr", h.lights.uncoveredSolidAngle()},
+          {"saturated_values", r.saturatedValues},
+          {"saturated_images", r.saturatedImages},
+          {"bytes", r.bytesWritten},
+          {"seconds", r.seconds}};
+}
+
 LightSet makeLightSet(const OlatLights& lights, double capDegrees) {
   LightSet set;
   set.directions = lights.directions;

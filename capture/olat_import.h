@@ -5,6 +5,7 @@
 // irradiance E_k its light delivered, so the relit image under lighting
 // Phi_k (the environment integrated over light k's cell) is sum_k I_k Phi_k / E_k.
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,10 @@ struct OlatImportResult {
   long long bytesWritten = 0;
   double seconds = 0;
 };
+
+/// What an import made, as `import --json` and Python report it (without
+/// the process's peak memory, which the caller adds).
+nlohmann::json importReport(const OlatImportResult& result, const std::string& out);
 
 /// The light set's cells: given, or capped Voronoi cells of the directions.
 LightSet makeLightSet(const OlatLights& lights, double capDegrees);

@@ -183,16 +183,7 @@ py::object importTransport(const py::object& images, const Doubles& directions,
     });
     return 0;
   });
-  const TransportHeader& h = result.header;
-  return toPython(nlohmann::json{{"out", out},
-                                 {"lights", h.lights.size()},
-                                 {"width", h.camera.size.width},
-                                 {"height", h.camera.size.height},
-                                 {"occupied_pixels", h.rows()},
-                                 {"channels", h.channels},
-                                 {"uncovered_sr", h.lights.uncoveredSolidAngle()},
-                                 {"saturated_values", result.saturatedValues},
-                                 {"seconds", result.seconds}});
+  return toPython(importReport(result, out));
 }
 
 }  // namespace

@@ -83,19 +83,9 @@ void run(const ImportArgs& a) {
               << " covered pixels of " << h.camera.size.width << "x" << h.camera.size.height << ", "
               << (h.channels == 3 ? "RGB" : "grey") << " rows, "
               << formatBytes(double(r.bytesWritten)) << " in " << r.seconds << " s\n";
-  writeJson(a.common.jsonPath, {{"out", a.out},
-                                {"lights", h.lights.size()},
-                                {"width", h.camera.size.width},
-                                {"height", h.camera.size.height},
-                                {"occupied_pixels", h.rows()},
-                                {"channels", h.channels},
-                                {"cells", h.lights.describe()},
-                                {"uncovered_sr", h.lights.uncoveredSolidAngle()},
-                                {"saturated_values", r.saturatedValues},
-                                {"saturated_images", r.saturatedImages},
-                                {"bytes", r.bytesWritten},
-                                {"seconds", r.seconds},
-                                {"peak_memory_bytes", peakMemoryBytes()}});
+  nlohmann::json report = importReport(r, a.out);
+  report["peak_memory_bytes"] = peakMemoryBytes();
+  writeJson(a.common.jsonPath, report);
 }
 
 }  // namespace

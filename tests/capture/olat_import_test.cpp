@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "relight/dense_relight.h"
 #include "relight/domain_lighting.h"
+#include "tests/sphere_points.h"
 #include "tests/temp_dir.h"
 #include "tests/test_support.h"
 
@@ -173,17 +174,6 @@ TEST(OlatImport, RefusesBadSetsAndWritesNothing) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 3);
 }
 
-/// n directions spread evenly over the sphere (the golden-angle spiral).
-std::vector<Vec3> fibonacciSphere(int n) {
-  std::vector<Vec3> d;
-  const double golden = kPi * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - y * y);
-    d.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
-  }
-  return d;
-}
-
 /// A sun of 1 degree centred on d, of unit radiance.
 std::unique_ptr<Environment> sunAt(const Vec3& d) {
   const double theta = std::acos(std::clamp(d.y(), -1.0, 1.0)) * 180 / kPi;
@@ -201,7 +191,7 @@ TEST(OlatImport, OlatImagesOfATransportRelightAsTheTransportDid) {
   // OLAT images of the small plant: light k a 1-degree sun at direction k.
   const TransportReader plant(test::fixture("small-plant"));
   const CubeLattice lattice(plant.header().cubemapResolution);
-  const std::vector<Vec3> directions = fibonacciSphere(600);
+  const std::vector<Vec3> directions = test::goldenSpiral(600);
   std::vector<LatticeLighting> suns;
   for (const Vec3& d : directions) suns.push_back(computeLighting(*sunAt(d), lattice, {}));
   const std::vector<std::vector<float>> olat = denseRelight(plant, suns);

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "tests/cli/run_cli.h"
+#include "tests/sphere_points.h"
 #include "tests/temp_dir.h"
 
 namespace acpca {
@@ -20,17 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kPi = std::numbers::pi;
 constexpr int kWidth = 16, kHeight = 12, kLights = 24;
-
-/// n directions spread evenly over the sphere (the golden-angle spiral).
-std::vector<Eigen::Vector3d> spiral(int n) {
-  std::vector<Eigen::Vector3d> d;
-  const double golden = kPi * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - y * y);
-    d.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
-  }
-  return d;
-}
 
 double srgbDecoded(int code) {
   const double c = code / 255.0;
@@ -45,7 +35,7 @@ class ImportCli : public ::testing::Test {
   void SetUp() override {
     std::ofstream csv(dir_.file("lights.csv"));
     csv << "# a synthetic light stage\nimage,x,y,z\n";
-    const auto lights = spiral(kLights);
+    const auto lights = test::goldenSpiral(kLights);
     for (int k = 0; k < kLights; ++k) {
       std::vector<unsigned char> rgb(kWidth * kHeight * 3, 0);
       for (int y = 0; y < kHeight; ++y)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "tests/sphere_points.h"
 #include "tests/temp_dir.h"
 #include "transport/light_set.h"
 #include "transport/transport_file.h"
@@ -16,17 +17,6 @@ constexpr double kPi = std::numbers::pi;
 
 std::vector<Vec3> octahedron() {
   return {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-}
-
-/// n directions spread evenly over the sphere (the golden-angle spiral).
-std::vector<Vec3> fibonacciSphere(int n) {
-  std::vector<Vec3> d;
-  const double golden = kPi * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - y * y);
-    d.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
-  }
-  return d;
 }
 
 double sum(const std::vector<double>& v) {
@@ -44,7 +34,7 @@ TEST(LightCells, TheOctahedronsCellsAreTheCubeFaces) {
 }
 
 TEST(LightCells, UncappedCellsSumToTheSphere) {
-  const std::vector<Vec3> lights = fibonacciSphere(331);
+  const std::vector<Vec3> lights = test::goldenSpiral(331);
   const LightCells cells(lights, 180);
   const std::vector<double> w = cells.solidAngles();
   EXPECT_NEAR(sum(w), 4 * kPi, 4 * kPi * 1e-6);
