@@ -4,15 +4,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.h"
 #include "core/half.h"
+#include "core/resources.h"
 #include "core/stopwatch.h"
 #include "core/warning.h"
 
 namespace acpca {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 /// Bytes of one band of every image: bands of about this size keep memory
 /// flat while each read is long enough to stream.
@@ -23,8 +27,16 @@ constexpr long long kWriteRows = 1024;
 /// The rows of the covered pixels, kept as the file will store them, in pixel order.
 class KeptRows {
  public:
-  KeptRows(int rowLength, Precision precision)
-      : length_(rowLength), half_(precision == Precision::F16) {}
+  /// At most maxRows rows: their room is reserved once (address space only
+  /// until rows arrive), so growing never holds two copies at once.
+  KeptRows(int rowLength, Precision precision, long long maxRows)
+      : length_(rowLength), half_(precision == Precision::F16) {
+    const size_t values = static_cast<size_t>(maxRows) * rowLength;
+    if (half_)
+      halves_.reserve(values);
+    else
+      floats_.reserve(values);
+  }
   void add(const float* row) {
     if (half_) {
       const size_t at = halves_.size();
@@ -158,12 +170,23 @@ OlatImportResult importOlat(OlatImages& images, const OlatLights& lights,
   h.scene = o.name;
   const std::vector<float> mask = o.mask.empty() ? std::vector<float>{} : readMask(o.mask, size);
 
+  // Every pixel may be covered: its rows held until the file is written.
+  const long long rowsBytes = size.pixels() * 3LL * n * (o.precision == Precision::F16 ? 2 : 4);
+  ResourceNeed need;
+  need.what = concat("a transport of ", n, " images of ", size.width, "x", size.height);
+  need.memoryBytes = rowsBytes + static_cast<long long>(kBandBytes);
+  need.diskBytes = need.largestFile = rowsBytes;
+  need.diskDirectory = fs::absolute(o.out).parent_path().string();
+  need.memoryAdvice = "import fewer lights or smaller images, or give a --mask";
+  need.diskAdvice = "write the transport to another disk";
+  requireResources(need, o.force);
+
   const size_t rowBytes = static_cast<size_t>(size.width) * 3 * sizeof(float);
   const int bandRows = static_cast<int>(
       std::clamp<size_t>(kBandBytes / (rowBytes * n), 1, static_cast<size_t>(size.height)));
   const size_t perImage = static_cast<size_t>(bandRows) * size.width * 3;
   std::vector<float> band(perImage * n), row(3 * static_cast<size_t>(n));
-  KeptRows kept(3 * n, o.precision);
+  KeptRows kept(3 * n, o.precision, size.pixels());
   BandTally tally;
   for (int y0 = 0; y0 < size.height; y0 += bandRows) {
     const int y1 = std::min(size.height, y0 + bandRows);

@@ -24,6 +24,9 @@ struct OlatImportOptions {
   double capDegrees = 0;
   /// What the file's "scene" attribute says it is (the lights file's name).
   std::string name;
+  /// Import even when the rows may not fit memory or the disk (they are
+  /// checked before any image is read, for every pixel covered).
+  bool force = false;
   std::function<void(long long done, long long total)> progress;  ///< image rows read
 };
 

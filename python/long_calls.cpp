@@ -130,13 +130,14 @@ std::vector<Eigen::Vector3d> vectorsOf(const Doubles& a, size_t count, const std
 py::object importTransport(const py::object& images, const Doubles& directions,
                            const std::string& out, const std::optional<Doubles>& intensities,
                            const std::optional<std::string>& mask, double cellCap,
-                           const std::string& precision, const std::string& encoding,
+                           const std::string& precision, const std::string& encoding, bool force,
                            const py::object& progress) {
   OlatImportOptions o;
   o.out = out;
   o.mask = mask.value_or("");
   o.precision = parsePrecision(precision);
   o.capDegrees = cellCap;
+  o.force = force;
   o.name = fs::path(out).stem().string();
   const ImageEncoding decoding =
       encoding == "linear" ? ImageEncoding::Linear
@@ -219,17 +220,19 @@ void registerLongCalls(py::module_& m) {
         py::arg("force") = c.force, py::arg("progress") = py::none(),
         "Compress a transport into a model file, as `adaptive-cpca compress`; progress(message) "
         "is called at each stage, where Ctrl-C stops it (nothing is written).");
-  m.def("import_transport", &importTransport, py::arg("images"), py::arg("directions"),
-        py::kw_only(), py::arg("out"), py::arg("intensities") = py::none(),
-        py::arg("mask") = py::none(), py::arg("cell_cap") = 0.0, py::arg("precision") = "f16",
-        py::arg("encoding") = "auto", py::arg("progress") = py::none(),
-        "A captured one-light-at-a-time set into the transport file `out`, as `adaptive-cpca "
-        "import`: images an (N, H, W, 3) float array of linear values or N image paths "
-        "(encoding 'auto': 8/16-bit ones sRGB-decoded; 'linear'; 'srgb'), directions (N, 3) "
-        "from the subject toward each light, intensities (N, 3) the irradiance each "
-        "delivered (default 1), mask an image path (default: pixels black in every image are "
-        "background), cell_cap the cells' cap in degrees (0: the default). progress(done, "
-        "total) is called per band of image rows. Returns what `import --json` reports.");
+  m.def(
+      "import_transport", &importTransport, py::arg("images"), py::arg("directions"), py::kw_only(),
+      py::arg("out"), py::arg("intensities") = py::none(), py::arg("mask") = py::none(),
+      py::arg("cell_cap") = 0.0, py::arg("precision") = "f16", py::arg("encoding") = "auto",
+      py::arg("force") = false, py::arg("progress") = py::none(),
+      "A captured one-light-at-a-time set into the transport file `out`, as `adaptive-cpca "
+      "import`: images an (N, H, W, 3) float array of linear values or N image paths "
+      "(encoding 'auto': 8/16-bit ones sRGB-decoded; 'linear'; 'srgb'), directions (N, 3) "
+      "from the subject toward each light, intensities (N, 3) the irradiance each "
+      "delivered (default 1), mask an image path (default: pixels black in every image are "
+      "background), cell_cap the cells' cap in degrees (0: the default). A set whose rows "
+      "may not fit memory or the disk is refused before any work unless force=True. progress(done, "
+      "total) is called per band of image rows. Returns what `import --json` reports.");
 }
 
 }  // namespace acpca::python

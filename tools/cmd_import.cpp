@@ -21,6 +21,7 @@ struct ImportArgs {
   std::string lights, out, mask, precision = "f16";
   bool linear = false, srgb = false;
   double capDegrees = 0;
+  bool force = false;
 };
 
 /// Images beside the listed ones, of their kinds, that the lights file leaves
@@ -68,6 +69,7 @@ void run(const ImportArgs& a) {
   o.mask = a.mask;
   o.precision = parsePrecision(a.precision);
   o.capDegrees = a.capDegrees;
+  o.force = a.force;
   o.name = fs::path(a.lights).stem().string();
   ThreadLimit limit(a.common.threads);
   const auto images = openImageFiles(paths, a.linear ? ImageEncoding::Linear
@@ -110,6 +112,7 @@ void registerImport(CLI::App& app) {
                   "angle from a light to its nearest neighbour")
       ->check(CLI::Range(0.0, 180.0));
   sub->add_option("--precision", args->precision, "Stored precision: f16 or f32");
+  sub->add_flag("--force", args->force, "Import even when the rows may not fit memory or the disk");
   args->common.add(*sub);
   sub->callback([args] { run(*args); });
 }

@@ -185,6 +185,10 @@ TEST_F(ImportCli, RefusesTheMistakesOfRealCapturesAndWritesNothing) {
                 "nan.exr: pixel (2, 0) is not a finite number");
   expectFailure("import " + f("lights.csv") + " --mask " + f("small.png") + " --out " + f("x.h5"),
                 "the mask is 8x8");
+  // Rows that cannot fit are refused before any image is read (ulimit -f
+  // of 16 blocks: 8-16 KiB, the rows 27.6 KB).
+  expectFailure("import " + f("lights.csv") + " --out " + f("x.h5"), "(ulimit -f)",
+                "ulimit -f 16;");
   EXPECT_FALSE(fs::exists(f("x.h5")));
 }
 
