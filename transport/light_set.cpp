@@ -147,10 +147,19 @@ double defaultCellCapDegrees(const std::vector<Vec3>& directions) {
   return std::acos(std::clamp(worst, -1.0, 1.0)) / kDegree;
 }
 
+int cellLatticeResolution(int lights) {
+  // 90 / R degrees a texel <= (114.6 / sqrt(n)) / 4: R >= pi sqrt(n).
+  const int r = static_cast<int>(std::ceil(std::numbers::pi * std::sqrt(std::max(1, lights))));
+  return std::clamp((r + 15) / 16 * 16, 32, 256);
+}
+
 LightCells::LightCells(const std::vector<Vec3>& directions, double capDegrees,
                        int latticeResolution, int sub)
-    : lattice_(latticeResolution), cells_(static_cast<int>(directions.size())) {
-  ACPCA_CHECK(sub >= 1 && cells_ >= 1, "sub ", sub, ", cells ", cells_);
+    : lattice_(latticeResolution > 0 ? latticeResolution
+                                     : cellLatticeResolution(static_cast<int>(directions.size()))),
+      cells_(static_cast<int>(directions.size())) {
+  if (sub <= 0) sub = std::max(1, (512 + lattice_.resolution() - 1) / lattice_.resolution());
+  ACPCA_CHECK(cells_ >= 1, "cells ", cells_);
   const double capCosine =
       capDegrees <= 0 || capDegrees >= 180 ? -2 : std::cos(capDegrees * kDegree);
   const NearestLight nearest(directions);

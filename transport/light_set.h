@@ -56,6 +56,12 @@ std::pair<int, int> findSameDirection(const std::vector<Vec3>& directions);
 /// dome's lowest ring reaches at most one spacing below itself.
 double defaultCellCapDegrees(const std::vector<Vec3>& directions);
 
+/// The lattice resolution cells are found on: texels about a quarter of a
+/// typical cell's radius across (114.6 / sqrt(lights) degrees), so that a
+/// texel split between cells is rare and small, in steps of 16 from 32 to
+/// 256 (64 for 331 lights). Integrating a map costs with the texels.
+int cellLatticeResolution(int lights);
+
 /// Where each part of the sphere belongs: every texel of a fine cube lattice,
 /// split into sub x sub parts of exact solid angle, goes to the nearest light
 /// (largest cosine; ties to the lower index) when that light is within the
@@ -70,9 +76,10 @@ class LightCells {
     double fraction = 0;
   };
 
-  /// capDegrees <= 0 or >= 180: uncapped.
-  LightCells(const std::vector<Vec3>& directions, double capDegrees, int latticeResolution = 128,
-             int sub = 4);
+  /// capDegrees <= 0 or >= 180: uncapped. latticeResolution 0: cellLattice's
+  /// for the number of lights; sub 0: enough parts for 512 samples a face side.
+  LightCells(const std::vector<Vec3>& directions, double capDegrees, int latticeResolution = 0,
+             int sub = 0);
 
   const CubeLattice& lattice() const { return lattice_; }
   int cells() const { return cells_; }
