@@ -43,7 +43,11 @@ def test_an_imported_array_relights_as_the_sum_of_its_images_over_the_cells(tmp_
         cells = f["light_solid_angle"][:]
         assert abs(cells.sum() + report["uncovered_sr"] - 4 * np.pi) < 1e-6
     # Under constant radiance 1 each light's lighting is its cell's solid angle.
-    relit = ac.Relighter(out).relight(ac.Environment("constant:1"))
+    r = ac.Relighter(out)
+    lighting = r.lighting(ac.Environment("constant:1"))
+    assert lighting.domain == f"{n} lights" and lighting.values.shape == (n, 3)
+    assert np.allclose(lighting.values, cells[:, None], rtol=1e-9, atol=0)
+    relit = r.relight(ac.Environment("constant:1"))
     expected = np.einsum("khwc,kc->hwc", images.astype(np.float64), cells[:, None] / intensities)
     assert relit.shape == (h, w, 3)
     assert np.max(np.abs(relit - expected) / expected) < 1e-5
