@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "core/warning.h"
 #include "transport/light_set.h"
 
 namespace acpca {
@@ -243,6 +244,28 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
   const fs::path folder = fs::path(path).parent_path();
   for (LightEntry& e : file.lights) e.imagePath = (folder / e.image).lexically_normal().string();
   return file;
+}
+
+void warnOfUnlistedImages(const LightsFile& file) {
+  std::set<fs::path> listed, folders;
+  std::set<std::string> kinds;
+  for (const LightEntry& e : file.lights) {
+    const fs::path p = fs::path(e.imagePath).lexically_normal();
+    listed.insert(p);
+    folders.insert(p.parent_path());
+    kinds.insert(p.extension().string());
+  }
+  long long unlisted = 0;
+  for (const fs::path& folder : folders) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder.empty() ? "." : folder, ec))
+      if (entry.is_regular_file() && kinds.count(entry.path().extension().string()) &&
+          !listed.count((folder / entry.path().filename()).lexically_normal()))
+        ++unlisted;
+  }
+  if (unlisted > 0)
+    warn(concat(file.path, " lists ", file.lights.size(), " images; ", unlisted,
+                " more of their kind lie beside them unlisted"));
 }
 
 LightsFile readLightsFile(const std::string& path) {

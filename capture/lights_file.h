@@ -31,6 +31,11 @@ struct LightsFile {
 /// non-positive intensity, solid angles given for some lights only.
 LightsFile readLightsFile(const std::string& path);
 
+/// Warns when the folders of the listed images hold more images of their
+/// kinds (extensions) than the file lists: a list that lost lines, or a
+/// folder of another set.
+void warnOfUnlistedImages(const LightsFile& file);
+
 /// The same for text already in memory (fuzzing, tests); `path` names it in
 /// errors and resolves the image paths.
 LightsFile parseLightsFile(const std::string& text, const std::string& path);

@@ -538,6 +538,31 @@ void registerFiles(py::module_& m) {
         "N.X, Z, ...).");
 }
 
+/// adaptive_cpca.Lighting: what Relighter.lighting integrates.
+void registerLighting(py::module_& m) {
+  py::class_<PyLighting>(m, "Lighting",
+                         "An environment under a rotation, integrated onto a lattice "
+                         "(Relighter.lighting).")
+      .def_property_readonly("energy",
+                             [](const PyLighting& l) {
+                               const Rgb e = totalEnergy(l.values);
+                               return std::make_tuple(e[0], e[1], e[2]);
+                             })
+      .def_property_readonly(
+          "values",
+          [](const PyLighting& l) {
+            py::array_t<double> out(
+                {static_cast<py::ssize_t>(l.values.size() / 3), static_cast<py::ssize_t>(3)});
+            std::copy(l.values.begin(), l.values.end(), out.mutable_data());
+            return out;
+          },
+          "Per column (texel, or a captured set's light) its RGB lighting: radiance "
+          "integrated over the texel or the light's cell, l x 3.")
+      .def_property_readonly(
+          "domain", [](const PyLighting& l) { return l.domain; },
+          "What it was made for: '6x32x32', or '331 lights'.");
+}
+
 }  // namespace
 
 }  // namespace acpca::python
@@ -592,28 +617,7 @@ PYBIND11_MODULE(adaptive_cpca, m) {
         return "<adaptive_cpca.Environment " + e.env->name() + ">";
       });
 
-  py::class_<PyLighting>(m, "Lighting",
-                         "An environment under a rotation, integrated onto a lattice "
-                         "(Relighter.lighting).")
-      .def_property_readonly("energy",
-                             [](const PyLighting& l) {
-                               const Rgb e = totalEnergy(l.values);
-                               return std::make_tuple(e[0], e[1], e[2]);
-                             })
-      .def_property_readonly(
-          "values",
-          [](const PyLighting& l) {
-            py::array_t<double> out(
-                {static_cast<py::ssize_t>(l.values.size() / 3), static_cast<py::ssize_t>(3)});
-            std::copy(l.values.begin(), l.values.end(), out.mutable_data());
-            return out;
-          },
-          "Per column (texel, or a captured set's light) its RGB lighting: radiance "
-          "integrated over the texel or the light's cell, l x 3.")
-      .def_property_readonly(
-          "domain", [](const PyLighting& l) { return l.domain; },
-          "What it was made for: '6x32x32', or '331 lights'.");
-
+  registerLighting(m);
   registerLights(m);
 
   py::class_<Relighter>(m, "Relighter", "A model (fast path) or transport file (dense path).")

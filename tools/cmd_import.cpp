@@ -2,11 +2,9 @@
 // -> a transport file over the light set (docs/formats.md, "Captured transport").
 #include <filesystem>
 #include <iostream>
-#include <set>
 
 #include "capture/lights_file.h"
 #include "capture/olat_import.h"
-#include "core/warning.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -23,30 +21,6 @@ struct ImportArgs {
   double capDegrees = 0;
   bool force = false;
 };
-
-/// Images beside the listed ones, of their kinds, that the lights file leaves
-/// out: a list that lost lines, or a folder of another set.
-void warnOfUnlistedImages(const LightsFile& file) {
-  std::set<fs::path> listed, folders;
-  std::set<std::string> kinds;
-  for (const LightEntry& e : file.lights) {
-    const fs::path p = fs::path(e.imagePath).lexically_normal();
-    listed.insert(p);
-    folders.insert(p.parent_path());
-    kinds.insert(p.extension().string());
-  }
-  long long unlisted = 0;
-  for (const fs::path& folder : folders) {
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(folder.empty() ? "." : folder, ec))
-      if (entry.is_regular_file() && kinds.count(entry.path().extension().string()) &&
-          !listed.count((folder / entry.path().filename()).lexically_normal()))
-        ++unlisted;
-  }
-  if (unlisted > 0)
-    warn(concat(file.path, " lists ", file.lights.size(), " images; ", unlisted,
-                " more of their kind lie beside them unlisted"));
-}
 
 void run(const ImportArgs& a) {
   const LightsFile file = readLightsFile(a.lights);
