@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -81,6 +82,41 @@ TEST(OlatImport, EightBitSrgbDecodesExactly) {
   importOlat(*linear, lightsAlong({{0, 1, 0}}), o);
   const std::vector<float> lin = allRows(o.out);
   for (size_t i = 0; i < lin.size(); ++i) EXPECT_EQ(lin[i], codes[i + 1] / 255.0f);
+}
+
+TEST(OlatImport, AvifImagesAreReadAndSrgbDecoded) {
+  // Public OLAT sets ship AVIF; Debian 12's OpenImageIO reads and writes it
+  // through libheif (AV1). The codec is lossy and converts to YCbCr, so two
+  // flat colours are checked to within a few codes of what was written.
+  test::TempDir dir;
+  if (!OIIO::ImageOutput::create(dir.file("probe.avif")))
+    GTEST_SKIP() << "this OpenImageIO has no AVIF writer: " << OIIO::geterror();
+  const int width = 32, height = 16;
+  const std::vector<std::array<unsigned char, 3>> colours{{200, 120, 40}, {30, 90, 160}};
+  std::vector<std::string> paths;
+  for (size_t k = 0; k < colours.size(); ++k) {
+    std::vector<unsigned char> pixels;
+    for (int p = 0; p < width * height; ++p)
+      pixels.insert(pixels.end(), colours[k].begin(), colours[k].end());
+    paths.push_back(dir.file("olat_" + std::to_string(k) + ".avif"));
+    writeImage(paths.back(), width, height, 3, OIIO::TypeDesc::UINT8, pixels.data());
+  }
+  const auto images = openImageFiles(paths, ImageEncoding::Auto);
+  OlatImportOptions o;
+  o.out = dir.file("t.h5");
+  o.precision = Precision::F32;
+  const OlatImportResult r = importOlat(*images, lightsAlong({{0, 1, 0}, {1, 0, 0}}), o);
+  ASSERT_EQ(r.header.channels, 3);
+  ASSERT_EQ(r.header.pixels.size(), static_cast<size_t>(width * height));
+  const std::vector<float> rows = allRows(o.out);
+  // Row: R under each light, then G, then B.
+  for (size_t p = 0; p < r.header.pixels.size(); ++p)
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 2; ++k) {
+        const int code = colours[k][c];
+        EXPECT_GE(rows[p * 6 + c * 2 + k], srgbDecoded(code - 4)) << "pixel " << p;
+        EXPECT_LE(rows[p * 6 + c * 2 + k], srgbDecoded(code + 4)) << "pixel " << p;
+      }
 }
 
 TEST(OlatImport, RowsAreTheImagesOverTheirIrradianceColourByColour) {
