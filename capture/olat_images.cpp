@@ -41,7 +41,7 @@ void allowOpenFiles(size_t files) {
 
 class ImageFile {
  public:
-  ImageFile(const std::string& path, ImageEncoding encoding) : path_(path) {
+  ImageFile(const std::string& path, TransferFunction encoding) : path_(path) {
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // colour as stored, not times alpha
     in_ = OIIO::ImageInput::open(path, &config);
@@ -56,7 +56,8 @@ class ImageFile {
     bits_ = spec.format == OIIO::TypeDesc::UINT8    ? 8
             : spec.format == OIIO::TypeDesc::UINT16 ? 16
                                                     : 0;
-    srgb_ = encoding == ImageEncoding::Srgb || (encoding == ImageEncoding::Auto && bits_ != 0);
+    srgb_ =
+        encoding == TransferFunction::Srgb || (encoding == TransferFunction::Auto && bits_ != 0);
   }
 
   ImageSize size() const { return size_; }
@@ -104,7 +105,7 @@ class ImageFile {
 
 class ImageFiles : public OlatImages {
  public:
-  ImageFiles(const std::vector<std::string>& paths, ImageEncoding encoding) {
+  ImageFiles(const std::vector<std::string>& paths, TransferFunction encoding) {
     allowOpenFiles(paths.size());
     for (const std::string& path : paths) {
       files_.push_back(std::make_unique<ImageFile>(path, encoding));
@@ -153,7 +154,7 @@ class ImagesInMemory : public OlatImages {
 }  // namespace
 
 std::unique_ptr<OlatImages> openImageFiles(const std::vector<std::string>& paths,
-                                           ImageEncoding encoding) {
+                                           TransferFunction encoding) {
   ACPCA_CHECK(!paths.empty(), "no images");
   return std::make_unique<ImageFiles>(paths, encoding);
 }

@@ -12,8 +12,8 @@
 
 namespace acpca {
 
-/// How stored values become linear radiance.
-enum class ImageEncoding {
+/// How stored values become linear radiance (the images' transfer function).
+enum class TransferFunction {
   Auto,    ///< integer images (PNG, TIFF, JPEG) are sRGB, floating-point ones linear
   Linear,  ///< every image as stored (`--linear`)
   Srgb,    ///< every image sRGB-decoded (`--srgb`)
@@ -40,7 +40,7 @@ class OlatImages {
 /// UserError naming the file: one missing or unreadable, sizes that differ,
 /// a value that is not finite (readBand, naming the pixel).
 std::unique_ptr<OlatImages> openImageFiles(const std::vector<std::string>& paths,
-                                           ImageEncoding encoding);
+                                           TransferFunction encoding);
 
 /// Images already in memory: count x height x width x 3 linear floats
 /// (Python's arrays), not copied: they must outlive the reader.

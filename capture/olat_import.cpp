@@ -73,12 +73,17 @@ struct BandTally {
 
 /// Pixel p of the band (every image's value / E_k) as one row: R values of
 /// every light, then G, then B.
-void pixelRow(const std::vector<float>& band, size_t perImage, size_t p, const OlatLights& lights,
-              float* row, BandTally& tally) {
+/// Pixel p's row: each image's value over its light's irradiance and over the
+/// pixel's coverage. Images hold a partly covered pixel premultiplied (over
+/// black, as renderers and EXR store it), while a relight multiplies the row
+/// by the coverage when it composes the frame.
+void pixelRow(const std::vector<float>& band, size_t perImage, size_t p, float coverage,
+              const OlatLights& lights, float* row, BandTally& tally) {
   const int n = static_cast<int>(lights.directions.size());
   for (int k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) {
-      float v = band[k * perImage + 3 * p + c] / static_cast<float>(lights.irradiance[k][c]);
+      float v =
+          band[k * perImage + 3 * p + c] / static_cast<float>(lights.irradiance[k][c] * coverage);
       if (v < 0) ++tally.negatives, v = 0;
       if (v > kHalfMax) ++tally.overHalf;
       row[c * n + k] = v;
@@ -203,7 +208,7 @@ OlatImportResult importOlat(OlatImages& images, const OlatLights& lights,
         coverage = lit ? 1.0f : 0.0f;
       }
       if (!(coverage > 0)) continue;
-      pixelRow(band, perImage, p, lights, row.data(), tally);
+      pixelRow(band, perImage, p, coverage, lights, row.data(), tally);
       kept.add(row.data());
       h.pixels.push_back(static_cast<std::int32_t>(pixel));
       h.coverage.push_back(coverage);

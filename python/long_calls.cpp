@@ -139,11 +139,11 @@ py::object importTransport(const py::object& images, const Doubles& directions,
   o.capDegrees = cellCap;
   o.force = force;
   o.name = fs::path(out).stem().string();
-  const ImageEncoding decoding =
-      encoding == "linear" ? ImageEncoding::Linear
-      : encoding == "srgb" ? ImageEncoding::Srgb
+  const TransferFunction decoding =
+      encoding == "linear" ? TransferFunction::Linear
+      : encoding == "srgb" ? TransferFunction::Srgb
       : encoding == "auto"
-          ? ImageEncoding::Auto
+          ? TransferFunction::Auto
           : throw ParameterError("encoding", encoding, "is not auto, linear or srgb");
   // The images: paths, or an (N, H, W, 3) array of linear values.
   std::optional<FloatImages> pixels;

@@ -46,9 +46,9 @@ void run(const ImportArgs& a) {
   o.force = a.force;
   o.name = fs::path(a.lights).stem().string();
   ThreadLimit limit(a.common.threads);
-  const auto images = openImageFiles(paths, a.linear ? ImageEncoding::Linear
-                                            : a.srgb ? ImageEncoding::Srgb
-                                                     : ImageEncoding::Auto);
+  const auto images = openImageFiles(paths, a.linear ? TransferFunction::Linear
+                                            : a.srgb ? TransferFunction::Srgb
+                                                     : TransferFunction::Auto);
   Progress progress("import " + o.name, "image rows", a.common.quiet);
   o.progress = [&](long long done, long long total) { progress.update(done, total); };
   const OlatImportResult r = importOlat(*images, lights, o);

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "relight/dense_relight.h"
 #include "relight/domain_lighting.h"
+#include "relight/image_output.h"
 #include "tests/sphere_points.h"
 #include "tests/temp_dir.h"
 #include "tests/test_support.h"
@@ -62,7 +63,7 @@ TEST(OlatImport, EightBitSrgbDecodesExactly) {
   const std::vector<unsigned char> codes{0, 1, 10, 128, 254, 255};
   const std::string png = dir.file("a.png");
   writeImage(png, 6, 1, 1, OIIO::TypeDesc::UINT8, codes.data());
-  const auto images = openImageFiles({png}, ImageEncoding::Auto);
+  const auto images = openImageFiles({png}, TransferFunction::Auto);
   OlatImportOptions o;
   o.out = dir.file("t.h5");
   o.precision = Precision::F32;
@@ -77,7 +78,7 @@ TEST(OlatImport, EightBitSrgbDecodesExactly) {
         << "code " << int(codes[i + 1]);
 
   // --linear: the codes over 255.
-  const auto linear = openImageFiles({png}, ImageEncoding::Linear);
+  const auto linear = openImageFiles({png}, TransferFunction::Linear);
   o.out = dir.file("linear.h5");
   importOlat(*linear, lightsAlong({{0, 1, 0}}), o);
   const std::vector<float> lin = allRows(o.out);
@@ -101,7 +102,7 @@ TEST(OlatImport, AvifImagesAreReadAndSrgbDecoded) {
     paths.push_back(dir.file("olat_" + std::to_string(k) + ".avif"));
     writeImage(paths.back(), width, height, 3, OIIO::TypeDesc::UINT8, pixels.data());
   }
-  const auto images = openImageFiles(paths, ImageEncoding::Auto);
+  const auto images = openImageFiles(paths, TransferFunction::Auto);
   OlatImportOptions o;
   o.out = dir.file("t.h5");
   o.precision = Precision::F32;
@@ -161,6 +162,39 @@ TEST(OlatImport, AMaskIsTheCoverage) {
   EXPECT_FLOAT_EQ(t.header().coverage[1], 51 / 255.0f);  // as stored, not sRGB-decoded
 }
 
+TEST(OlatImport, APartlyCoveredPixelRelightsToWhatItsImagesHold) {
+  // Renderers store an edge pixel premultiplied by its coverage: an image
+  // value of 0.1 at coverage 0.25 is a quarter of a surface at 0.4. The row
+  // holds 0.4, and the relight on black, which multiplies by the coverage,
+  // gives the image's 0.1 back.
+  test::TempDir dir;
+  const std::vector<float> image{0.8f, 0.6f, 0.4f, 0.1f, 0.2f, 0.3f};
+  const std::vector<float> mask{1.0f, 0.25f};
+  writeImage(dir.file("mask.exr"), 2, 1, 1, OIIO::TypeDesc::FLOAT, mask.data());
+  const auto images = imagesInMemory(image.data(), 1, {2, 1});
+  OlatImportOptions o;
+  o.out = dir.file("t.h5");
+  o.mask = dir.file("mask.exr");
+  o.precision = Precision::F32;
+  importOlat(*images, lightsAlong({{0, 1, 0}}), o);
+  const std::vector<float> rows = allRows(o.out);
+  ASSERT_EQ(rows.size(), 6u);
+  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(rows[3 + c], image[3 + c] / 0.25f);
+  // Its light delivering irradiance 1 (a constant map of 1 / its cell), the
+  // frame composed on black as `relight --background black` does.
+  const TransportReader t(o.out);
+  const double cell = t.header().lights.solidAngles[0];
+  const DomainLighting domain(t.header());
+  const auto relit =
+      denseRelight(t, {domain(*makeConstantEnvironment(Rgb::Constant(1 / cell)), {})});
+  std::vector<float> frame(6);
+  const ImageComposer composer(t.header());
+  composer.background(Background::Black, *makeConstantEnvironment(Rgb::Zero()),
+                      Eigen::Matrix3d::Identity(), frame.data());
+  composer.addRows(relit[0].data(), frame.data(), 3);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(frame[i], image[i], 1e-6) << "value " << i;
+}
+
 /// The message of the UserError `work` throws ("" if none).
 template <typename Work>
 std::string errorOf(Work work) {
@@ -181,16 +215,16 @@ TEST(OlatImport, RefusesBadSetsAndWritesNothing) {
   withNan[4] = std::nanf("");
   writeImage(dir.file("nan.exr"), 2, 1, 3, OIIO::TypeDesc::FLOAT, withNan.data());
   EXPECT_NE(errorOf([&] {
-              openImageFiles({dir.file("a.exr"), dir.file("b.exr")}, ImageEncoding::Auto);
+              openImageFiles({dir.file("a.exr"), dir.file("b.exr")}, TransferFunction::Auto);
             }).find("b.exr: 4x1, but " + dir.file("a.exr") + " is 2x1"),
             std::string::npos);
   EXPECT_NE(errorOf([&] {
-              openImageFiles({dir.file("missing.png")}, ImageEncoding::Auto);
+              openImageFiles({dir.file("missing.png")}, TransferFunction::Auto);
             }).find("missing.png: cannot read the image"),
             std::string::npos);
   OlatImportOptions o;
   o.out = dir.file("t.h5");
-  const auto nan = openImageFiles({dir.file("nan.exr")}, ImageEncoding::Auto);
+  const auto nan = openImageFiles({dir.file("nan.exr")}, TransferFunction::Auto);
   EXPECT_NE(errorOf([&] {
               importOlat(*nan, lightsAlong({{0, 1, 0}}), o);
             }).find("nan.exr: pixel (1, 0) is not a finite number"),
