@@ -13,6 +13,7 @@
 #include "core/input_guard.h"
 #include "core/ranks.h"
 #include "core/warning.h"
+#include "transport/image_header.h"
 
 namespace acpca::cli {
 
@@ -57,6 +58,10 @@ void refuseOutputsOverInputs(const std::vector<std::string>& inputs,
   for (const auto& file : outFiles)
     if (file != "-") refuseOutputOverInputs(file, inputs);
   for (const auto& dir : outDirs) refuseDirectoryOverInputs(dir, inputs);
+}
+
+Background backgroundFor(const std::string& given, const std::string& input) {
+  return parseBackground(!given.empty() ? given : fileHoldsLightSet(input) ? "black" : "env");
 }
 
 void addFastRotationFlag(CLI::App& command, RotationMode& mode) {

@@ -16,6 +16,7 @@
 #include "core/thread_limit.h"
 #include "eval/study_output.h"
 #include "precompute/scene.h"
+#include "relight/image_output.h"
 #include "relight/lighting.h"
 
 namespace acpca::cli {
@@ -54,6 +55,10 @@ void nameParameters(CLI::App& command,
 
 /// --fast-rotation: sets `mode` to RotationMode::FastLattice.
 void addFastRotationFlag(CLI::App& command, RotationMode& mode);
+
+/// --background as given, or else its default for the input file: black for a
+/// captured light set (no camera sees an environment behind it), else env.
+Background backgroundFor(const std::string& given, const std::string& input);
 
 /// ParameterError's message with the flag of the command that ran (`app`'s
 /// parsed subcommand) that sets the parameter in place of the library's name

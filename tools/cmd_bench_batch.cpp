@@ -17,6 +17,8 @@ struct BatchBenchArgs {
 
 void run(BatchBenchArgs& a) {
   a.batch.apply(a.options.batch, a.common.jsonPath);
+  // As `relight` would: black behind a captured light set.
+  a.options.batch.background = backgroundFor("", a.options.batch.input);
   ThreadLimit limit(a.common.threads);
   printBenchmark(runBatchBenchmark(a.options), a.common);
 }

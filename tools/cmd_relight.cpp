@@ -9,7 +9,6 @@
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
-#include "transport/image_header.h"
 
 namespace acpca::cli {
 
@@ -28,9 +27,7 @@ void run(RelightArgs& a) {
   BatchRelightOptions& o = a.options;
   o.input = a.views.front();
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
-  o.background = parseBackground(!a.background.empty()        ? a.background
-                                 : fileHoldsLightSet(o.input) ? "black"
-                                                              : "env");
+  o.background = backgroundFor(a.background, o.input);
   a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);

@@ -7,7 +7,6 @@
 #include "relight/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
-#include "transport/image_header.h"
 #include "viewer/display_check.h"
 #include "viewer/viewer.h"
 
@@ -26,9 +25,7 @@ struct ViewArgs {
 void run(const ViewArgs& a) {
   ViewerOptions o = a.options;
   if (!a.envs.empty()) o.envSpecs = expandEnvironmentSpecs(a.envs);
-  o.background = parseBackground(!a.background.empty()            ? a.background
-                                 : fileHoldsLightSet(o.modelPath) ? "black"
-                                                                  : "env");
+  o.background = backgroundFor(a.background, o.modelPath);
   if (!a.rotate.empty()) o.initial = parseViewerRotation(a.rotate, o.initial);
   for (const std::string& spec : a.lights) o.initial.lights.push_back(parseLocalLight(spec));
   if (!o.initial.lights.empty()) o.initial.selectedLight = 0;

@@ -134,6 +134,10 @@ TEST_F(ImportCli, ACompressedCaptureRelightsAsABatch) {
   for (const auto& e : fs::directory_iterator(f("frames")))
     frames += e.path().extension() == ".exr";
   EXPECT_EQ(frames, 6);
+  // The batch benchmark takes the relight's default background, black.
+  const RunResult bench = runCli("bench batch " + f("m.h5") + " --env sky --rotate 0:360:120 " +
+                                 "--stream-gib 0.01 --quiet --out " + f("bench"));
+  EXPECT_EQ(bench.status, 0) << bench.output;
   // The model against the transport under the same lighting.
   ASSERT_EQ(runCli("relight " + f("t.h5") + " --env sky --quiet --out " + f("dense.exr")).status,
             0);
