@@ -500,11 +500,13 @@ def compare(ours_path, cycles_path, width, height):
     }
 
 
-def main():
-    a = parse_args()
-    with open(a.scene) as f:
+def build_scene(scene_path, width, height, camera=None):
+    """The scene file's objects and camera (or `camera`: eye,target,up as 9
+    numbers then fov) in an empty Blender scene; returns the scene's JSON and
+    (eye, target, up, fov)."""
+    with open(scene_path) as f:
         scene_json = json.load(f)
-    base_dir = os.path.dirname(os.path.abspath(a.scene))
+    base_dir = os.path.dirname(os.path.abspath(scene_path))
     reset()
     for i, o in enumerate(scene_json["objects"]):
         if "mesh" in o:
@@ -514,12 +516,18 @@ def main():
         else:
             add_sphere(o, i, base_dir)
     cam = scene_json["camera"]
-    if a.camera:
-        v = [float(x) for x in a.camera.split(",")]
+    if camera:
+        v = [float(x) for x in camera.split(",")]
         eye, target, up, fov = v[0:3], v[3:6], v[6:9], v[9]
     else:
         eye, target, up, fov = cam["eye"], cam["target"], cam["up"], cam["fov"]
-    add_camera(eye, target, up, fov, a.width, a.height)
+    add_camera(eye, target, up, fov, width, height)
+    return scene_json, (eye, target, up, fov)
+
+
+def main():
+    a = parse_args()
+    scene_json, (eye, target, up, fov) = build_scene(a.scene, a.width, a.height, a.camera)
     add_world(None if a.env == "none" else os.path.abspath(a.env))
     lights = [parse_light(spec) for spec in a.light]
     for i, light in enumerate(lights):
@@ -553,4 +561,5 @@ def main():
             json.dump(result, f, indent=2)
 
 
-main()
+if __name__ == "__main__":  # render_olat.py imports the scene building
+    main()
