@@ -41,7 +41,7 @@ void allowOpenFiles(size_t files) {
 
 class ImageFile {
  public:
-  ImageFile(const std::string& path, TransferFunction encoding) : path_(path) {
+  ImageFile(const std::string& path, TransferFunction transfer) : path_(path) {
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // colour as stored, not times alpha
     in_ = OIIO::ImageInput::open(path, &config);
@@ -57,7 +57,7 @@ class ImageFile {
             : spec.format == OIIO::TypeDesc::UINT16 ? 16
                                                     : 0;
     srgb_ =
-        encoding == TransferFunction::Srgb || (encoding == TransferFunction::Auto && bits_ != 0);
+        transfer == TransferFunction::Srgb || (transfer == TransferFunction::Auto && bits_ != 0);
   }
 
   ImageSize size() const { return size_; }
@@ -105,10 +105,10 @@ class ImageFile {
 
 class ImageFiles : public OlatImages {
  public:
-  ImageFiles(const std::vector<std::string>& paths, TransferFunction encoding) {
+  ImageFiles(const std::vector<std::string>& paths, TransferFunction transfer) {
     allowOpenFiles(paths.size());
     for (const std::string& path : paths) {
-      files_.push_back(std::make_unique<ImageFile>(path, encoding));
+      files_.push_back(std::make_unique<ImageFile>(path, transfer));
       const ImageSize s = files_.back()->size(), first = files_.front()->size();
       if (s.width != first.width || s.height != first.height)
         throw UserError(concat(path, ": ", s.width, "x", s.height, ", but ", paths.front(), " is ",
@@ -154,9 +154,9 @@ class ImagesInMemory : public OlatImages {
 }  // namespace
 
 std::unique_ptr<OlatImages> openImageFiles(const std::vector<std::string>& paths,
-                                           TransferFunction encoding) {
+                                           TransferFunction transfer) {
   ACPCA_CHECK(!paths.empty(), "no images");
-  return std::make_unique<ImageFiles>(paths, encoding);
+  return std::make_unique<ImageFiles>(paths, transfer);
 }
 
 std::unique_ptr<OlatImages> imagesInMemory(const float* values, int count, ImageSize size) {

@@ -40,7 +40,7 @@ class OlatImages {
 /// UserError naming the file: one missing or unreadable, sizes that differ,
 /// a value that is not finite (readBand, naming the pixel).
 std::unique_ptr<OlatImages> openImageFiles(const std::vector<std::string>& paths,
-                                           TransferFunction encoding);
+                                           TransferFunction transfer);
 
 /// Images already in memory: count x height x width x 3 linear floats
 /// (Python's arrays), not copied: they must outlive the reader.

@@ -71,10 +71,9 @@ struct BandTally {
   long long overHalf = 0;   ///< values an f16 file cannot hold
 };
 
-/// Pixel p of the band (every image's value / E_k) as one row: R values of
-/// every light, then G, then B.
-/// Pixel p's row: each image's value over its light's irradiance and over the
-/// pixel's coverage. Images hold a partly covered pixel premultiplied (over
+/// Pixel p of the band as one row, R values of every light, then G, then B:
+/// each image's value over its light's irradiance and over the pixel's
+/// coverage. Images hold a partly covered pixel premultiplied (over
 /// black, as renderers and EXR store it), while a relight multiplies the row
 /// by the coverage when it composes the frame.
 void pixelRow(const std::vector<float>& band, size_t perImage, size_t p, float coverage,

@@ -42,12 +42,19 @@ def direction(v):
     return (TO_BLENDER.to_3x3() @ mathutils.Vector(v)).normalized()
 
 
-def parse_args():
+def scene_parser():
+    """The arguments after Blender's `--`, and a parser of the scene and image
+    size every render takes."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     p = argparse.ArgumentParser()
     p.add_argument("--scene", required=True)
     p.add_argument("--width", type=int, required=True)
     p.add_argument("--height", type=int, required=True)
+    return p, argv
+
+
+def parse_args():
+    p, argv = scene_parser()
     p.add_argument("--camera", help="eye,target,up as 9 numbers then fov (ours after framing)")
     p.add_argument("--env", required=True, help="lat-long EXR of the lattice, or none (black)")
     p.add_argument("--light", action="append", default=[],

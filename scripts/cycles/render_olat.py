@@ -20,7 +20,6 @@ facing it with irradiance E, the meaning of a light's intensity in our lights
 file (docs/formats.md), and of Phi_k, the map's integral over light k's cell.
 """
 
-import argparse
 import json
 import os
 import sys
@@ -32,11 +31,7 @@ import render_cycles as rc  # noqa: E402  (the scene building and comparison)
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    p = argparse.ArgumentParser()
-    p.add_argument("--scene", required=True)
-    p.add_argument("--width", type=int, required=True)
-    p.add_argument("--height", type=int, required=True)
+    p, argv = rc.scene_parser()
     p.add_argument("--samples", type=int, default=64)
     p.add_argument("--seed", type=int, default=1)
     mode = p.add_mutually_exclusive_group(required=True)
