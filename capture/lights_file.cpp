@@ -214,6 +214,7 @@ std::vector<LightEntry> parseJson(const std::string& text, const std::string& pa
 /// Solid angles for all lights or none; no direction twice; not too many.
 void checkLights(const std::vector<LightEntry>& lights, const std::string& path) {
   if (lights.empty()) throw UserError(concat(path, ": the file lists no lights"));
+  requireLightCount(lights.size(), path);
   if (lights.size() > static_cast<size_t>(kMaxLights))
     throw UserError(concat(path, ": ", lights.size(), " lights, more than the ", kMaxLights,
                            " a light set may hold"));
@@ -233,6 +234,14 @@ void checkLights(const std::vector<LightEntry>& lights, const std::string& path)
 }
 
 }  // namespace
+
+void requireLightCount(size_t lights, const std::string& where) {
+  if (lights < 2)
+    throw UserError(concat(where, ": ", lights,
+                           " light(s); a light set needs at least 2 (one "
+                           "light's cell is the whole sphere, so every relight would be its "
+                           "image scaled)"));
+}
 
 LightsFile parseLightsFile(const std::string& text, const std::string& path) {
   LightsFile file;

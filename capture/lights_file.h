@@ -24,11 +24,17 @@ struct LightsFile {
   bool cellsGiven() const { return !lights.empty() && lights.front().solidAngle >= 0; }
 };
 
+/// A light set needs at least two lights: one light's cell is the whole
+/// sphere, so every relight of it would be its image scaled by the map's
+/// total. Throws UserError naming `where` for fewer.
+void requireLightCount(size_t lights, const std::string& where);
+
 /// Reads a lights file: JSON when its first non-blank character is '{', else
 /// CSV. Throws UserError naming the file and the line (CSV) or entry (JSON):
 /// a missing or extra column, a value that is not a finite number, a zero
 /// direction, a position without "center", two lights with one direction, a
-/// non-positive intensity, solid angles given for some lights only.
+/// non-positive intensity, solid angles given for some lights only, fewer
+/// than two lights.
 LightsFile readLightsFile(const std::string& path);
 
 /// Warns when the folders of the listed images hold more images of their

@@ -141,8 +141,9 @@ void writeEvalReport(const EvalReport& report, const std::string& dir) {
   md << "# Evaluation of " << report.input << "\n\n"
      << "Lightings (" << report.envs.size() << "):";
   for (const auto& e : report.envs) md << " `" << e << "`";
-  md << ". Error is the relative L2 over occupied pixels and RGB against the dense relight, "
-        "aggregated as the RMS over the maps; cost is multiply-adds per pixel and channel "
+  md << ". Error is the relative L2 over occupied pixels and RGB against the dense relight, of "
+        "the raw reconstruction (before the clamp at zero written frames get), aggregated as "
+        "the RMS over the maps; cost is multiply-adds per pixel and channel "
         "(eq. 18); ms per frame is the median after a warm-up, same threads, same run. Values "
         "at 1% and 3% are interpolated in log-log between the two settings of a method that "
         "bracket the target; `≤ x`: every setting of the method that reaches the target is "

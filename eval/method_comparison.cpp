@@ -69,8 +69,9 @@ std::string methodComparisonText(const std::vector<SweepResult>& rows,
     return ratioText(x, y);
   };
   out +=
-      "\nratios at equal image error (\"<=\": a bound, every setting reaching the target being "
-      "more accurate; \"-\": no setting of one of them reaches it)\n";
+      "\nratios at equal image error (of the raw reconstruction, before the clamp at zero; "
+      "\"<=\": a bound, every setting reaching the target being more accurate; \"-\": no "
+      "setting of one of them reaches it)\n";
   for (const char* adaptive : {"adaptive-quad", "adaptive-quad-exact", "adaptive-binary"})
     out += formatted("%-22s / global  : %s @1%%  %s @3%%\n", adaptive,
                      ratio(adaptive, "global", true).c_str(),

@@ -229,7 +229,8 @@ std::string quantizationSummary(const TransportReader& transport, const Evaluati
      << "PSNR (dB) of the relit images against the dense relight, mean over " << data.envs.size()
      << " maps (";
   for (size_t k = 0; k < data.envs.size(); ++k) md << (k ? ", " : "") << data.envs[k];
-  md << "); relative L2 aggregated as RMS over the maps. i8 quantizes each coefficient map "
+  md << "); relative L2 of the raw reconstruction (before the clamp at zero written frames "
+        "get) aggregated as RMS over the maps. i8 quantizes each coefficient map "
         "(SH: the same coefficient of every pixel; models: each cluster's coefficients) "
         "uniformly to its largest magnitude / 127.\n\n"
      << "## Spherical harmonics (Lam, Leung and Wong 2006, Table III)\n\n"

@@ -228,8 +228,10 @@ StudyOutput runRelightBenchmark(const RelightBenchmarkOptions& a) {
   out += formatted(
       "paired: each frame's GB/s over a %.2f GiB pass read right before it, median of frames\n",
       paired.bytes() / double(1 << 30));
-  out += formatted("timed under %s; error: aggregate relative L2 over %zu lighting(s)\n",
-                   envs[0].c_str(), envs.size());
+  out += formatted(
+      "timed under %s; error: aggregate relative L2 over %zu lighting(s), of the raw "
+      "reconstruction (before the clamp at zero)\n",
+      envs[0].c_str(), envs.size());
   out += formatted("%-36s %8s %10s %9s %9s %10s %8s %7s %7s %9s %8s\n", "relighter", "u/bases",
                    "ms median", "p10", "p90", "MB/frame", "GB/s", "stream", "paired", "cost/px",
                    "error");

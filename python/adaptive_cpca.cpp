@@ -181,7 +181,8 @@ class Relighter {
   /// The shading of a frame relit over a black or transparent background:
   /// frame / albedo label, 0 where the albedo is 0 (H x W x 3), as the CLI's
   /// FRAME_shading files hold it.
-  py::array_t<float> shading(const py::array_t<float, py::array::c_style>& frame) const {
+  py::array_t<float> shading(const py::array_t<float, py::array::c_style>& frame,
+                             bool keepNegative) const {
     const py::ssize_t channels = frame.ndim() == 3 ? frame.shape(2) : 0;
     if (frame.ndim() != 3 || frame.shape(0) != height() || frame.shape(1) != width() ||
         (channels != 3 && channels != 4))
@@ -190,7 +191,7 @@ class Relighter {
     py::array_t<float> out(std::vector<py::ssize_t>{height(), width(), 3});
     const std::vector<float> background(static_cast<size_t>(frame.size()), 0.0f);
     frameShading(source_.header, frame.data(), background.data(), static_cast<int>(channels),
-                 out.mutable_data());
+                 out.mutable_data(), keepNegative);
     return out;
   }
 
@@ -209,18 +210,19 @@ class Relighter {
   py::array_t<float> relight(const std::optional<PyEnvironment>& env, double yaw, double pitch,
                              double roll, const RankLimit& maxRank, double exposure,
                              const std::string& background, bool fastRotation, OutArgument out,
-                             const std::vector<LocalLight>& lights, double anchorSpread) {
+                             const std::vector<LocalLight>& lights, double anchorSpread,
+                             bool keepNegative) {
     if (!env && lights.empty())
       throw ParameterError("environment", "None", "give an environment, lights, or both");
     return relightLighting(
         lighting(env ? *env : PyEnvironment{darkness()}, yaw, pitch, roll, fastRotation), maxRank,
-        exposure, background, std::move(out), lights, anchorSpread);
+        exposure, background, std::move(out), lights, anchorSpread, keepNegative);
   }
 
   py::array_t<float> relightLighting(const PyLighting& lighting, const RankLimit& maxRank,
                                      double exposure, const std::string& background,
                                      OutArgument out, const std::vector<LocalLight>& lights,
-                                     double anchorSpread) {
+                                     double anchorSpread, bool keepNegative) {
     requireFinite(exposure, "exposure");
     const Background bg = backgroundOf(background);
     if (lighting.domain != domainName(source_.header))
@@ -235,11 +237,11 @@ class Relighter {
       float* pixels = image.mutable_data();
       if (source_.model) {
         relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, local,
-                         pixels);
+                         keepNegative, pixels);
       } else {
         std::vector<double> ms;
         finish(source_.relight({lighting.values}, ms)[0].data(), *lighting.env, lighting.rotation,
-               bg, exposure, local, pixels);
+               bg, exposure, local, keepNegative, pixels);
       }
     }
     return image;
@@ -252,7 +254,8 @@ class Relighter {
                                   const RankLimit& maxRank, double exposure,
                                   const std::string& background, bool fastRotation, OutArgument out,
                                   const std::vector<LocalLight>& lights, double anchorSpread,
-                                  const std::optional<DoubleArray>& lightPositions) {
+                                  const std::optional<DoubleArray>& lightPositions,
+                                  bool keepNegative) {
     requireFinite(exposure, "exposure");
     for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
     const Background bg = backgroundOf(background);
@@ -278,25 +281,25 @@ class Relighter {
       for (size_t set = 0; set < sets.size(); ++set) {
         const std::vector<float> local = localRows(sets[set], anchorSpread);
         float* setImages = images.mutable_data() + set * perSet * frameValues;
-        relightInGroups(perSet, lightingOf,
-                        [&](size_t first, const std::vector<LatticeLighting>& lightings) {
-                          if (source_.model) {  // one projection, then into the array
-                            source_.model->lightGroup(lightings);
-                            for (size_t k = 0; k < lightings.size(); ++k) {
-                              const auto [env, rotation] = frameOf(first + k);
-                              shadeModelFrameInto(k, *env, rotation, bg, exposure, local,
-                                                  setImages + (first + k) * frameValues);
-                            }
-                            return;
-                          }
-                          std::vector<double> ms;
-                          const auto rows = source_.relight(lightings, ms);
-                          for (size_t k = 0; k < rows.size(); ++k) {
-                            const auto [env, rotation] = frameOf(first + k);
-                            finish(rows[k].data(), *env, rotation, bg, exposure, local,
-                                   setImages + (first + k) * frameValues);
-                          }
-                        });
+        relightInGroups(
+            perSet, lightingOf, [&](size_t first, const std::vector<LatticeLighting>& lightings) {
+              if (source_.model) {  // one projection, then into the array
+                source_.model->lightGroup(lightings);
+                for (size_t k = 0; k < lightings.size(); ++k) {
+                  const auto [env, rotation] = frameOf(first + k);
+                  shadeModelFrameInto(k, *env, rotation, bg, exposure, local, keepNegative,
+                                      setImages + (first + k) * frameValues);
+                }
+                return;
+              }
+              std::vector<double> ms;
+              const auto rows = source_.relight(lightings, ms);
+              for (size_t k = 0; k < rows.size(); ++k) {
+                const auto [env, rotation] = frameOf(first + k);
+                finish(rows[k].data(), *env, rotation, bg, exposure, local, keepNegative,
+                       setImages + (first + k) * frameValues);
+              }
+            });
       }
     }
     return images;
@@ -385,43 +388,45 @@ class Relighter {
   /// One frame of a model, relit straight into its image.
   void relightModelInto(const LatticeLighting& lighting, const Environment& env,
                         const EnvRotation& rotation, Background bg, double exposure,
-                        const std::vector<float>& local, float* pixels) const {
+                        const std::vector<float>& local, bool keepNegative, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, bg, pixels);
+    applyExposure(exposure, keepNegative, bg, pixels);
   }
 
   /// Frame k of the group the model's relighter last lit, into its image.
   void shadeModelFrameInto(size_t k, const Environment& env, const EnvRotation& rotation,
                            Background bg, double exposure, const std::vector<float>& local,
-                           float* pixels) const {
+                           bool keepNegative, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->shadeFrameInto(k, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, bg, pixels);
+    applyExposure(exposure, keepNegative, bg, pixels);
   }
 
   /// One frame from per-row values (the dense path) into its image.
   void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
-              Background bg, double exposure, const std::vector<float>& local,
+              Background bg, double exposure, const std::vector<float>& local, bool keepNegative,
               float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     composer_->addRows(rowRgb, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, bg, pixels);
+    applyExposure(exposure, keepNegative, bg, pixels);
   }
 
   void addLocal(const std::vector<float>& local, Background bg, float* pixels) const {
     if (!local.empty()) composer_->addRows(local.data(), pixels, ImageComposer::channels(bg));
   }
 
-  void applyExposure(double exposure, Background bg, float* pixels) const {
-    if (exposure == 0) return;
-    // As the CLI writes images: colour scaled by 2^exposure, alpha kept.
-    const float scale = static_cast<float>(std::exp2(exposure));
+  /// As the CLI writes images: clamped at zero unless kept, colour scaled by
+  /// 2^exposure, alpha kept.
+  void applyExposure(double exposure, bool keepNegative, Background bg, float* pixels) const {
     const int channels = bg == Background::Alpha ? 4 : 3;
     const size_t values = static_cast<size_t>(width()) * height() * channels;
+    clampNegative(pixels, values, channels, keepNegative);
+    if (exposure == 0) return;
+    const float scale = static_cast<float>(std::exp2(exposure));
     for (size_t i = 0; i < values; ++i)
       if (channels != 4 || i % 4 != 3) pixels[i] *= scale;
   }
@@ -635,21 +640,25 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            "(docs/datasets.md).")
       .def_property_readonly("object_names", &Relighter::objectNames,
                              "Each object's name, by the id the object label holds")
-      .def("shading", &Relighter::shading, py::arg("frame"),
+      .def("shading", &Relighter::shading, py::arg("frame"), py::kw_only(),
+           py::arg("keep_negative") = false,
            "A frame's shading (relit / albedo, H x W x 3) from a frame relit with background "
-           "'black' or 'alpha', as the CLI's FRAME_shading files hold it.")
+           "'black' or 'alpha', as the CLI's FRAME_shading files hold it: clamped at zero "
+           "unless keep_negative.")
       .def("relight", &Relighter::relight, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("max_rank") = py::none(),
            py::arg("exposure") = 0.0, py::arg("background") = "", py::arg("fast_rotation") = false,
            py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
-           py::arg("anchor_spread") = kAnchorSpreadTexels,
+           py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("keep_negative") = false,
            "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it; "
            "lights (Light, PointLight, ...) are added, and light it alone when env is None. "
-           "background: 'env' (default; 'black' for a captured light set), 'black' or 'alpha'.")
+           "background: 'env' (default; 'black' for a captured light set), 'black' or 'alpha'. "
+           "Values below zero (a model's reconstruction can undershoot) are clamped to 0 "
+           "unless keep_negative.")
       .def("relight", &Relighter::relightLighting, py::arg("lighting"), py::kw_only(),
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",
            py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
-           py::arg("anchor_spread") = kAnchorSpreadTexels,
+           py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("keep_negative") = false,
            "The same from a Lighting made by lighting(): the integration is not repeated.")
       .def("lighting", &Relighter::lighting, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("fast_rotation") = false,
@@ -660,6 +669,7 @@ PYBIND11_MODULE(adaptive_cpca, m) {
            py::arg("fast_rotation") = false, py::arg("out") = py::none(),
            py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("light_positions") = py::none(),
+           py::arg("keep_negative") = false,
            "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major; "
            "the lights are added to every frame. light_positions (F x K x 3, K lights): F "
            "times that, the lights moved to row f's positions for the f-th (light-major, as "

@@ -10,6 +10,7 @@
 
 #include <pybind11/numpy.h>
 
+#include "capture/lights_file.h"
 #include "capture/olat_import.h"
 #include "cluster/compress.h"
 #include "cluster/model_file.h"
@@ -158,6 +159,7 @@ py::object importTransport(const py::object& images, const Doubles& directions,
     if (paths.empty()) throw ParameterError("images", "[]", "give one image per light");
   }
   const size_t count = pixels ? static_cast<size_t>(pixels->shape(0)) : paths.size();
+  requireLightCount(count, "images");
   OlatLights lights;
   for (const Eigen::Vector3d& d : vectorsOf(directions, count, "directions")) {
     if (!(d.norm() > 0) || !d.allFinite())

@@ -32,6 +32,7 @@
 #include "relight/domain_lighting.h"
 #include "relight/envmap_export.h"
 #include "relight/file_hash.h"
+#include "relight/frame_files.h"
 #include "relight/frame_labels.h"
 #include "relight/image_output.h"
 #include "relight/lighting.h"
@@ -338,9 +339,40 @@ struct BatchView {
   size_t index = 0, count = 1;
   std::string input;
   size_t firstFrame = 0;
+  int indexDigits = 5;  ///< of a frame's index in its file name (frameIndexDigits)
   /// "vNN_" before frame names, "_vNN" after label names (several views only).
   std::string label() const { return concat("v", std::setw(2), std::setfill('0'), index); }
 };
+
+/// A batch frame's file name without its extension (docs/datasets.md, "Frame
+/// names"): its index in the batch, then its map and rotation (or its draw),
+/// along a light path or sweep its light set, and its view.
+std::string frameStem(const BatchRelightOptions& a, const Frame& f, const BatchView& view,
+                      size_t i) {
+  std::string name = f.input->spec.empty() ? "lights" : f.input->env->name();
+  name += "_" + f.rotation.label();
+  if (f.sample >= 0) name = concat("sample_", std::setw(5), std::setfill('0'), f.sample);
+  if (a.movesLights()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
+  if (view.count > 1) name = view.label() + "_" + name;
+  return indexedFrameStem(static_cast<long long>(view.firstFrame + i), view.indexDigits, name);
+}
+
+/// A frame's lighting in words, for errors: its spec, rotation and lights.
+std::string lightingInWords(const Frame& f, const std::vector<std::string>& lights) {
+  std::string words =
+      concat(f.input->spec.empty() ? "no environment" : f.input->spec, " at yaw ", f.rotation.yaw,
+             ", pitch ", f.rotation.pitch, ", roll ", f.rotation.roll);
+  for (const std::string& light : lights) words += " with " + light;
+  return words;
+}
+
+/// The paths of a batch's files, as the manifests list them: relative to the
+/// dataset's directory (docs/formats.md, "Batch manifest").
+std::vector<std::string> inDataset(const std::vector<std::string>& paths) {
+  std::vector<std::string> names;
+  for (const std::string& path : paths) names.push_back(fs::path(path).filename().string());
+  return names;
+}
 
 /// Rank 0's writing: every frame encoded and written on writing threads of
 /// its own while the next frames relight, each committed in frame order (its
@@ -367,7 +399,7 @@ class FrameWriting {
         domain_(domain),
         view_(std::move(view)),
         manifests_(manifests),
-        labels_(header, a.aovs, a.labelFormat, a.background, encoding_),
+        labels_(header, a.aovs, a.labelFormat, a.background, encoding_, a.keepNegative),
         writer_(writingThreads(), kFramesInFlight) {
     labelPaths_ =
         labels_.writeView(stemBeside(view_.count > 1 ? "labels_" + view_.label() : "labels"));
@@ -383,11 +415,14 @@ class FrameWriting {
   }
 
   /// Queues frame i (in frame order); blocks while kFramesInFlight are in flight.
+  /// The frame is clamped at zero first, unless the batch keeps negative values.
   void submit(size_t i, Image&& image, double ms) {
     const Stopwatch waiting;
-    writer_.submit([this, i, ms, image = std::move(image)] {
+    writer_.submit([this, i, ms, image = std::move(image)]() mutable {
       const Stopwatch busy;
-      OrderedWriter::Commit commit = encode(i, image, ms);
+      const NegativeClamp negatives =
+          clampNegative(image.pixels.data(), image.pixels.size(), image.channels, a_.keepNegative);
+      OrderedWriter::Commit commit = encode(i, image, ms, negatives);
       addWriting(busy.seconds());
       return commit;
     });
@@ -398,14 +433,20 @@ class FrameWriting {
     writer_.finish();
     waiting_ += waiting.seconds();
   }
-  const nlohmann::json& outputs() const { return outputs_; }
+  /// The frames' entries of the JSON report, moved out (a batch of 10,000
+  /// frames holds megabytes of them: never copied).
+  nlohmann::json takeOutputs() { return std::move(outputs_); }
   const std::vector<std::string>& labelPaths() const { return labelPaths_; }
   double writingSeconds() const { return writing_.load(); }
+  /// The frames that held negative values, and those values together.
+  long long framesWithNegatives() const { return framesWithNegatives_; }
+  const NegativeClamp& negatives() const { return negatives_; }
   double waitingSeconds() const { return waiting_; }
 
  private:
   /// Frame i's files under temporary names; returns what puts them in place.
-  OrderedWriter::Commit encode(size_t i, const Image& image, double ms) {
+  OrderedWriter::Commit encode(size_t i, const Image& image, double ms,
+                               const NegativeClamp& negatives) {
     const Frame& f = frames_[i];
     const fs::path out(a_.out);
     auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
@@ -416,11 +457,9 @@ class FrameWriting {
       if (sh_)
         for (const Rgb& c : sh_->project(lighting)) sh9.push_back({c.x(), c.y(), c.z()});
       if (a_.lightingImages) {
-        const std::string path =
-            (batch_
-                 ? (out / frameName(f, ImageFormat::Exr)).replace_extension().string() + "_lighting"
-                 : stemBeside("lighting")) +
-            ".exr";
+        const std::string path = (batch_ ? (out / frameStem(a_, f, view_, i)).string() + "_lighting"
+                                         : stemBeside("lighting")) +
+                                 ".exr";
         // The radiance the lattice (or a light set's cells) holds, before
         // exposure; 8R x 4R sees every texel.
         const int r = domain_.mapLattice().resolution();
@@ -435,7 +474,7 @@ class FrameWriting {
     for (ImageFormat format : formats_) {
       fs::path path = out;
       if (batch_)
-        path = out / frameName(f, format);
+        path = out / (frameStem(a_, f, view_, i) + extensionOf(format));
       else if (formats_.size() > 1)
         path = out.parent_path() / (out.stem().string() + extensionOf(format));
       files->push_back(std::make_unique<AtomicOutput>(path.string()));
@@ -446,10 +485,9 @@ class FrameWriting {
     if (labels_.shading())
       shading = labels_.encodeShading(
           image, *f.input->env, rotationMatrix(f.rotation), f.exposure,
-          batch_ ? (out / frameName(f, ImageFormat::Exr)).replace_extension().string() + "_shading"
-                 : stemBeside("shading"),
+          batch_ ? (out / frameStem(a_, f, view_, i)).string() + "_shading" : stemBeside("shading"),
           *files);
-    return [this, i, ms, files, paths, shading, lightingPaths, sh9 = std::move(sh9)] {
+    return [this, i, ms, negatives, files, paths, shading, lightingPaths, sh9 = std::move(sh9)] {
       const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
@@ -457,7 +495,7 @@ class FrameWriting {
       if (manifests_) {
         std::vector<Table::Cell> row{
             view_.input,     f.input->spec, f.rotation.yaw, f.rotation.pitch,
-            f.rotation.roll, f.exposure,    lights,         joinedBySemicolons(paths)};
+            f.rotation.roll, f.exposure,    lights,         joinedBySemicolons(inDataset(paths))};
         if (view_.count > 1) row.insert(row.begin(), static_cast<long long>(view_.index));
         manifests_->csv->append(std::move(row));
         nlohmann::json line = {{"frame", view_.firstFrame + i},
@@ -470,14 +508,14 @@ class FrameWriting {
                                {"exposure", f.exposure},
                                {"lights", lightSpecs_[f.lights]},
                                {"sh9", sh9},
-                               {"outputs", paths}};
+                               {"outputs", inDataset(paths)}};
         if (view_.count > 1) line["view"] = view_.index;
         if (f.sample >= 0) line["sample"] = f.sample;
         if (labels_.any()) {
-          line["labels"] = labelPaths_;
-          line["shading"] = shading;
+          line["labels"] = inDataset(labelPaths_);
+          line["shading"] = inDataset(shading);
         }
-        if (a_.lightingImages) line["lighting"] = lightingPaths;
+        if (a_.lightingImages) line["lighting"] = inDataset(lightingPaths);
         manifests_->jsonLines->append(line);
       }
       nlohmann::json output = {{"env", f.input->spec},
@@ -486,7 +524,10 @@ class FrameWriting {
                                {"pitch", f.rotation.pitch},
                                {"roll", f.rotation.roll},
                                {"paths", paths},
-                               {"ms", ms}};
+                               {"ms", ms},
+                               {"negative_values", negatives.values},
+                               {"most_negative", negatives.mostNegative}};
+      if (negatives.values > 0) ++framesWithNegatives_, negatives_.add(negatives);
       if (view_.count > 1) output["view"] = view_.index;
       if (labels_.shading()) output["shading"] = shading;
       outputs_.push_back(std::move(output));
@@ -506,17 +547,6 @@ class FrameWriting {
   const std::vector<ImageFormat>& formats_;
   const bool batch_;
   const ImageEncoding encoding_;
-  /// A batch frame's file: map, rotation and, along a light path or sweep,
-  /// the light set.
-  std::string frameName(const Frame& f, ImageFormat format) const {
-    std::string name = f.input->spec.empty() ? "lights" : f.input->env->name();
-    name += "_" + f.rotation.label();
-    if (f.sample >= 0) name = concat("sample_", std::setw(5), std::setfill('0'), f.sample);
-    if (a_.movesLights()) name += concat("_l", std::setw(4), std::setfill('0'), f.lights);
-    if (view_.count > 1) name = view_.label() + "_" + name;
-    return name + extensionOf(format);
-  }
-
   /// A lighting file's SHA-256; null for a built-in lighting.
   nlohmann::json hashOf(const EnvInput* input) const {
     const auto at = manifests_->hashes.find(input);
@@ -556,6 +586,8 @@ class FrameWriting {
   std::mutex knownMutex_;
   std::unordered_map<size_t, LatticeLighting> known_;  ///< noted, not yet written
   nlohmann::json outputs_ = nlohmann::json::array();
+  long long framesWithNegatives_ = 0;  ///< counted as frames commit, one at a time
+  NegativeClamp negatives_;
   std::atomic<double> writing_{0};
   double waiting_ = 0;
   OrderedWriter writer_;  ///< last: its threads stop before what they use goes
@@ -749,6 +781,7 @@ struct BatchRun {
   const std::vector<std::vector<LocalLight>> sets;
   std::vector<std::vector<std::string>> setSpecs;
   std::vector<EnvInput> inputs;
+  std::vector<Frame> viewFrames;            ///< each view's frames (the same for every view)
   std::optional<BatchManifests> manifests;  ///< rank 0 of a batch
   BatchStages stages;
   std::vector<double> msPerFrame;
@@ -756,6 +789,8 @@ struct BatchRun {
   nlohmann::json labels = nlohmann::json::array();
   size_t frames = 0;  ///< frames of the views done
   UncoveredLighting uncovered;
+  long long framesWithNegatives = 0;  ///< rank 0: frames written with values below zero
+  NegativeClamp negatives;
 };
 
 /// Refuses, before any frame, what a captured light set cannot do: show the
@@ -769,6 +804,39 @@ void requireLightingDomain(const TransportHeader& h, const BatchRun& run, const 
   DomainLighting::requireRotationMode(true, a.rotationMode);
 }
 
+/// Refuses, before any work, a batch that would write one file twice. Frame
+/// names start with their index, so only a broken naming rule gets here.
+void requireDistinctFrameFiles(const BatchRun& run, size_t views, int indexDigits) {
+  const BatchRelightOptions& a = run.a;
+  std::vector<std::string> suffixes;
+  for (ImageFormat format : run.formats) suffixes.push_back(extensionOf(format));
+  if (a.lightingImages) suffixes.push_back("_lighting.exr");
+  if (std::find(a.aovs.begin(), a.aovs.end(), Aov::Shading) != a.aovs.end()) {
+    if (a.labelFormat != LabelFormat::Npy) suffixes.push_back("_shading.exr");
+    if (a.labelFormat != LabelFormat::Exr) suffixes.push_back("_shading.npy");
+  }
+  const std::vector<Frame>& frames = run.viewFrames;
+  const auto viewOf = [&](size_t k) {
+    const size_t v = k / frames.size();
+    return BatchView{v, views, "", v * frames.size(), indexDigits};
+  };
+  requireDistinctFiles(
+      frames.size() * views,
+      [&](size_t k) {
+        const std::string stem = (fs::path(a.out) / frameStem(a, frames[k % frames.size()],
+                                                              viewOf(k), k % frames.size()))
+                                     .string();
+        std::vector<std::string> files;
+        for (const std::string& suffix : suffixes) files.push_back(stem + suffix);
+        return files;
+      },
+      [&](size_t k) {
+        const Frame& f = frames[k % frames.size()];
+        return lightingInWords(f, run.setSpecs[f.lights]) +
+               (views > 1 ? concat(" in view ", k / frames.size()) : std::string());
+      });
+}
+
 /// One view's frames relit and (rank 0) written; returns its frame count.
 size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const BatchRelightOptions& a = run.a;
@@ -777,7 +845,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const DomainLighting domain(source.header);
   LocalLightRows localRows(source, run.sets, a.anchorSpread, stages.localLights);
   // Frames in groups: each group streams T once; memory stays flat for any count.
-  const std::vector<Frame> frames = batchFrames(a, run.inputs, run.sets.size());
+  const std::vector<Frame>& frames = run.viewFrames;
   const int rank = ranks::rank();
   std::optional<FrameWriting> writing;
   if (rank == 0)
@@ -839,9 +907,26 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   writing->finish();
   stages.writing += writing->writingSeconds();
   stages.waitingForWriting += writing->waitingSeconds();
-  for (const auto& output : writing->outputs()) run.outputs.push_back(output);
+  run.framesWithNegatives += writing->framesWithNegatives();
+  run.negatives.add(writing->negatives());
+  for (auto& output : writing->takeOutputs()) run.outputs.push_back(std::move(output));
   for (const auto& path : writing->labelPaths()) run.labels.push_back(path);
   return frames.size();
+}
+
+/// How many frames went below zero and how far, in the summary and the JSON
+/// report: a model's reconstruction undershoots where the transport is small.
+void reportNegatives(BatchRelightResult& result, const BatchRun& run) {
+  result.framesWithNegatives = run.framesWithNegatives;
+  result.negatives = run.negatives;
+  result.json["negative"] = {{"frames", run.framesWithNegatives},
+                             {"values", run.negatives.values},
+                             {"most_negative", run.negatives.mostNegative},
+                             {"clamped", !run.a.keepNegative}};
+  if (run.framesWithNegatives > 0)
+    result.summary += concat("; ", run.framesWithNegatives, " frame(s) had ", run.negatives.values,
+                             " value(s) below zero (down to ", run.negatives.mostNegative, "), ",
+                             run.a.keepNegative ? "kept (--keep-negative)" : "clamped to 0");
 }
 
 }  // namespace
@@ -859,16 +944,20 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   run.stages.open = wall.seconds();
   requireFrameSpace(a, source->header.camera.size, run.formats, batch,
                     run.sets.size() * views.size());
-  if (batch) {
-    createOutputDirectory(a.out);
-    if (ranks::rank() == 0) writeDatasetIdentity(a.out, datasetIdentity(a));
-  }
   // Sampled lighting draws from every map given: one that cannot be read
   // stops the batch, so that a seed always makes the same frames.
   run.inputs = loadInputs(a.envs, batch && a.sampling.count == 0, a.warn);
   // Local lights alone: one frame over a black environment.
   if (run.inputs.empty()) run.inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
   for (const auto& set : run.sets) run.setSpecs.push_back(canonicalSpecs(set));
+  run.viewFrames = batchFrames(a, run.inputs, run.sets.size());
+  const int indexDigits =
+      frameIndexDigits(static_cast<long long>(run.viewFrames.size() * views.size()));
+  if (batch) {
+    requireDistinctFrameFiles(run, views.size(), indexDigits);
+    createOutputDirectory(a.out);
+    if (ranks::rank() == 0) writeDatasetIdentity(a.out, datasetIdentity(a));
+  }
   if (batch && ranks::rank() == 0) run.manifests.emplace(a, run.inputs, views.size());
   for (size_t k = 0; k < views.size(); ++k) {
     if (k > 0) {  // one view's model in memory at a time
@@ -879,7 +968,8 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
       requireLightingDomain(source->header, run, views[k]);
       run.stages.open += open.seconds();
     }
-    run.frames += relightView(run, *source, BatchView{k, views.size(), views[k], run.frames});
+    run.frames +=
+        relightView(run, *source, BatchView{k, views.size(), views[k], run.frames, indexDigits});
   }
   run.uncovered.report();
   BatchRelightResult result;
@@ -905,10 +995,11 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a) {
   result.json["frames_per_second"] = stages.wall > 0 ? frames / stages.wall : 0.0;
   result.summary += concat("; ", frames, " frame(s) written in ", stages.wall, " s (",
                            stages.wall > 0 ? frames / stages.wall : 0.0, " frames/s)");
-  result.json["outputs"] = run.outputs;
+  result.json["outputs"] = std::move(run.outputs);
   if (!a.aovs.empty()) result.json["labels"] = run.labels;
   if (views.size() > 1) result.json["views"] = views;
   result.json["failed"] = result.failed;
+  reportNegatives(result, run);
   return result;
 }
 

@@ -80,7 +80,10 @@ struct BatchRelightOptions {
   /// Each frame's lattice lighting as a lat-long EXR (FRAME_lighting.exr):
   /// the radiance the frame was relit under, after rotation, before exposure.
   bool lightingImages = false;
-  std::string maxRank;    ///< see applyRankLimit; models only
+  std::string maxRank;  ///< see applyRankLimit; models only
+  /// Write the raw reconstruction, negative values and all, instead of
+  /// clamping frames and shading at zero (docs/design.md, section 6).
+  bool keepNegative = false;
   int timingRepeats = 0;  ///< > 0: after a warm-up, time that many repeats
   bool force = false;     ///< write even when the frames look too large for the disk
   std::function<void(long long done, long long total)> progress;
@@ -118,7 +121,9 @@ struct BatchRelightResult {
   long long frames = 0;
   std::vector<double> msPerFrame;  ///< every timed frame
   double bytesPerFrame = 0;
-  std::vector<std::string> failed;  ///< maps that could not be loaded (batch only)
+  std::vector<std::string> failed;    ///< maps that could not be loaded (batch only)
+  long long framesWithNegatives = 0;  ///< frames whose values went below zero
+  NegativeClamp negatives;            ///< all their negative values together
   BatchStages stages;
   nlohmann::json json;  ///< what `relight --json` writes
   std::string summary;  ///< one line: frames, median ms, bytes, GB/s

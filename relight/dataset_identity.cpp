@@ -11,6 +11,10 @@ namespace acpca {
 namespace {
 
 constexpr const char* kFileName = "dataset.json";
+/// The directory's layout: 2 names every frame's files by its index in the
+/// batch and lists paths relative to the directory (docs/formats.md, "Batch
+/// manifest"); 1 (no "layout" key) named them by lighting alone.
+constexpr int kDatasetLayout = 2;
 
 std::string identityPath(const std::string& directory) {
   return (std::filesystem::path(directory) / kFileName).string();
@@ -24,6 +28,7 @@ nlohmann::json datasetIdentity(const BatchRelightOptions& a) {
   nlohmann::json aovs = nlohmann::json::array();
   for (Aov aov : a.aovs) aovs.push_back(kAovNames.name(aov));
   nlohmann::json identity = {{"format", "adaptive-cpca dataset"},
+                             {"layout", kDatasetLayout},
                              {"input", a.viewInputs()},
                              {"envs", a.envs},
                              {"rotations", rotations},
@@ -37,7 +42,8 @@ nlohmann::json datasetIdentity(const BatchRelightOptions& a) {
                              {"max_rank", a.maxRank},
                              {"aovs", aovs},
                              {"label_format", kLabelFormatNames.name(a.labelFormat)},
-                             {"lighting_exr", a.lightingImages}};
+                             {"lighting_exr", a.lightingImages},
+                             {"keep_negative", a.keepNegative}};
   if (a.sampling.count > 0)
     identity["sampling"] = {{"count", a.sampling.count},
                             {"seed", a.sampling.seed},
@@ -53,6 +59,9 @@ void refuseAnotherDataset(const std::string& directory, const nlohmann::json& id
   const nlohmann::json held = nlohmann::json::parse(in, nullptr, false);
   if (held.is_discarded() || !held.is_object())
     throw UserError(concat(path, ": not a dataset description; give another --out or remove it"));
+  if (!held.contains("layout") || held.at("layout") != kDatasetLayout)
+    throw UserError(concat(directory, " holds a dataset of an earlier layout (frames named by ",
+                           "lighting alone): give another --out, or remove it and run again"));
   for (const auto& [key, value] : identity.items())
     if (!held.contains(key) || held.at(key) != value)
       throw UserError(concat(directory, " holds another dataset (", key, ": ",

@@ -45,7 +45,7 @@ inline constexpr double kSilentNegativeShare = 1e-6;
 
 /// Loads an environment image (OpenImageIO): RGB, finite; tiny negative values
 /// clamped (kMaxNegativeShare); a horizontal cube cross when its aspect is 4:3,
-/// else a lat-long map.
+/// a lat-long map when it is 2:1 (requireLatLongAspect), else refused.
 std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
 /// True if spec names an analytic map rather than a file.
 bool isAnalyticEnvironment(const std::string& spec);
@@ -69,6 +69,12 @@ std::unique_ptr<Environment> makeCubeCrossEnvironment(std::string name, int face
 /// A lat-long image in memory: width x height RGB, row 0 at the zenith.
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb);
+/// A lat-long map's width within this share of twice its height is read with a
+/// warning (a map cropped or padded by a pixel); further off, it is refused.
+inline constexpr double kLatLongAspectTolerance = 0.01;
+/// Refuses (UserError naming `where` and the size) an image that is not a
+/// 2:1 lat-long map within kLatLongAspectTolerance; warns when not exactly.
+void requireLatLongAspect(const std::string& where, int width, int height);
 /// An environment image in memory, checked and read as loadEnvironmentImage
 /// reads a file: width x height pixels of `channels` floats (1: grey; beyond 3
 /// ignored), row 0 at the top. `where` names it in errors and warnings.

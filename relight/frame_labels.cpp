@@ -8,12 +8,13 @@
 namespace acpca {
 
 FrameLabels::FrameLabels(const TransportHeader& header, std::vector<Aov> aovs, LabelFormat format,
-                         Background background, const ImageEncoding& encoding)
+                         Background background, const ImageEncoding& encoding, bool keepNegative)
     : header_(header),
       aovs_(std::move(aovs)),
       format_(format),
       background_(background),
       encoding_(encoding),
+      keepNegative_(keepNegative),
       composer_(header) {}
 
 bool FrameLabels::shading() const {
@@ -33,7 +34,7 @@ std::vector<std::string> FrameLabels::encodeShading(
   Image shading{frame.width, frame.height, 3,
                 std::vector<float>(frame.pixels.size() / frame.channels * 3)};
   frameShading(header_, frame.pixels.data(), background.data(), frame.channels,
-               shading.pixels.data());
+               shading.pixels.data(), keepNegative_);
   std::vector<std::string> paths;
   if (format_ != LabelFormat::Npy) {
     files.push_back(std::make_unique<AtomicOutput>(stem + ".exr"));

@@ -16,9 +16,9 @@ namespace acpca {
 class FrameLabels {
  public:
   /// Frames are composed over `background`; shading files are written as
-  /// frames are (EXR: `encoding`).
+  /// frames are (EXR: `encoding`), clamped at zero unless `keepNegative`.
   FrameLabels(const TransportHeader& header, std::vector<Aov> aovs, LabelFormat format,
-              Background background, const ImageEncoding& encoding);
+              Background background, const ImageEncoding& encoding, bool keepNegative);
   bool any() const { return !aovs_.empty(); }
   bool shading() const;
   /// Writes the view's labels at STEM.exr and/or STEM_AOV.npy; their paths.
@@ -37,6 +37,7 @@ class FrameLabels {
   LabelFormat format_;
   Background background_;
   ImageEncoding encoding_;
+  bool keepNegative_;
   ImageComposer composer_;
 };
 

@@ -100,6 +100,17 @@ std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
   return bytes;
 }
 
+NegativeClamp clampNegative(float* pixels, size_t values, int channels, bool keep) {
+  NegativeClamp clamp;
+  for (size_t i = 0; i < values; ++i) {
+    if (pixels[i] >= 0 || (channels == 4 && i % 4 == 3)) continue;
+    ++clamp.values;
+    clamp.mostNegative = std::min(clamp.mostNegative, pixels[i]);
+    if (!keep) pixels[i] = 0;
+  }
+  return clamp;
+}
+
 Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
                    Background background, const Environment& env, const Eigen::Matrix3d& rotation) {
   Image image;

@@ -1,6 +1,7 @@
 #pragma once
 // Relit images: composing per-pixel results with the background, and writing
 // linear EXR or tone-mapped sRGB PNG (always to a temporary name, then renamed).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -31,6 +32,22 @@ Background parseBackground(const std::string& text);  // env | black | alpha
 /// see the environment through: a ParameterError naming "background" and `path`.
 void requireBackgroundShown(const TransportHeader& header, Background background,
                             const std::string& path);
+
+/// What clamping a frame at zero changed (docs/design.md, section 6): a
+/// model's reconstruction undershoots where the transport is zero or small,
+/// and no surface emits negative light.
+struct NegativeClamp {
+  long long values = 0;    ///< colour values that were below zero
+  float mostNegative = 0;  ///< the lowest of them (0 when none)
+  void add(const NegativeClamp& other) {
+    values += other.values;
+    mostNegative = std::min(mostNegative, other.mostNegative);
+  }
+};
+/// Raises every negative colour value of an image of `channels` floats per
+/// pixel to 0 (the alpha of 4 channels is coverage, never negative) and says
+/// what changed; `keep` counts them and changes nothing.
+NegativeClamp clampNegative(float* pixels, size_t values, int channels, bool keep = false);
 
 /// EXR (linear, half or float), PNG (sRGB, 8 or 16 bits, tone mapped) or
 /// NumPy .npy (linear float32, H x W x C).

@@ -135,6 +135,19 @@ std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width,
   return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));
 }
 
+void requireLatLongAspect(const std::string& where, int width, int height) {
+  const long long twice = 2LL * height;
+  if (width == twice) return;
+  const double off = std::abs(width - twice) / static_cast<double>(twice);
+  if (off > kLatLongAspectTolerance)
+    throw UserError(concat(where, ": a ", width, "x", height,
+                           " image is neither a lat-long map (2:1) nor a horizontal cube cross "
+                           "(4:3); its aspect is ",
+                           static_cast<double>(width) / height, ":1"));
+  warn(concat(where, ": ", width, "x", height, " is not quite 2:1 (", 100 * off,
+              "% off); read as a lat-long map, its texels stretched to the sphere"));
+}
+
 std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
                                                        int width, int height, int channels,
                                                        const float* values) {
@@ -172,6 +185,7 @@ std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where,
   // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
   if (width * 3 == height * 4 && width % 4 == 0)
     return makeCubeCrossEnvironment(std::move(name), width / 4, std::move(rgb));
+  requireLatLongAspect(where, width, height);
   return makeLatLongEnvironment(std::move(name), width, height, std::move(rgb));
 }
 

@@ -225,14 +225,15 @@ std::vector<std::string> writeViewLabels(const std::vector<LabelLayer>& layers,
 }
 
 void frameShading(const TransportHeader& header, const float* frame, const float* background,
-                  int channels, float* shading) {
+                  int channels, float* shading, bool keepNegative) {
   std::fill_n(shading, static_cast<size_t>(header.camera.size.pixels()) * 3, 0.0f);
   for (long long r = 0; r < header.rows(); ++r) {
     const size_t pixel = static_cast<size_t>(header.pixels[r]);
     for (int k = 0; k < 3; ++k) {
       const size_t at = pixel * channels + k;
       const float weight = header.coverage[r] * header.albedo[3 * r + k];
-      shading[pixel * 3 + k] = weight > 0 ? (frame[at] - background[at]) / weight : 0.0f;
+      const float value = weight > 0 ? (frame[at] - background[at]) / weight : 0.0f;
+      shading[pixel * 3 + k] = keepNegative ? value : std::max(value, 0.0f);
     }
   }
 }

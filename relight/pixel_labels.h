@@ -65,8 +65,9 @@ std::vector<std::string> writeViewLabels(const std::vector<LabelLayer>& layers,
 /// A frame's shading, relit / albedo (3 floats per pixel): at each covered
 /// pixel, (frame - background) / (coverage x albedo), per channel, where the
 /// frame and its background part hold `channels` floats per pixel (3, or 4
-/// with alpha). 0 where the albedo is 0, and at background pixels.
+/// with alpha). 0 where the albedo is 0, and at background pixels; negative
+/// values are raised to 0 unless `keepNegative` (docs/design.md, section 6).
 void frameShading(const TransportHeader& header, const float* frame, const float* background,
-                  int channels, float* shading);
+                  int channels, float* shading, bool keepNegative = false);
 
 }  // namespace acpca

@@ -48,6 +48,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                "Write each frame's lattice lighting beside it, FRAME_lighting.exr (lat-long, "
                "8R x 4R, before exposure)");
   sub.add_option("--label-format", labelFormat, "Labels as exr (float), npy or both (default exr)");
+  sub.add_flag("--keep-negative", o.keepNegative,
+               "Write the raw reconstruction: frames and shading keep values below zero "
+               "(default: clamped to 0; relight --json counts them per frame)");
   nameParameters(sub, {{"--env", {"environment"}},
                        {"--rotate", {"rotation"}},
                        {"--format", {"image format"}},

@@ -39,7 +39,9 @@ nlohmann::json buildView(const BuildArgs& a, const Scene& scene, const std::stri
   progress.finish();
   if (!lead) return nullptr;
   for (const auto& [name, error] : s.imageErrors)
-    if (!a.common.quiet) std::cerr << "image error under " << name << ": " << 100 * error << "%\n";
+    if (!a.common.quiet)
+      std::cerr << "image error under " << name
+                << " (raw reconstruction, before the clamp at zero): " << 100 * error << "%\n";
   if (!o.groundTruthDir.empty() && !a.common.quiet)
     std::cerr << "ground-truth images (dense relight, EXR) in " << o.groundTruthDir << "\n";
   if (!a.common.quiet)

@@ -38,11 +38,11 @@ void run(RelightArgs& a) {
   o.warn = [lead, quiet = a.common.quiet](const std::string& text) {
     if (lead && !quiet) std::cerr << "adaptive-cpca: " << text << "\n";
   };
-  const BatchRelightResult result = relightBatch(o);
+  BatchRelightResult result = relightBatch(o);
   progress.finish();
   if (!lead) return;
   if (!a.common.quiet) std::cerr << result.summary << "\n";
-  nlohmann::json report = result.json;
+  nlohmann::json report = std::move(result.json);  // a frame's entry each: never copied
   report["peak_memory_bytes"] = peakMemoryBytes();
   writeJson(a.common.jsonPath, report);
   refuseFailedMaps(result, o.envs.size());

@@ -23,9 +23,12 @@ def read_manifest(directory):
 
 
 def resolved(path, directory):
-    """A path as the batch wrote it; where it does not resolve from here, the
-    file of that name in the directory, so a dataset can be read from anywhere."""
-    return path if os.path.exists(path) else os.path.join(directory, os.path.basename(path))
+    """A manifest's path: relative to the dataset's directory (docs/formats.md,
+    "Batch manifest"), so a dataset moved or copied elsewhere still loads.
+    Manifests of earlier versions held paths as typed: where such a path no
+    longer resolves, the file of that name in the directory."""
+    joined = os.path.join(directory, path)
+    return joined if os.path.exists(joined) else os.path.join(directory, os.path.basename(path))
 
 
 def frame_image(frame, directory, key="outputs"):

@@ -85,5 +85,8 @@ def test_bad_sets_are_refused_and_nothing_is_written(tmp_path):
     with pytest.raises(ValueError, match=r"images\[1\]: pixel \(1, 0\) is not a finite number"):
         ac.import_transport(bad, spiral(3), out=out)
     with pytest.raises(FileNotFoundError):
-        ac.import_transport([str(tmp_path / "missing.png")], spiral(1), out=out)
+        ac.import_transport([str(tmp_path / f"missing{k}.png") for k in (0, 1)], spiral(2), out=out)
+    # One light's cell is the whole sphere: every relight would be its image scaled.
+    with pytest.raises(ValueError, match=r"images: 1 light\(s\); a light set needs at least 2"):
+        ac.import_transport(images[:1], spiral(1), out=out)
     assert not os.path.exists(out)

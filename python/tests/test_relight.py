@@ -7,6 +7,7 @@ adaptive-cpca binary and ACPCA_FIXTURE_DIR the transports the build makes.
 import _thread
 import json
 import os
+import shutil
 import subprocess
 import sys
 import threading
@@ -464,7 +465,7 @@ def test_the_loader_example_reads_a_cli_batch_into_numpy_batches(tmp_path, model
     assert images.shape == (6, 40, 40, 3) and images.dtype == np.float32
     sh9 = np.concatenate([labels["sh9"] for _, labels in got])
     for k, frame in enumerate(frames):  # what the files and the manifest hold
-        assert np.array_equal(images[k], ac.read_image(frame["outputs"][0])[..., :3])
+        assert np.array_equal(images[k], ac.read_image(str(out / frame["outputs"][0]))[..., :3])
         assert np.array_equal(sh9[k], np.array(frame["sh9"]))
     # constant:1 frames: band 0 is 2 sqrt(pi), the rest zero.
     assert np.allclose(sh9[3:, 0], 2 * np.sqrt(np.pi), rtol=1e-12)
@@ -544,10 +545,10 @@ def test_labels_are_the_clis_files_and_the_files_own_pixels(tmp_path, model):
     for line, yaw in zip(lines, (0, 40)):
         frame = r.relight(ac.Environment("sky"), yaw=yaw, background="black")
         shading = r.shading(frame)
-        assert np.array_equal(shading, np.load(line["shading"][1]))
-        assert np.array_equal(frame, ac.read_image(line["outputs"][0]))
+        assert np.array_equal(shading, np.load(out / line["shading"][1]))
+        assert np.array_equal(frame, ac.read_image(str(out / line["outputs"][0])))
         assert np.allclose(shading * labels["albedo"], frame, rtol=1e-6, atol=0)
-        assert str(out / "labels.exr") in line["labels"]
+        assert "labels.exr" in line["labels"]
 
 
 def test_drawn_lightings_are_the_clis_and_relight_to_its_frames(tmp_path, model):
@@ -566,7 +567,7 @@ def test_drawn_lightings_are_the_clis_and_relight_to_its_frames(tmp_path, model)
         assert line["exposure"] == 1 + offset and abs(offset) <= 0.5
         image = r.relight(ac.Environment(maps[index]), yaw=yaw, pitch=pitch, roll=roll,
                           exposure=1 + offset)
-        assert np.array_equal(image, ac.read_image(line["outputs"][0]))
+        assert np.array_equal(image, ac.read_image(str(out / line["outputs"][0])))
     assert ac.draw_lightings(3, 5, seed=100) != ac.draw_lightings(3, 5, seed=99)
     with pytest.raises(ac.Error, match="environment samples"):
         ac.draw_lightings(3, 0)
@@ -589,3 +590,46 @@ def test_a_scene_of_several_views_is_precomputed_one_view_per_call(tmp_path):
     assert mine.info["camera"] == theirs.info["camera"]
     sky = ac.Environment("sky")
     assert np.array_equal(mine.relight(sky), theirs.relight(sky))
+
+
+def test_frames_carry_no_negative_light_unless_asked_as_the_cli_writes_them(tmp_path, model):
+    r = ac.Relighter(model)
+    lamp = ac.Light("point:0,3,2,40")
+    raw = r.relight(None, lights=[lamp], background="black", keep_negative=True)
+    assert (raw < 0).sum() > 0, "this lamp no longer shows the model's undershoot"
+    clamped = r.relight(None, lights=[lamp], background="black")
+    assert np.array_equal(clamped, np.maximum(raw, 0))
+    batch = r.relight_batch([ac.Environment("sky")], lights=[lamp], background="alpha")
+    assert batch.min() >= 0
+    assert (r.shading(raw, keep_negative=True) < 0).any() and r.shading(raw).min() >= 0
+    # The CLI's frame, exposure and all: the same values.
+    out = tmp_path / "lamp.exr"
+    cli("relight", model, "--light", "point:0,3,2,40", "--background", "black", "--exposure",
+        "1", "--exr-float", "--out", str(out))
+    assert np.array_equal(ac.read_image(str(out)),
+                          r.relight(None, lights=[lamp], background="black", exposure=1))
+
+
+def test_a_dataset_moved_elsewhere_loads_from_any_working_directory(tmp_path, model):
+    made = tmp_path / "made"
+    cli("relight", model, "--env", "sky", "--env", "constant:1", "--rotate", "0:360:180",
+        "--aov", "all", "--exr-float", "--out", str(made))
+    moved = tmp_path / "elsewhere" / "moved"
+    moved.parent.mkdir()
+    shutil.move(str(made), str(moved))
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "examples"))
+    try:
+        import load_dataset
+    finally:
+        sys.path.pop(0)
+    here = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        (images, labels), = load_dataset.batches("elsewhere/moved", 4)
+        view = load_dataset.view_labels(load_dataset.read_manifest("elsewhere/moved")[0],
+                                        "elsewhere/moved")
+    finally:
+        os.chdir(here)
+    assert images.shape == (4, 40, 40, 3) and labels["shading"].shape == (4, 40, 40, 3)
+    assert np.array_equal(images[1], ac.Relighter(model).relight(ac.Environment("sky"), yaw=180))
+    assert view.keys() == ac.Relighter(model).labels().keys()

@@ -29,8 +29,9 @@ TEST(LightsFile, ReadsCsvWithAndWithoutColours) {
   EXPECT_EQ(f.lights[0].irradiance, Eigen::Vector3d(1, 1, 1));
   EXPECT_FALSE(f.cellsGiven());
 
-  const LightsFile c =
-      parseLightsFile("image,x,y,z,r,g,b,solid_angle\r\na.exr,0,0,1,2,3,4,0.5\r\n", "lights.csv");
+  const LightsFile c = parseLightsFile(
+      "image,x,y,z,r,g,b,solid_angle\r\na.exr,0,0,1,2,3,4,0.5\r\nb.exr,0,0,-1,1,1,1,0.5\r\n",
+      "lights.csv");
   EXPECT_EQ(c.lights[0].irradiance, Eigen::Vector3d(2, 3, 4));
   EXPECT_EQ(c.lights[0].imagePath, "a.exr");
   EXPECT_TRUE(c.cellsGiven());
@@ -76,6 +77,13 @@ TEST(LightsFile, NamesTheLineOfEachMistake) {
                 .find("line 3: give every light's solid_angle"),
             std::string::npos);
   EXPECT_NE(errorOf(header).find("lists no lights"), std::string::npos);
+  // One light's cell would be the whole sphere: every relight its image scaled.
+  EXPECT_NE(errorOf(header + "a.png,0,1,0\n")
+                .find("set/lights.csv: 1 light(s); a light set needs at least 2"),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"({"lights": [{"image": "a", "direction": [0, 1, 0]}]})", "l.json")
+                .find("l.json: 1 light(s); a light set needs at least 2"),
+            std::string::npos);
   EXPECT_NE(errorOf("").find("no header line"), std::string::npos);
   EXPECT_NE(errorOf(header + ",0,1,0\n").find("line 2: the image name is empty"),
             std::string::npos);

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/cli/image_pixels.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -74,8 +75,8 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
              " --env sky --env sun:50,30,4,1000 --rotate 0:90:45 --quiet --json " +
              out.file("r.json") + " --out " + out.file("batch"));
   ASSERT_EQ(batch.status, 0) << batch.output;
-  for (const char* name : {"sky_y0.exr", "sky_y45.exr", "sun_50_30_4_1000_y0.exr",
-                           "sun_50_30_4_1000_y45.exr", "manifest.csv"})
+  for (const char* name : {"00000_sky_y0.exr", "00001_sky_y45.exr", "00002_sun_50_30_4_1000_y0.exr",
+                           "00003_sun_50_30_4_1000_y45.exr", "manifest.csv"})
     EXPECT_TRUE(test::fs::exists(out.path() / "batch" / name)) << name;
   const auto report = nlohmann::json::parse(std::ifstream(out.file("r.json")));
   EXPECT_EQ(report["frames"], 4);
@@ -107,14 +108,14 @@ TEST_F(Cli, PrecomputeInfoAndRelightWork) {
                                    "exr,npy,png16 --tone aces --quiet --out " +
                                    out.file("formats"));
   ASSERT_EQ(formats.status, 0) << formats.output;
-  auto exr = OIIO::ImageInput::open(out.file("formats/sky_y45.exr"));
-  auto png = OIIO::ImageInput::open(out.file("formats/sky_y45.png"));
+  auto exr = OIIO::ImageInput::open(out.file("formats/00001_sky_y45.exr"));
+  auto png = OIIO::ImageInput::open(out.file("formats/00001_sky_y45.png"));
   ASSERT_TRUE(exr && png);
   std::vector<float> linear(20 * 16 * 3);
   std::vector<std::uint16_t> codes(linear.size());
   ASSERT_TRUE(exr->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, linear.data()));
   ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT16, codes.data()));
-  std::ifstream npyFile(out.file("formats/sky_y45.npy"), std::ios::binary);
+  std::ifstream npyFile(out.file("formats/00001_sky_y45.npy"), std::ios::binary);
   const std::string npy((std::istreambuf_iterator<char>(npyFile)),
                         std::istreambuf_iterator<char>());
   ASSERT_GE(npy.size(), linear.size() * 4);
@@ -212,8 +213,8 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
                              " --env constant:1 --quiet --out " + out.file("batch"));
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("nan.exr"), std::string::npos) << r.output;
-  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "sky_y0.exr"));
-  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "constant_1_y0.exr"));
+  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "00000_sky_y0.exr"));
+  EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "00001_constant_1_y0.exr"));
   EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "manifest.csv"));
 }
 
@@ -262,15 +263,6 @@ TEST_F(Cli, CompressInfoAndRelightAModel) {
 }
 
 /// The pixels of an image file as floats (empty if it cannot be read).
-std::vector<float> readPixels(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return {};
-  const OIIO::ImageSpec& spec = in->spec();
-  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  in->read_image(0, 0, 0, -1, OIIO::TypeDesc::FLOAT, pixels.data());
-  return pixels;
-}
-
 double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size() || a.empty()) return INFINITY;
   double d = 0;
@@ -287,8 +279,9 @@ TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
   ASSERT_EQ(runCli(relight + "--env sky --out " + out.file("sky.exr")).status, 0);
   const RunResult both = runCli(relight + lamp + " --env sky --out " + out.file("both.exr"));
   ASSERT_EQ(both.status, 0) << both.output;
-  const auto alone = readPixels(out.file("lamp.exr")), sky = readPixels(out.file("sky.exr")),
-             sum = readPixels(out.file("both.exr"));
+  const auto alone = test::readPixels(out.file("lamp.exr")),
+             sky = test::readPixels(out.file("sky.exr")),
+             sum = test::readPixels(out.file("both.exr"));
   ASSERT_FALSE(alone.empty());
   double peak = 0, lit = 0;
   for (size_t i = 0; i < alone.size(); ++i) {
@@ -315,7 +308,7 @@ TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
                    out.file("model.exr"))
                 .status,
             0);
-  const auto fromModel = readPixels(out.file("model.exr"));
+  const auto fromModel = test::readPixels(out.file("model.exr"));
   double err = 0, norm = 0;
   for (size_t i = 0; i < alone.size(); ++i)
     err += std::pow(fromModel[i] - alone[i], 2), norm += std::pow(alone[i], 2);
@@ -341,24 +334,25 @@ TEST_F(Cli, LocalLightsLightAloneAddToEnvironmentsAndListInTheManifest) {
                 .status,
             0);
   // A transport's batch shares one product over its frames: equal to rounding.
-  EXPECT_LT(maxDifference(readPixels(out.file("moving/sky_y0_l0001.exr")),
-                          readPixels(out.file("second.exr"))),
+  EXPECT_LT(maxDifference(test::readPixels(out.file("moving/00001_sky_y0_l0001.exr")),
+                          test::readPixels(out.file("second.exr"))),
             1e-6 * peak);
-  EXPECT_TRUE(test::fs::exists(out.file("moving/sky_y0_l0002.exr")));
+  EXPECT_TRUE(test::fs::exists(out.file("moving/00002_sky_y0_l0002.exr")));
   // A sweep: a frame per value of the swept number, crossed with the path's
   // lines (line major), the frame named by its light set.
   const RunResult swept = runCli(relight + "--light-path " + out.file("path.txt") +
                                  " --light point:0,-3,1:2.5:0.5,5 --out " + out.file("swept"));
   ASSERT_EQ(swept.status, 0) << swept.output;
   const std::string sweptManifest = test::readFile(out.file("swept/manifest.csv"));
-  const size_t frame5 = sweptManifest.find("lights_y0_l0005.exr");
+  const size_t frame5 = sweptManifest.find("00005_lights_y0_l0005.exr");
   ASSERT_NE(frame5, std::string::npos) << sweptManifest;
   const std::string line5 = sweptManifest.substr(sweptManifest.rfind('\n', frame5));
   EXPECT_NE(line5.find("\"point:0,2.5,2,30;sphere:2,1,1.5,0.2,50;point:0,-3,2,5\","),
             std::string::npos)
       << sweptManifest;
-  EXPECT_TRUE(test::fs::exists(out.file("swept/lights_y0_l0008.exr")));
-  EXPECT_FALSE(test::fs::exists(out.file("swept/lights_y0_l0009.exr"))) << "3 lines x 3 values";
+  EXPECT_TRUE(test::fs::exists(out.file("swept/00008_lights_y0_l0008.exr")));
+  EXPECT_FALSE(test::fs::exists(out.file("swept/00009_lights_y0_l0009.exr")))
+      << "3 lines x 3 values";
   expectFailure(relight + "--light point:0,-3,2:1:0.5,5 --out " + out.file("z"),
                 "'2:1:0.5': the end must exceed the start");
   EXPECT_FALSE(test::fs::exists(out.file("z")));
@@ -411,7 +405,8 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
     EXPECT_EQ(row["frame"].get<size_t>(), i);
     EXPECT_EQ(row["env"], i < 3 ? "sky" : "constant:1");
     EXPECT_EQ(row["yaw"].get<double>(), 120.0 * (i % 3));
-    EXPECT_TRUE(test::fs::exists(row["outputs"][0].get<std::string>())) << row.dump();
+    EXPECT_TRUE(test::fs::exists(out.path() / "batch" / row["outputs"][0].get<std::string>()))
+        << row.dump();
     const auto& sh9 = row["sh9"];
     ASSERT_EQ(sh9.size(), 9u);
     const auto& first = rows[i < 3 ? 0 : 3]["sh9"];
@@ -427,18 +422,20 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
     }
   }
   ASSERT_EQ(runCli(relight + "--env sky --rotate 120 --out " + out.file("one.exr")).status, 0);
-  EXPECT_EQ(
-      maxDifference(readPixels(out.file("one.exr")), readPixels(out.file("batch/sky_y120.exr"))),
-      0.0);
+  EXPECT_EQ(maxDifference(test::readPixels(out.file("one.exr")),
+                          test::readPixels(out.file("batch/00001_sky_y120.exr"))),
+            0.0);
   // One thread gives the same image; a full turn gives the unrotated one.
   ASSERT_EQ(
       runCli(relight + "--env sky --rotate 120 --threads 1 --out " + out.file("t1.exr")).status, 0);
-  EXPECT_EQ(maxDifference(readPixels(out.file("t1.exr")), readPixels(out.file("one.exr"))), 0.0);
+  EXPECT_EQ(
+      maxDifference(test::readPixels(out.file("t1.exr")), test::readPixels(out.file("one.exr"))),
+      0.0);
   ASSERT_EQ(runCli(relight + "--env sky --rotate 360 --out " + out.file("turn.exr")).status, 0);
-  const auto unrotated = readPixels(out.file("batch/sky_y0.exr"));
+  const auto unrotated = test::readPixels(out.file("batch/00000_sky_y0.exr"));
   double peak = 0;
   for (float v : unrotated) peak = std::max(peak, double(v));
-  EXPECT_LT(maxDifference(readPixels(out.file("turn.exr")), unrotated), 1e-5 * peak);
+  EXPECT_LT(maxDifference(test::readPixels(out.file("turn.exr")), unrotated), 1e-5 * peak);
 
   // Timing mode reports what cli.md promises.
   const RunResult timed = runCli(relight + "--env sky --frames 3 --out " + out.file("t.exr") +
@@ -480,7 +477,7 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
                    out.file("r0.exr"))
                 .status,
             0);
-  for (float v : readPixels(out.file("r0.exr"))) EXPECT_EQ(v, 0.0f);
+  for (float v : test::readPixels(out.file("r0.exr"))) EXPECT_EQ(v, 0.0f);
   EXPECT_EQ(runCli(relight + "--env sky --max-rank 50% --out " + out.file("r50.exr")).status, 0);
   expectFailure(relight + "--env sky --max-rank -1 --out " + out.file("x.exr"), "--max-rank");
   expectFailure(relight + "--env sky --max-rank many --out " + out.file("x.exr"), "many");

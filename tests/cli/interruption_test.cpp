@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/image_pixels.h"
 #include "tests/cli/stop_cli.h"
 
 namespace acpca {
@@ -25,14 +26,6 @@ bool killWhen(const std::vector<std::string>& args, const std::function<bool()>&
 
 size_t partialFiles(const fs::path& dir) {
   return test::partialFiles(dir).size();
-}
-
-std::vector<float> readPixels(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return {};
-  std::vector<float> pixels(static_cast<size_t>(in->spec().image_pixels()) * in->spec().nchannels);
-  in->read_image(0, 0, 0, -1, OIIO::TypeDesc::FLOAT, pixels.data());
-  return pixels;
 }
 
 nlohmann::json info(const std::string& path) {
@@ -63,7 +56,8 @@ TEST(Interruption, AKilledPrecomputeLeavesNothingValidAndARerunIsExact) {
   // Same inputs, same rows: the dense relights agree exactly.
   ASSERT_EQ(runCli("relight " + out + " --env sky --quiet --out " + dir.file("a.exr")).status, 0);
   ASSERT_EQ(runCli("relight " + clean + " --env sky --quiet --out " + dir.file("b.exr")).status, 0);
-  const auto pixelsA = readPixels(dir.file("a.exr")), pixelsB = readPixels(dir.file("b.exr"));
+  const auto pixelsA = test::readPixels(dir.file("a.exr")),
+             pixelsB = test::readPixels(dir.file("b.exr"));
   ASSERT_FALSE(pixelsA.empty());
   EXPECT_EQ(pixelsA, pixelsB);
 }

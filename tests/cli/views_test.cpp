@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/image_pixels.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -26,15 +27,6 @@ constexpr const char* kObjects = R"("objects": [
 std::string writeScene(const TempDir& dir, const std::string& name, const std::string& cameras) {
   std::ofstream(dir.file(name)) << "{\"cameras\": " << cameras << ", " << kObjects << "}";
   return dir.file(name);
-}
-
-std::vector<float> pixelsOf(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return {};
-  const OIIO::ImageSpec& spec = in->spec();
-  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, -1, OIIO::TypeDesc::FLOAT, pixels.data())) return {};
-  return pixels;
 }
 
 TEST(Views, AnOrbitIsAFilePerViewAndRelitAsOneBatch) {
@@ -62,17 +54,20 @@ TEST(Views, AnOrbitIsAFilePerViewAndRelitAsOneBatch) {
       runCli("relight " + views[0] + " " + views[1] + " " + views[2] + batch + dir.file("set"))
           .status,
       0);
-  for (const char* name : {"v00_sky_y0.exr", "v02_sky_y45.exr", "labels_v00.exr", "labels_v02.exr"})
+  // Frames numbered across the views: view k's i-th is 2k + i.
+  for (const char* name :
+       {"00000_v00_sky_y0.exr", "00005_v02_sky_y45.exr", "labels_v00.exr", "labels_v02.exr"})
     EXPECT_TRUE(test::fs::exists(dir.file(std::string("set/") + name))) << name;
   const std::string csv = test::readFile(dir.file("set/manifest.csv"));
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "view,input,env,yaw,pitch,roll,exposure,lights,output");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);
   // View 1 alone gives the same frame.
   ASSERT_EQ(runCli("relight " + views[1] + batch + dir.file("one")).status, 0);
-  const std::vector<float> alone = pixelsOf(dir.file("one/sky_y45.exr"));
+  const std::vector<float> alone = test::readPixels(dir.file("one/00001_sky_y45.exr"));
   EXPECT_FALSE(alone.empty());
-  EXPECT_EQ(pixelsOf(dir.file("set/v01_sky_y45.exr")), alone);
-  EXPECT_EQ(pixelsOf(dir.file("set/labels_v01.exr")), pixelsOf(dir.file("one/labels.exr")));
+  EXPECT_EQ(test::readPixels(dir.file("set/00003_v01_sky_y45.exr")), alone);
+  EXPECT_EQ(test::readPixels(dir.file("set/labels_v01.exr")),
+            test::readPixels(dir.file("one/labels.exr")));
   // build: a model per view.
   ASSERT_EQ(
       runCli("build --scene " + scene + " --cubemap 4 --spp 1 --quiet --out " + dir.file("m.h5"))

@@ -162,14 +162,14 @@ TEST(PixelLabels, EachFramesLatticeLightingIsWrittenWithTheLatticesEnergy) {
   a.lightingImages = true;
   relightBatch(a);
   const CubeLattice lattice(8);
-  for (const char* name : {"constant_2", "sun_50_30_10_100"}) {
+  for (const char* name : {"00000_constant_2", "00001_sun_50_30_10_100"}) {
     const std::vector<float> image =
         readImage(dir.file(std::string("set/") + name + "_y0_lighting.exr"));
     ASSERT_EQ(image.size(), 64u * 32 * 3) << name;  // 8R x 4R
     // The integral over the sphere, pixel by pixel (lat-long solid angles),
     // against the lattice's own: sum of radiance x solid angle.
     const LatticeLighting lighting = computeLighting(
-        *loadEnvironment(a.envs[name[0] == 'c' ? 0 : 1]), lattice, {}, RotationMode::Exact);
+        *loadEnvironment(a.envs[name[4] == '0' ? 0 : 1]), lattice, {}, RotationMode::Exact);
     constexpr int kWidth = 64, kHeight = 32;
     double fromImage = 0;
     for (int y = 0; y < kHeight; ++y) {
