@@ -392,7 +392,7 @@ class Relighter {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, keepNegative, bg, pixels);
+    finishPixels(exposure, keepNegative, bg, pixels);
   }
 
   /// Frame k of the group the model's relighter last lit, into its image.
@@ -402,7 +402,7 @@ class Relighter {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->shadeFrameInto(k, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, keepNegative, bg, pixels);
+    finishPixels(exposure, keepNegative, bg, pixels);
   }
 
   /// One frame from per-row values (the dense path) into its image.
@@ -412,7 +412,7 @@ class Relighter {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     composer_->addRows(rowRgb, pixels, ImageComposer::channels(bg));
     addLocal(local, bg, pixels);
-    applyExposure(exposure, keepNegative, bg, pixels);
+    finishPixels(exposure, keepNegative, bg, pixels);
   }
 
   void addLocal(const std::vector<float>& local, Background bg, float* pixels) const {
@@ -421,10 +421,10 @@ class Relighter {
 
   /// As the CLI writes images: clamped at zero unless kept, colour scaled by
   /// 2^exposure, alpha kept.
-  void applyExposure(double exposure, bool keepNegative, Background bg, float* pixels) const {
+  void finishPixels(double exposure, bool keepNegative, Background bg, float* pixels) const {
     const int channels = bg == Background::Alpha ? 4 : 3;
     const size_t values = static_cast<size_t>(width()) * height() * channels;
-    clampNegative(pixels, values, channels, keepNegative);
+    if (!keepNegative) clampNegative(pixels, values, channels);
     if (exposure == 0) return;
     const float scale = static_cast<float>(std::exp2(exposure));
     for (size_t i = 0; i < values; ++i)
