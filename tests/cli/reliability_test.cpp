@@ -303,9 +303,11 @@ TEST(Signals, AKilledBatchLeavesWholeFramesAndAManifestListingExactlyThem) {
   std::set<std::string> onDisk, listed;
   for (const auto& e : fs::directory_iterator(out)) {
     const std::string name = e.path().filename().string();
-    if (name[0] != '.' && name != "manifest.csv" && name != "manifest.jsonl")
-      onDisk.insert(name);  // not the partials
+    if (name[0] != '.' && name != "manifest.csv" && name != "manifest.jsonl" &&
+        name != "dataset.json")
+      onDisk.insert(name);  // not the partials, nor the files that are no frame
   }
+  EXPECT_TRUE(fs::exists(out + "/dataset.json")) << "written before the first frame";
   std::ifstream manifest(out + "/manifest.csv");
   std::string line;
   std::getline(manifest, line);
