@@ -1,6 +1,7 @@
 #include "cluster/model.h"
 
 #include "cluster/cost_model.h"
+#include "cluster/model_summary.h"
 #include "core/error.h"
 #include "core/half.h"
 #include "core/text.h"
@@ -24,12 +25,17 @@ const char* coeffPrecisionName(CoeffPrecision p) {
   return kCoeffPrecisionNames.name(p);
 }
 
-double Model::totalCost() const {
+double clustersCost(const std::vector<std::int32_t>& ranks,
+                    const std::vector<std::int64_t>& rowOffsets, bool hasMean, int globalBases) {
   double cost = 0;
-  for (int c = 0; c < clusters(); ++c)
+  for (size_t c = 0; c < ranks.size(); ++c)
     cost +=
-        clusterCost(ranks[c] + (hasMean ? 1 : 0), rowOffsets[c + 1] - rowOffsets[c], globalBases());
+        clusterCost(ranks[c] + (hasMean ? 1 : 0), rowOffsets[c + 1] - rowOffsets[c], globalBases);
   return cost;
+}
+
+double Model::totalCost() const {
+  return clustersCost(ranks, rowOffsets, hasMean, globalBases());
 }
 
 float Model::coefficient(int c, long long r, int k) const {
@@ -54,26 +60,40 @@ std::vector<int> Model::clusterOfRow() const {
   return out;
 }
 
-long long Model::frameBytes() const {
-  const long long coefficientBytes = precision == CoeffPrecision::F32   ? 4
-                                     : precision == CoeffPrecision::F16 ? 2
-                                                                        : 1;
-  const long long basisBytes = basisPrecision == CoeffPrecision::F16 ? 2 : 4;
-  return static_cast<long long>(bases.size()) * basisBytes +
-         (hasMean ? static_cast<long long>(means.size()) * basisBytes : 0) +
-         coefficientOffsets.back() * coefficientBytes +
-         static_cast<long long>(globalBasis.size()) * 4;
+long long frameBytesOf(CoeffPrecision coefficients, CoeffPrecision bases, long long basisValues,
+                       long long meanValues, long long coefficientValues,
+                       long long globalBasisValues) {
+  const long long coefficientBytes = coefficients == CoeffPrecision::F32   ? 4
+                                     : coefficients == CoeffPrecision::F16 ? 2
+                                                                           : 1;
+  const long long basisBytes = bases == CoeffPrecision::F16 ? 2 : 4;
+  return (basisValues + meanValues) * basisBytes + coefficientValues * coefficientBytes +
+         globalBasisValues * 4;
 }
 
-std::map<int, int> rankHistogram(const Model& m) {
+long long Model::frameBytes() const {
+  return frameBytesOf(precision, basisPrecision, static_cast<long long>(bases.size()),
+                      hasMean ? static_cast<long long>(means.size()) : 0, coefficientOffsets.back(),
+                      static_cast<long long>(globalBasis.size()));
+}
+
+std::map<int, int> rankHistogram(const std::vector<std::int32_t>& ranks) {
   std::map<int, int> counts;
-  for (int r : m.ranks) ++counts[r];
+  for (int r : ranks) ++counts[r];
   return counts;
 }
 
+std::map<int, int> rankHistogram(const Model& m) {
+  return rankHistogram(m.ranks);
+}
+
 std::string rankSummary(const Model& m) {
-  if (m.ranks.empty()) return "no clusters";
-  std::vector<int> sorted(m.ranks.begin(), m.ranks.end());
+  return rankSummary(m.ranks);
+}
+
+std::string rankSummary(const std::vector<std::int32_t>& ranks) {
+  if (ranks.empty()) return "no clusters";
+  std::vector<int> sorted(ranks.begin(), ranks.end());
   std::sort(sorted.begin(), sorted.end());
   std::string out = concat("min ", sorted.front(), ", median ", sorted[sorted.size() / 2], ", max ",
                            sorted.back(), ";");

@@ -2,9 +2,8 @@
 
 namespace acpca {
 
-void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long clusters,
-                       const std::string& ctx) {
-  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
+void readClusterOffsets(hid_t f, Model& m, long long rows, long long n, long long clusters,
+                        const std::string& ctx) {
   m.rowOffsets =
       readVector<std::int64_t>(f, "cluster_row_offsets", H5T_NATIVE_INT64, clusters + 1, ctx);
   m.ranks = readVector<std::int32_t>(f, "cluster_rank", H5T_NATIVE_INT32, clusters, ctx);
@@ -22,6 +21,12 @@ void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long
       throw UserError(concat(ctx, ": cluster ", c, " has inconsistent sizes"));
   }
   if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
+}
+
+void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long clusters,
+                       const std::string& ctx) {
+  m.clusterRows = readVector<std::int32_t>(f, "cluster_rows", H5T_NATIVE_INT32, rows, ctx);
+  readClusterOffsets(f, m, rows, n, clusters, ctx);
   // HDF5 converts half datasets to float on read.
   m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
   m.means = readVector<float>(f, "means", H5T_NATIVE_FLOAT, clusters * n, ctx);

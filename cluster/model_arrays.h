@@ -26,6 +26,11 @@ std::vector<T> readVector(hid_t f, const std::string& name, hid_t type, hsize_t 
   return v;
 }
 
+/// The cluster offsets and ranks of a model file (small: C + 1 values each),
+/// checked against each other and the rows, without the large arrays.
+void readClusterOffsets(hid_t f, Model& m, long long rows, long long n, long long clusters,
+                        const std::string& ctx);
+
 /// The cluster arrays of a model file (rows of its clusters in all, n global
 /// bases): offsets checked against the ranks and sizes before the large
 /// arrays are read.

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "cluster/cost_model.h"
 #include "cluster/model_arrays.h"
+#include "cluster/model_summary.h"
 #include "cluster/model_values.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -193,9 +195,12 @@ bool isModelFile(const std::string& path) {
   }
 }
 
-Model readModel(const std::string& path) {
+namespace {
+
+/// The model file at `path`, its format, version and completeness checked.
+h5::Handle openModelFile(const std::string& path) {
   const std::string& ctx = path;
-  const h5::Handle file = h5::openFileReadOnly(path);
+  h5::Handle file = h5::openFileReadOnly(path);
   const hid_t f = file.get();
   if (!h5::hasAttribute(f, "format") || h5::readStringAttribute(f, "format", ctx) != kModelFormat)
     throw UserError(concat(ctx, ": not an adaptive-cpca model file"));
@@ -207,15 +212,21 @@ Model readModel(const std::string& path) {
                                                          : ": written by a newer adaptive-cpca"));
   if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
     throw UserError(concat(ctx, ": the model file is incomplete"));
-  Model m;
-  m.geometry = readImageHeader(f, false, ctx);
-  auto& g = m.geometry;
+  return file;
+}
+
+struct ModelCounts {
+  long long globalBases, clusters;
+};
+
+/// The model's own attributes (past the image header) into m, and the
+/// global basis's shape; N and C checked against the rows and row length.
+ModelCounts readModelAttributes(hid_t f, const std::string& ctx, long long rows, long long l,
+                                Model& m) {
   m.method = h5::readStringAttribute(f, "method", ctx);
   m.settings = h5::readStringAttribute(f, "settings", ctx);
-  const long long rows = g.rows();
   const long long n = h5::readIntAttribute(f, "global_bases", ctx);
   const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
-  const long long l = g.rowLength();
   if (n < 0 || n > l || clusters < 0 || clusters > std::max(rows, 1LL))
     throw UserError(concat(ctx, ": sizes in the header do not add up"));
   m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;
@@ -231,9 +242,60 @@ Model readModel(const std::string& path) {
   m.basisPrecision = h5::hasAttribute(f, "bases") ? storage("bases", false) : CoeffPrecision::F32;
   m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
   m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
-
   if (h5::datasetShape(f, "global_basis", ctx) != std::vector<hsize_t>{hsize_t(l), hsize_t(n)})
     throw UserError(concat(ctx, ": dataset 'global_basis' has the wrong shape"));
+  return {n, clusters};
+}
+
+}  // namespace
+
+ModelSummary readModelSummary(const std::string& path) {
+  const h5::Handle file = openModelFile(path);
+  const hid_t f = file.get();
+  ModelSummary s;
+  Model m;  // its attributes and cluster offsets only
+  m.geometry = readImageHeaderAttributes(f, false, path, s.pixels);
+  const auto [n, clusters] = readModelAttributes(f, path, s.pixels.rows, m.geometry.rowLength(), m);
+  readClusterOffsets(f, m, s.pixels.rows, n, clusters, path);
+  s.geometry = std::move(m.geometry);
+  s.method = std::move(m.method);
+  s.settings = std::move(m.settings);
+  s.globalBases = static_cast<int>(n);
+  s.hasMean = m.hasMean;
+  s.precision = m.precision;
+  s.basisPrecision = m.basisPrecision;
+  s.transportError = m.transportError;
+  s.ranks = std::move(m.ranks);
+  s.rowOffsets = std::move(m.rowOffsets);
+  s.basisValues = m.basisOffsets.back();
+  s.coefficientValues = m.coefficientOffsets.back();
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  s.fileBytes = ec ? -1 : static_cast<long long>(bytes);
+  return s;
+}
+
+double ModelSummary::totalCost() const {
+  return clustersCost(ranks, rowOffsets, hasMean, globalBases);
+}
+
+long long ModelSummary::frameBytes() const {
+  return frameBytesOf(precision, basisPrecision, basisValues,
+                      hasMean ? static_cast<long long>(clusters()) * globalBases : 0,
+                      coefficientValues,
+                      geometry.rowLength() * static_cast<long long>(globalBases));
+}
+
+Model readModel(const std::string& path) {
+  const std::string& ctx = path;
+  const h5::Handle file = openModelFile(path);
+  const hid_t f = file.get();
+  Model m;
+  m.geometry = readImageHeader(f, false, ctx);
+  auto& g = m.geometry;
+  const long long rows = g.rows();
+  const long long l = g.rowLength();
+  const auto [n, clusters] = readModelAttributes(f, ctx, rows, l, m);
   Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg(l, n);
   h5::readDataset(f, "global_basis", vg.data(), ctx);
   m.globalBasis = vg;

@@ -140,7 +140,7 @@ class Relighter {
   int height() const { return source_.header.camera.size.height; }
   const std::string& method() const { return source_.method; }
   bool isModel() const { return !source_.dense; }
-  py::object info() const { return toPython(describeFile(path_)); }
+  py::object info() const { return toPython(describeFile(path_).json); }
 
   /// Coverage of every pixel, H x W (0 for background).
   py::array_t<float> coverage() const {
@@ -605,7 +605,7 @@ PYBIND11_MODULE(adaptive_cpca, m) {
   m.def(
       "info",
       [](const std::string& path) {
-        return openingFile(path, [&] { return toPython(describeFile(path)); });
+        return openingFile(path, [&] { return toPython(describeFile(path).json); });
       },
       py::arg("path"), "What a transport or model file holds (as `info --json`).");
   registerFiles(m);

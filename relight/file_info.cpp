@@ -18,25 +18,27 @@ nlohmann::json cameraJson(const Camera& c) {
       {"eye", vec3(c.eye)}, {"target", vec3(c.target)}, {"up", vec3(c.up)}, {"fov", c.fovDegrees}};
 }
 
-std::string positionsInWords(const TransportHeader& h, const std::string& remedy) {
+std::string positionsInWords(const TransportHeader& h, const PixelDatasets& d,
+                             const std::string& remedy) {
   if (h.isLightSet()) return "  positions    none (captured images hold no geometry)\n";
-  return h.hasPositions() ? "  positions    each pixel's world position (local lights)\n"
-                          : concat("  positions    none (written before positions were stored; ",
-                                   remedy, " for local lights)\n");
+  return d.positions ? "  positions    each pixel's world position (local lights)\n"
+                     : concat("  positions    none (written before positions were stored; ", remedy,
+                              " for local lights)\n");
 }
 
 /// The AOVs the file can give, by name.
-nlohmann::json labelsJson(const TransportHeader& h) {
+nlohmann::json labelsJson(const TransportHeader& h, const PixelDatasets& d) {
   nlohmann::json names = nlohmann::json::array();
-  for (Aov aov : availableAovs(h)) names.push_back(kAovNames.name(aov));
+  for (Aov aov : availableAovs(h, d)) names.push_back(kAovNames.name(aov));
   return names;
 }
 
-std::string labelsInWords(const TransportHeader& h, const std::string& remedy) {
+std::string labelsInWords(const TransportHeader& h, const PixelDatasets& d,
+                          const std::string& remedy) {
   std::string names;
-  for (const auto& name : labelsJson(h))
+  for (const auto& name : labelsJson(h, d))
     names += (names.empty() ? "" : ", ") + name.get<std::string>();
-  const bool all = availableAovs(h).size() == parseAovList("all").size();
+  const bool all = availableAovs(h, d).size() == parseAovList("all").size();
   return concat("  labels       ", names,
                 all              ? concat(" (", h.objectNames.size(), " object(s))")
                 : h.isLightSet() ? std::string(" (captured images hold no geometry or albedo)")
@@ -71,55 +73,54 @@ const char* rowLayoutName(int channels) {
   return channels == 3 ? "rgb" : "shared";
 }
 
-nlohmann::json rankHistogramJson(const Model& m) {
+nlohmann::json rankHistogramJson(const std::vector<std::int32_t>& ranks) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& [rank, count] : rankHistogram(m)) j[std::to_string(rank)] = count;
+  for (const auto& [rank, count] : rankHistogram(ranks)) j[std::to_string(rank)] = count;
   return j;
 }
 
-nlohmann::json describeModel(const Model& m, const std::string& path) {
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(path, ec);
+nlohmann::json describeModel(const ModelSummary& m) {
   return {
       {"kind", "model"},
       {"camera", m.geometry.isLightSet() ? nlohmann::json(nullptr) : cameraJson(m.geometry.camera)},
       {"lights", lightsJson(m.geometry)},
       {"width", m.geometry.camera.size.width},
       {"height", m.geometry.camera.size.height},
-      {"occupied_pixels", m.rows()},
+      {"occupied_pixels", m.pixels.rows},
       {"cubemap", m.geometry.cubemapResolution},
       {"row_layout", rowLayoutName(m.geometry.channels)},
-      {"global_bases", m.globalBases()},
+      {"global_bases", m.globalBases},
       {"clusters", m.clusters()},
       {"cost_per_pixel", m.costPerPixel()},
       {"total_cost", m.totalCost()},
-      {"bytes", ec ? -1 : static_cast<long long>(bytes)},
+      {"bytes", m.fileBytes},
       {"bytes_per_frame", m.frameBytes()},
       {"method", m.method},
       {"scene", m.geometry.scene},
       {"coeffs", coeffPrecisionName(m.precision)},
       {"bases", coeffPrecisionName(m.basisPrecision)},
       {"transport_error", m.transportError},
-      {"rank_histogram", rankHistogramJson(m)},
-      {"positions", m.geometry.hasPositions()},
-      {"labels", labelsJson(m.geometry)},
+      {"rank_histogram", rankHistogramJson(m.ranks)},
+      {"positions", m.pixels.positions},
+      {"labels", labelsJson(m.geometry, m.pixels)},
       {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
 
-nlohmann::json describeTransport(const TransportReader& t) {
-  const auto& h = t.header();
+nlohmann::json describeTransport(const TransportSummary& t) {
+  const TransportHeader& h = t.header;
+  const long long rows = t.pixels.rows;
   return {{"kind", "transport"},
           {"camera", h.isLightSet() ? nlohmann::json(nullptr) : cameraJson(h.camera)},
           {"lights", lightsJson(h)},
           {"width", h.camera.size.width},
           {"height", h.camera.size.height},
-          {"occupied_pixels", t.rows()},
+          {"occupied_pixels", rows},
           {"cubemap", h.cubemapResolution},
-          {"directions", t.latticeSize()},
+          {"directions", h.latticeSize()},
           {"global_bases", nullptr},
           {"clusters", nullptr},
-          {"cost_per_pixel", t.latticeSize()},
-          {"bytes", t.fileBytes()},
+          {"cost_per_pixel", h.latticeSize()},
+          {"bytes", t.fileBytes},
           {"method", "dense"},
           {"scene", h.scene},
           {"precision", precisionName(h.precision)},
@@ -129,45 +130,48 @@ nlohmann::json describeTransport(const TransportReader& t) {
           {"bounces", h.bounces},
           {"indirect_samples", h.bounces > 0 ? nlohmann::json(h.indirectSamples) : nullptr},
           {"indirect_cache_cell", h.bounces > 0 ? nlohmann::json(h.indirectCacheCell) : nullptr},
-          {"stored_values", t.rows() * static_cast<long long>(t.rowLength())},
-          {"positions", h.hasPositions()},
-          {"labels", labelsJson(h)}};
+          {"stored_values", rows * static_cast<long long>(h.rowLength())},
+          {"positions", t.pixels.positions},
+          {"labels", labelsJson(h, t.pixels)}};
 }
 
-nlohmann::json describeFile(const std::string& path) {
-  if (isModelFile(path)) return describeModel(readModel(path), path);
-  return describeTransport(TransportReader(path));
+FileDescription describeFile(const std::string& path) {
+  if (isModelFile(path)) {
+    const ModelSummary model = readModelSummary(path);
+    return {describeModel(model), describeInWords(model, path)};
+  }
+  const TransportSummary transport = readTransportSummary(path);
+  return {describeTransport(transport), describeInWords(transport, path)};
 }
 
-std::string describeInWords(const Model& m, const std::string& path) {
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(path, ec);
+std::string describeInWords(const ModelSummary& m, const std::string& path) {
   std::ostringstream out;
   out << path << ": " << m.method << " model of scene '" << m.geometry.scene << "'\n"
       << "  image        " << m.geometry.camera.size.width << "x" << m.geometry.camera.size.height
-      << ", " << m.rows() << " occupied pixels\n"
-      << domainInWords(m.geometry, concat(", N = ", m.globalBases(), " global bases",
+      << ", " << m.pixels.rows << " occupied pixels\n"
+      << domainInWords(m.geometry, concat(", N = ", m.globalBases, " global bases",
                                           m.geometry.channels == 3 ? " over R, G and B rows" : ""))
       << "  clusters     " << m.clusters() << (m.hasMean ? " (with means)" : "") << ", ranks "
-      << rankSummary(m) << "\n"
+      << rankSummary(m.ranks) << "\n"
       << "  cost         " << m.totalCost() << " multiply-adds per frame, " << m.costPerPixel()
       << " per pixel\n"
       << "  storage      " << coeffPrecisionName(m.precision) << " coefficients, "
       << coeffPrecisionName(m.basisPrecision) << " bases, " << formatBytes(m.frameBytes())
-      << " read per frame, " << formatBytes(double(bytes)) << " on disk\n"
+      << " read per frame, " << formatBytes(double(m.fileBytes)) << " on disk\n"
       << "  error        " << m.transportError << " relative to T (Frobenius)\n"
-      << positionsInWords(m.geometry, "compress (or build) it again from a new transport")
-      << labelsInWords(m.geometry, "compress (or build) it again from a new transport");
+      << positionsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport")
+      << labelsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport");
   return out.str();
 }
 
-std::string describeInWords(const TransportReader& t, const std::string& path) {
-  const auto& h = t.header();
-  const long long storedValues = t.rows() * static_cast<long long>(t.rowLength());
+std::string describeInWords(const TransportSummary& t, const std::string& path) {
+  const TransportHeader& h = t.header;
+  const long long rows = t.pixels.rows;
+  const long long storedValues = rows * static_cast<long long>(h.rowLength());
   std::ostringstream out;
   out << path << ": transport of scene '" << h.scene << "'\n"
-      << "  image        " << h.camera.size.width << "x" << h.camera.size.height << ", " << t.rows()
-      << " occupied pixels (" << 100.0 * t.rows() / h.camera.size.pixels() << "%)\n"
+      << "  image        " << h.camera.size.width << "x" << h.camera.size.height << ", " << rows
+      << " occupied pixels (" << 100.0 * rows / h.camera.size.pixels() << "%)\n"
       << domainInWords(h)
       << (h.isLightSet() ? "  source       captured images (imported), no camera\n"
                          : concat("  sampling     ", h.samplesPerPixel, " sample(s) per pixel, ",
@@ -187,9 +191,10 @@ std::string describeInWords(const TransportReader& t, const std::string& path) {
                           : "one per pixel, shared by R, G and B")
       << "\n"
       << "  storage      " << precisionName(h.precision) << ", " << storedValues << " values, "
-      << formatBytes(t.fileBytes()) << " on disk\n"
-      << "  relight cost " << t.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
-      << positionsInWords(h, "precompute it again") << labelsInWords(h, "precompute it again");
+      << formatBytes(t.fileBytes) << " on disk\n"
+      << "  relight cost " << h.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
+      << positionsInWords(h, t.pixels, "precompute it again")
+      << labelsInWords(h, t.pixels, "precompute it again");
   return out.str();
 }
 

@@ -1,24 +1,33 @@
 #pragma once
 // What a transport or model file holds, as the JSON `info --json` prints and
-// the Python module's `info` returns: one description for both.
+// the Python module's `info` returns, and in words: one description for both,
+// read from the file's attributes and shapes alone (never its arrays), so a
+// 1024x1024 model is described in milliseconds.
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
-#include "cluster/model.h"
-#include "transport/transport_file.h"
+#include "cluster/model_summary.h"
+#include "transport/file_summary.h"
 
 namespace acpca {
 
 /// "shared" (one row per pixel for R, G and B) or "rgb" (three side by side).
 const char* rowLayoutName(int channels);
-/// {"rank": clusters} of a model (JSON keys are strings).
-nlohmann::json rankHistogramJson(const Model& model);
-nlohmann::json describeModel(const Model& model, const std::string& path);
-nlohmann::json describeTransport(const TransportReader& transport);
-/// Either of the above, whichever the file is (UserError when neither).
-nlohmann::json describeFile(const std::string& path);
-/// The same for a reader, as a few lines of text (what `info` prints).
-std::string describeInWords(const Model& model, const std::string& path);
-std::string describeInWords(const TransportReader& transport, const std::string& path);
+/// {"rank": clusters} of a model's cluster ranks (JSON keys are strings).
+nlohmann::json rankHistogramJson(const std::vector<std::int32_t>& ranks);
+nlohmann::json describeModel(const ModelSummary& model);
+nlohmann::json describeTransport(const TransportSummary& transport);
+std::string describeInWords(const ModelSummary& model, const std::string& path);
+std::string describeInWords(const TransportSummary& transport, const std::string& path);
+
+/// A file's description both ways.
+struct FileDescription {
+  nlohmann::json json;
+  std::string words;  ///< a few lines: what `info` prints
+};
+/// Whichever the file is, model or transport (UserError when neither).
+FileDescription describeFile(const std::string& path);
 
 }  // namespace acpca

@@ -25,17 +25,17 @@ std::vector<Aov> presetAovs(const std::string& name) {
 }
 
 /// What an AOV needs that older files lack, and since which versions.
-bool fileGives(const TransportHeader& h, Aov aov) {
+bool fileGives(bool lightSet, const PixelDatasets& d, Aov aov) {
   switch (aov) {
     case Aov::Albedo:  // an imported image holds albedo and shading as one
-      return !h.isLightSet();
+      return !lightSet;
     case Aov::Normal:
-      return h.hasNormals();
+      return d.normals;
     case Aov::Depth:
     case Aov::Position:
-      return h.hasPositions();
+      return d.positions;
     case Aov::Object:
-      return h.hasObjects();
+      return d.objects;
     default:
       return true;
   }
@@ -167,17 +167,21 @@ std::vector<Aov> parseAovList(const std::string& text) {
   return aovs;
 }
 
-std::vector<Aov> availableAovs(const TransportHeader& header) {
+std::vector<Aov> availableAovs(const TransportHeader& header, const PixelDatasets& datasets) {
   std::vector<Aov> aovs;
   for (Aov aov : kAllAovs)
-    if (fileGives(header, aov)) aovs.push_back(aov);
+    if (fileGives(header.isLightSet(), datasets, aov)) aovs.push_back(aov);
   return aovs;
+}
+
+std::vector<Aov> availableAovs(const TransportHeader& header) {
+  return availableAovs(header, PixelDatasets::of(header));
 }
 
 void requireAovs(const TransportHeader& header, const std::vector<Aov>& aovs,
                  const std::string& path, bool model) {
   for (Aov aov : aovs) {
-    if (fileGives(header, aov)) continue;
+    if (fileGives(header.isLightSet(), PixelDatasets::of(header), aov)) continue;
     if (header.isLightSet())
       throw UserError(concat(path, ": cannot give the '", kAovNames.name(aov),
                              "' label: a captured light set holds images, not the geometry or "

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "transport/file_summary.h"
 #include "transport/transport_file.h"
 
 namespace acpca {
@@ -31,6 +32,8 @@ std::vector<Aov> parseAovList(const std::string& text);
 /// (normals before model version 5, positions before transport version 2 and
 /// model version 4, objects before transport 3 and model 5).
 std::vector<Aov> availableAovs(const TransportHeader& header);
+/// The same for a header read without its arrays (what the datasets hold).
+std::vector<Aov> availableAovs(const TransportHeader& attributes, const PixelDatasets& datasets);
 
 /// Throws UserError naming `path`, the AOV, and what to run again, for an
 /// AOV the file cannot give. `model`: path is a model file.

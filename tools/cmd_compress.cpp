@@ -32,8 +32,9 @@ void run(const CompressArgs& a) {
     std::cerr << "wrote " << a.out << ": " << describeInWords(model) << ", peak memory "
               << formatBytes(peak) << "\n";
   nlohmann::json report = summaryJson(model);
-  report.update(
-      {{"out", a.out}, {"rank_histogram", rankHistogramJson(model)}, {"peak_memory_bytes", peak}});
+  report.update({{"out", a.out},
+                 {"rank_histogram", rankHistogramJson(model.ranks)},
+                 {"peak_memory_bytes", peak}});
   writeJson(a.common.jsonPath, report);
 }
 

@@ -1,11 +1,9 @@
 // `adaptive-cpca info`: what a transport (or model) file holds.
 #include <iostream>
 
-#include "cluster/model_file.h"
 #include "relight/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
-#include "transport/transport_file.h"
 
 namespace acpca::cli {
 
@@ -18,16 +16,9 @@ struct InfoArgs {
 void run(const InfoArgs& a) {
   refuseOutputsOverInputs({a.file}, {a.jsonPath});
   // The JSON where --json says; the words on stdout unless the JSON went there.
-  const auto describe = [&a](const auto& file, const nlohmann::json& json) {
-    writeJson(a.jsonPath, json);
-    if (a.jsonPath != "-") std::cout << describeInWords(file, a.file);
-  };
-  if (isModelFile(a.file)) {
-    const Model model = readModel(a.file);
-    return describe(model, describeModel(model, a.file));
-  }
-  const TransportReader transport(a.file);
-  describe(transport, describeTransport(transport));
+  const FileDescription description = describeFile(a.file);
+  writeJson(a.jsonPath, description.json);
+  if (a.jsonPath != "-") std::cout << description.words;
 }
 
 }  // namespace

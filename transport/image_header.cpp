@@ -131,7 +131,8 @@ bool fileHoldsLightSet(const std::string& path) {
   }
 }
 
-TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string& ctx) {
+TransportHeader readImageHeaderAttributes(hid_t f, bool requireNormals, const std::string& ctx,
+                                          PixelDatasets& datasets) {
   TransportHeader h;
   const long long width = h5::readIntAttribute(f, "width", ctx);
   const long long height = h5::readIntAttribute(f, "height", ctx);
@@ -177,25 +178,36 @@ TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string&
   const bool withPositions = h5::hasDataset(f, "position");
   if (withPositions) expectShape("position", {un, 3});
   const bool withObjects = h5::hasDataset(f, "object");
-  if (withObjects) expectShape("object", {un});
+  if (withObjects) {
+    expectShape("object", {un});
+    h.objectNames = splitNames(h5::readStringAttribute(f, "object_names", ctx));
+  }
+  // As TransportHeader's has*(): a file without rows gives every array.
+  datasets = {n, n == 0 || withNormals, n == 0 || withPositions, n == 0 || withObjects};
+  return h;
+}
+
+TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string& ctx) {
+  PixelDatasets datasets;
+  TransportHeader h = readImageHeaderAttributes(f, requireNormals, ctx, datasets);
+  const long long n = datasets.rows;
   h.pixels.resize(n);
   h.albedo.resize(3 * n);
   h.coverage.resize(n);
   h5::readDataset(f, "pixels", h.pixels.data(), ctx);
   h5::readDataset(f, "albedo", h.albedo.data(), ctx);
   h5::readDataset(f, "coverage", h.coverage.data(), ctx);
-  if (withNormals) {
+  if (h5::hasDataset(f, "normal")) {  // required ones were checked there
     h.normals.resize(3 * n);
     h5::readDataset(f, "normal", h.normals.data(), ctx);
     for (float x : h.normals)
       if (!std::isfinite(x)) throw UserError(concat(ctx, ": dataset 'normal' is not finite"));
   }
-  if (withObjects) {
+  if (h5::hasDataset(f, "object")) {
     h.objects.resize(n);
     h5::readDataset(f, "object", h.objects.data(), ctx);
-    h.objectNames = splitNames(h5::readStringAttribute(f, "object_names", ctx));
   }
-  if (withPositions) {
+  if (h5::hasDataset(f, "position")) {
     h.positions.resize(3 * n);
     h5::readDataset(f, "position", h.positions.data(), ctx);
     for (float x : h.positions)

@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "transport/file_summary.h"
 #include "transport/transport_file.h"
 
 namespace acpca {
@@ -25,6 +26,12 @@ void writeImageHeader(hid_t file, const TransportHeader& header, const std::stri
 /// precision) at their defaults. Throws UserError naming `context` (the file)
 /// and the field.
 TransportHeader readImageHeader(hid_t file, bool requireNormals, const std::string& context);
+
+/// readImageHeader's attributes (object names too) with every dataset's
+/// shape checked the same way, but no per-pixel dataset read: the header's
+/// arrays stay empty and `datasets` says what the file holds.
+TransportHeader readImageHeaderAttributes(hid_t file, bool requireNormals,
+                                          const std::string& context, PixelDatasets& datasets);
 
 /// Whether the transport or model file at `path` is over a captured light
 /// set (its cube map is 0); false for anything else, unreadable files too

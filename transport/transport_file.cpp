@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/half.h"
 #include "transport/cube_lattice.h"
+#include "transport/file_summary.h"
 #include "transport/image_header.h"
 
 namespace acpca {
@@ -176,10 +177,13 @@ void TransportWriter::finish() {
   output_.commit();
 }
 
-TransportReader::TransportReader(const std::string& path) : path_(path) {
+namespace {
+
+/// The transport file at `path`, its format, version and completeness checked.
+h5::Handle openTransportFile(const std::string& path) {
   const std::string& ctx = path;
-  file_ = h5::openFileReadOnly(path);
-  const hid_t f = file_.get();
+  h5::Handle file = h5::openFileReadOnly(path);
+  const hid_t f = file.get();
   if (!h5::hasAttribute(f, "format") ||
       h5::readStringAttribute(f, "format", ctx) != kTransportFormat)
     throw UserError(concat(ctx, ": not an adaptive-cpca transport file"));
@@ -189,9 +193,11 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
                            kOldestTransportVersion, " to ", kTransportVersion));
   if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
     throw UserError(concat(ctx, ": the file is incomplete (its precompute did not finish)"));
+  return file;
+}
 
-  header_ = readImageHeader(f, true, ctx);
-  auto& h = header_;
+/// The attributes only transports have, and the rows' shape (`rows` of them).
+void readTransportAttributes(hid_t f, const std::string& ctx, long long rows, TransportHeader& h) {
   h.samplesPerPixel = static_cast<int>(h5::readIntAttribute(f, "spp", ctx));
   h.texelRays = static_cast<int>(h5::readIntAttribute(f, "texel_rays", ctx));
   const std::string precision = h5::readStringAttribute(f, "precision", ctx);
@@ -206,8 +212,38 @@ TransportReader::TransportReader(const std::string& path) : path_(path) {
     h.indirectCacheCell = h5::readDoubleAttribute(f, "indirect_cache_cell", ctx);
   }
   if (h5::datasetShape(f, kRowsDataset, ctx) !=
-      std::vector<hsize_t>{hsize_t(h.rows()), hsize_t(h.rowLength())})
+      std::vector<hsize_t>{hsize_t(rows), hsize_t(h.rowLength())})
     throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));
+}
+
+long long fileBytesOf(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return ec ? -1 : static_cast<long long>(size);
+}
+
+}  // namespace
+
+PixelDatasets PixelDatasets::of(const TransportHeader& h) {
+  return {h.rows(), h.hasNormals(), h.hasPositions(), h.hasObjects()};
+}
+
+TransportSummary readTransportSummary(const std::string& path) {
+  const h5::Handle file = openTransportFile(path);
+  TransportSummary s;
+  s.header = readImageHeaderAttributes(file.get(), true, path, s.pixels);
+  readTransportAttributes(file.get(), path, s.pixels.rows, s.header);
+  s.fileBytes = fileBytesOf(path);
+  return s;
+}
+
+TransportReader::TransportReader(const std::string& path) : path_(path) {
+  const std::string& ctx = path;
+  file_ = openTransportFile(path);
+  const hid_t f = file_.get();
+  header_ = readImageHeader(f, true, ctx);
+  auto& h = header_;
+  readTransportAttributes(f, ctx, h.rows(), h);
   h.validate(ctx);
 
   rows_ = h5::Handle(h5::checkId(H5Dopen2(f, kRowsDataset, H5P_DEFAULT), ctx, "transport rows"),
@@ -248,9 +284,7 @@ void TransportReader::readRows(long long first, long long count, float* out) con
 }
 
 long long TransportReader::fileBytes() const {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path_, ec);
-  return ec ? -1 : static_cast<long long>(size);
+  return fileBytesOf(path_);
 }
 
 }  // namespace acpca

@@ -2,6 +2,7 @@
 #include <tbb/global_control.h>
 
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "cluster/compress.h"
@@ -9,8 +10,10 @@
 #include "cluster/global_basis.h"
 #include "cluster/model_file.h"
 #include "cluster/model_reference.h"
+#include "cluster/model_summary.h"
 #include "cluster/rank_allocation.h"
 #include "tests/test_support.h"
+#include "transport/hdf5_handles.h"
 
 namespace acpca {
 namespace {
@@ -298,6 +301,56 @@ TEST_F(CompressPlant, SameModelForAnyThreadCountAndSeedAndTheFileRoundTrips) {
   } catch (const UserError& e) {
     EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
   }
+}
+
+/// Fills a float dataset of the file with NaN (its values only: shapes and
+/// attributes stay as they were).
+void poisonDataset(const std::string& path, const char* name) {
+  h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  ASSERT_GE(file.get(), 0);
+  h5::Handle data(H5Dopen2(file.get(), name, H5P_DEFAULT), H5Dclose);
+  ASSERT_GE(data.get(), 0) << name;
+  h5::Handle space(H5Dget_space(data.get()), H5Sclose);
+  std::vector<float> nan(static_cast<size_t>(H5Sget_simple_extent_npoints(space.get())),
+                         std::numeric_limits<float>::quiet_NaN());
+  ASSERT_GE(H5Dwrite(data.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, nan.data()), 0);
+}
+
+TEST_F(CompressPlant, ASummaryGivesTheWholeModelsFiguresWithoutReadingItsArrays) {
+  test::TempDir dir;
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveBinary;
+  o.clusters = 4;
+  Model model = compressTransport(t, o);
+  model.method = "adaptive-binary";
+  const std::string file = dir.file("m.h5");
+  writeModel(model, file);
+  const Model whole = readModel(file);
+  const auto expectSameFigures = [&](const ModelSummary& s) {
+    EXPECT_EQ(s.pixels.rows, whole.rows());
+    EXPECT_EQ(s.pixels.normals, whole.geometry.hasNormals());
+    EXPECT_EQ(s.pixels.positions, whole.geometry.hasPositions());
+    EXPECT_EQ(s.pixels.objects, whole.geometry.hasObjects());
+    EXPECT_EQ(s.geometry.objectNames, whole.geometry.objectNames);
+    EXPECT_EQ(s.geometry.camera.size.pixels(), whole.geometry.camera.size.pixels());
+    EXPECT_EQ(s.method, whole.method);
+    EXPECT_EQ(s.globalBases, whole.globalBases());
+    EXPECT_EQ(s.clusters(), whole.clusters());
+    EXPECT_EQ(s.ranks, whole.ranks);
+    EXPECT_EQ(s.rowOffsets, whole.rowOffsets);
+    EXPECT_EQ(s.totalCost(), whole.totalCost());  // the same sums in the same order
+    EXPECT_EQ(s.costPerPixel(), whole.costPerPixel());
+    EXPECT_EQ(s.frameBytes(), whole.frameBytes());
+    EXPECT_EQ(s.transportError, whole.transportError);
+    EXPECT_EQ(s.fileBytes, static_cast<long long>(std::filesystem::file_size(file)));
+  };
+  expectSameFigures(readModelSummary(file));
+  // Its arrays' values spoilt, the model is refused whole and summarized alike.
+  for (const char* array : {"coefficients", "bases", "albedo", "normal", "position"})
+    poisonDataset(file, array);
+  EXPECT_THROW(readModel(file), UserError);
+  expectSameFigures(readModelSummary(file));
 }
 
 TEST_F(CompressPlant, AModelWrittenInPiecesReadsAsTheWholeOne) {

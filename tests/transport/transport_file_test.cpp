@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/half.h"
 #include "tests/test_support.h"
+#include "transport/file_summary.h"
 #include "transport/hdf5_handles.h"
 
 namespace acpca {
@@ -323,6 +324,44 @@ TEST(TransportFile, EarlierVersionsAreReadWithoutWhatTheyLacked) {
     EXPECT_EQ(reader.header().normals, written.normals);
     std::vector<float> rows(5 * reader.rowLength());
     reader.readRows(0, 5, rows.data());  // the rows are as readable as before
+  }
+}
+
+TEST(TransportFile, ASummaryIsTheHeaderWithoutReadingItsArraysAtAnyVersion) {
+  for (long long version : {1, 2, 4}) {
+    TempDir dir;
+    const std::string path = dir.file("t.h5");
+    writeSmallTransport(path, Precision::F32, 5);
+    if (version < 4) makeOlderFile(path, version);
+    TransportHeader whole;
+    long long bytes = 0;
+    {  // closed again before the file is opened for writing below
+      const TransportReader reader(path);
+      whole = reader.header();
+      bytes = reader.fileBytes();
+    }
+    const auto expectSame = [&](const TransportSummary& s) {
+      EXPECT_EQ(s.pixels.rows, whole.rows());
+      EXPECT_EQ(s.pixels.normals, whole.hasNormals());
+      EXPECT_EQ(s.pixels.positions, whole.hasPositions());
+      EXPECT_EQ(s.pixels.objects, whole.hasObjects());
+      EXPECT_EQ(s.header.objectNames, whole.objectNames);
+      EXPECT_EQ(s.header.precision, whole.precision);
+      EXPECT_EQ(s.header.rowLength(), whole.rowLength());
+      EXPECT_TRUE(s.header.pixels.empty() && s.header.albedo.empty());  // never read
+      EXPECT_EQ(s.fileBytes, bytes);
+    };
+    expectSame(readTransportSummary(path));
+    // Spoilt per-pixel values: the reader refuses the file, the summary is unmoved.
+    {
+      h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+      h5::Handle normal(H5Dopen2(file.get(), "normal", H5P_DEFAULT), H5Dclose);
+      const std::vector<float> nan(15, std::numeric_limits<float>::quiet_NaN());
+      ASSERT_GE(H5Dwrite(normal.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, nan.data()),
+                0);
+    }
+    EXPECT_THROW(TransportReader{path}, UserError);
+    expectSame(readTransportSummary(path));
   }
 }
 
