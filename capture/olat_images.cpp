@@ -1,6 +1,5 @@
 #include "capture/olat_images.h"
 
-#include <OpenImageIO/imageio.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/srgb.h"
+#include "imageio/image_file.h"
 
 namespace acpca {
 
@@ -42,20 +42,17 @@ void allowOpenFiles(size_t files) {
 class ImageFile {
  public:
   ImageFile(const std::string& path, TransferFunction transfer) : path_(path) {
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);  // colour as stored, not times alpha
-    in_ = OIIO::ImageInput::open(path, &config);
-    if (!in_) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in_->spec();
-    if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.nchannels < 1 ||
+    std::string error;
+    in_ = openImage(path, error, {.unassociatedAlpha = true});  // colour as stored, not times alpha
+    if (!in_) throw UserError(concat(path, ": cannot read the image: ", error));
+    const ImageHeader& spec = in_->header();
+    if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.channels < 1 ||
         spec.width > kMaxImageSide || spec.height > kMaxImageSide)
       throw UserError(concat(path, ": image size ", spec.width, "x", spec.height, " (",
-                             spec.nchannels, " channels) is out of range"));
+                             spec.channels, " channels) is out of range"));
     size_ = {spec.width, spec.height};
-    channels_ = spec.nchannels >= 3 ? 3 : 1;
-    bits_ = spec.format == OIIO::TypeDesc::UINT8    ? 8
-            : spec.format == OIIO::TypeDesc::UINT16 ? 16
-                                                    : 0;
+    channels_ = spec.channels >= 3 ? 3 : 1;
+    bits_ = spec.stored == StoredValues::UInt8 ? 8 : spec.stored == StoredValues::UInt16 ? 16 : 0;
     srgb_ =
         transfer == TransferFunction::Srgb || (transfer == TransferFunction::Auto && bits_ != 0);
   }
@@ -66,13 +63,12 @@ class ImageFile {
 
   void readBand(int y0, int y1, float* out) {
     const size_t values = static_cast<size_t>(y1 - y0) * size_.width * channels_;
-    const OIIO::TypeDesc type = bits_ == 8    ? OIIO::TypeDesc::UINT8
-                                : bits_ == 16 ? OIIO::TypeDesc::UINT16
-                                              : OIIO::TypeDesc::FLOAT;
-    raw_.resize(values * type.size());
-    if (!in_->read_scanlines(0, 0, y0, y1, 0, 0, channels_, type, raw_.data()))
-      throw UserError(
-          concat(path_, ": cannot read rows ", y0, " to ", y1 - 1, ": ", in_->geterror()));
+    const PixelType type = bits_ == 8    ? PixelType::UInt8
+                           : bits_ == 16 ? PixelType::UInt16
+                                         : PixelType::Float;
+    raw_.resize(values * pixelTypeBytes(type));
+    if (!in_->readRows(y0, y1, 0, channels_, type, raw_.data()))
+      throw UserError(concat(path_, ": cannot read rows ", y0, " to ", y1 - 1, ": ", in_->error()));
     const size_t pixels = static_cast<size_t>(y1 - y0) * size_.width;
     for (size_t p = 0; p < pixels; ++p)
       for (int c = 0; c < 3; ++c)
@@ -95,7 +91,7 @@ class ImageFile {
   }
 
   std::string path_;
-  std::unique_ptr<OIIO::ImageInput> in_;
+  std::unique_ptr<ImageReader> in_;
   ImageSize size_;
   int channels_ = 3, bits_ = 0;
   bool srgb_ = false;
@@ -165,17 +161,18 @@ std::unique_ptr<OlatImages> imagesInMemory(const float* values, int count, Image
 }
 
 std::vector<float> readMask(const std::string& path, ImageSize size) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw UserError(concat(path, ": cannot read the mask: ", OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
+  std::string error;
+  auto in = openImage(path, error);
+  if (!in) throw UserError(concat(path, ": cannot read the mask: ", error));
+  const ImageHeader& spec = in->header();
   if (spec.width != size.width || spec.height != size.height)
     throw UserError(concat(path, ": the mask is ", spec.width, "x", spec.height,
                            ", the images are ", size.width, "x", size.height));
   // A mask with alpha keeps it there; else its first channel.
-  const int channel = spec.alpha_channel >= 0 ? spec.alpha_channel : 0;
+  const int channel = spec.alphaChannel >= 0 ? spec.alphaChannel : 0;
   std::vector<float> mask(static_cast<size_t>(size.pixels()));
-  if (!in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, mask.data()))
-    throw UserError(concat(path, ": cannot read the mask: ", in->geterror()));
+  if (!in->readImage(channel, channel + 1, PixelType::Float, mask.data()))
+    throw UserError(concat(path, ": cannot read the mask: ", in->error()));
   for (float& m : mask) {
     if (!std::isfinite(m))
       throw UserError(concat(path, ": the mask holds a value that is not finite"));

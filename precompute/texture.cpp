@@ -1,7 +1,5 @@
 #include "precompute/texture.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/warning.h"
+#include "imageio/image_file.h"
 
 namespace acpca {
 
@@ -22,21 +21,21 @@ namespace {
 /// Larger textures than this (in texels) are refused as corrupt headers.
 constexpr long long kMaxTexels = 1LL << 28;
 
-std::shared_ptr<const Texture> readOpened(OIIO::ImageInput& in, const std::string& name) {
-  const OIIO::ImageSpec& spec = in.spec();
-  if (spec.width < 1 || spec.height < 1 || spec.depth != 1 ||
-      static_cast<long long>(spec.width) * spec.height > kMaxTexels)
+std::shared_ptr<const Texture> readOpened(ImageReader& in, const std::string& name) {
+  const ImageHeader& header = in.header();
+  if (header.width < 1 || header.height < 1 || header.depth != 1 ||
+      static_cast<long long>(header.width) * header.height > kMaxTexels)
     throw UserError(
-        concat(name, ": texture size ", spec.width, "x", spec.height, " is out of range"));
-  if (spec.nchannels < 1) throw UserError(concat(name, ": the texture has no channels"));
+        concat(name, ": texture size ", header.width, "x", header.height, " is out of range"));
+  if (header.channels < 1) throw UserError(concat(name, ": the texture has no channels"));
   // Grey (with or without alpha) or the first three channels; alpha is not used.
-  const int channels = spec.nchannels >= 3 ? 3 : 1;
-  const size_t texels = static_cast<size_t>(spec.width) * spec.height;
+  const int channels = header.channels >= 3 ? 3 : 1;
+  const size_t texels = static_cast<size_t>(header.width) * header.height;
   std::vector<float> values(texels * channels);
-  if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, values.data()))
-    throw UserError(concat(name, ": cannot read the texture pixels: ", in.geterror()));
-  const std::string colorSpace = spec.get_string_attribute("oiio:ColorSpace");
-  const bool integer = !spec.format.is_floating_point();
+  if (!in.readImage(0, channels, PixelType::Float, values.data()))
+    throw UserError(concat(name, ": cannot read the texture pixels: ", in.error()));
+  const std::string& colorSpace = header.colorSpace;
+  const bool integer = header.stored != StoredValues::FloatingPoint;
   const bool encoded = integer && colorSpace != "Linear" && colorSpace != "linear";
   std::vector<float> rgb(texels * 3);
   long long negatives = 0;
@@ -45,20 +44,16 @@ std::shared_ptr<const Texture> readOpened(OIIO::ImageInput& in, const std::strin
       float v = values[t * channels + (channels == 3 ? c : 0)];
       if (!std::isfinite(v))
         throw UserError(
-            concat(name, ": texel (", t % spec.width, ", ", t / spec.width, ") is not finite"));
+            concat(name, ": texel (", t % header.width, ", ", t / header.width, ") is not finite"));
       if (v < 0) ++negatives, v = 0;
       rgb[3 * t + c] = encoded ? static_cast<float>(srgbToLinear(v)) : v;
     }
   if (negatives > 0) warn(concat(name, ": ", negatives, " negative texel values clamped to 0"));
-  return std::make_shared<const Texture>(name, spec.width, spec.height, std::move(rgb));
+  return std::make_shared<const Texture>(name, header.width, header.height, std::move(rgb));
 }
 
 /// Colour as stored: OpenImageIO would otherwise multiply PNG colours by alpha.
-OIIO::ImageSpec readConfig() {
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  return config;
-}
+constexpr ImageReadOptions kAsStored{true};
 
 }  // namespace
 
@@ -91,11 +86,11 @@ Eigen::Vector3f Texture::sample(const Eigen::Vector2f& uv) const {
 }
 
 std::shared_ptr<const Texture> loadTexture(const std::string& path) {
-  if (!OIIO::Filesystem::is_regular(path))
-    throw UserError(concat(path, ": texture file not found"));
-  const OIIO::ImageSpec config = readConfig();
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) throw UserError(concat(path, ": cannot read the texture: ", OIIO::geterror()));
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw UserError(concat(path, ": texture file not found"));
+  std::string error;
+  auto in = openImage(path, error, kAsStored);
+  if (!in) throw UserError(concat(path, ": cannot read the texture: ", error));
   return readOpened(*in, path);
 }
 
@@ -120,11 +115,10 @@ std::shared_ptr<const Texture> loadTextureFromMemory(const std::string& name,
     out.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
     if (!out) throw UserError(concat(name, ": cannot write it to ", file.string()));
   }
-  const OIIO::ImageSpec config = readConfig();
-  auto in = OIIO::ImageInput::open(file.string(), &config);
+  std::string error;
+  auto in = openImage(file.string(), error, kAsStored);
   if (!in)
-    throw UserError(
-        concat(name, ": cannot read the embedded '", formatHint, "' texture: ", OIIO::geterror()));
+    throw UserError(concat(name, ": cannot read the embedded '", formatHint, "' texture: ", error));
   return readOpened(*in, name);
 }
 

@@ -1,7 +1,6 @@
 // The Python module `adaptive_cpca`: relighting from numpy over the C++
 // libraries (not the CLI). Thin: argument conversion, the GIL released around
 // the work, library errors raised as adaptive_cpca.Error.
-#include <OpenImageIO/imageio.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -16,6 +15,7 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "core/warning.h"
+#include "imageio/image_file.h"
 #include "python/long_calls.h"
 #include "python/opening_file.h"
 #include "python/to_python.h"
@@ -437,30 +437,30 @@ class Relighter {
   std::unique_ptr<ImageComposer> composer_;
 };
 
-py::array_t<float> readImage(const std::string& path) {
-  auto in = openingFile(path, [&] {
-    auto opened = OIIO::ImageInput::open(path);
-    if (!opened) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
+std::unique_ptr<ImageReader> openImageFile(const std::string& path) {
+  return openingFile(path, [&] {
+    std::string error;
+    auto opened = openImage(path, error);
+    if (!opened) throw UserError(concat(path, ": cannot read the image: ", error));
     return opened;
   });
-  const OIIO::ImageSpec spec = in->spec();
-  py::array_t<float> out({spec.height, spec.width, spec.nchannels});
+}
+
+py::array_t<float> readImage(const std::string& path) {
+  auto in = openImageFile(path);
+  const ImageHeader spec = in->header();
+  py::array_t<float> out({spec.height, spec.width, spec.channels});
   bool ok;
   {
     py::gil_scoped_release release;
-    ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.mutable_data());
+    ok = in->readImage(0, spec.channels, PixelType::Float, out.mutable_data());
   }
-  if (!ok) throw UserError(concat(path, ": cannot read the image pixels: ", in->geterror()));
+  if (!ok) throw UserError(concat(path, ": cannot read the image pixels: ", in->error()));
   return out;
 }
 
 std::vector<std::string> imageChannelNames(const std::string& path) {
-  auto in = openingFile(path, [&] {
-    auto opened = OIIO::ImageInput::open(path);
-    if (!opened) throw UserError(concat(path, ": cannot read the image: ", OIIO::geterror()));
-    return opened;
-  });
-  return in->spec().channelnames;
+  return openImageFile(path)->header().channelNames;
 }
 
 /// Light, PointLight, SphereLight and SpotLight: local lights (docs/lighting.md).

@@ -1,7 +1,5 @@
 #include "relight/image_output.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -14,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/half.h"
+#include "imageio/image_file.h"
 #include "relight/npy_file.h"
 
 namespace acpca {
@@ -195,12 +194,9 @@ namespace {
 /// 8-bit values as PNG into `file` (errors name `path`).
 void encodePng8(int width, int height, int channels, const unsigned char* values,
                 const std::string& file, const std::string& path, int level) {
-  auto out = OIIO::ImageOutput::create(file);
-  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", std::clamp(level, 0, 9));
-  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT8, values) && out->close()))
-    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  ImageWriteSpec spec{width, height, channels, PixelType::UInt8};
+  spec.integerAttributes = {{"png:compressionLevel", std::clamp(level, 0, 9)}};
+  writeImageFile(file, spec, values, path);
 }
 
 /// 16-bit sRGB: round(65535 linearToSrgb(tone(v 2^exposure))), alpha as
@@ -220,13 +216,9 @@ void encodePng16(const Image& image, const std::string& file, const std::string&
                         values[i] = static_cast<std::uint16_t>(std::lround(coded * 65535));
                       }
                     });
-  auto out = OIIO::ImageOutput::create(file);
-  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT16);
-  spec.attribute("png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9));
-  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::UINT16, values.data()) &&
-        out->close()))
-    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  ImageWriteSpec spec{image.width, image.height, image.channels, PixelType::UInt16};
+  spec.integerAttributes = {{"png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9)}};
+  writeImageFile(file, spec, values.data(), path);
 }
 
 /// float32 H x W x C, linear, times 2^exposure (alpha as coverage).
@@ -253,16 +245,14 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
   }
   if (format == ImageFormat::Png16) return encodePng16(image, file, path, exposureEv, encoding);
   if (format == ImageFormat::Npy) return encodeNpy(image, file, path, exposureEv);
-  auto out = OIIO::ImageOutput::create(file);
-  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
   const float scale = static_cast<float>(std::exp2(exposureEv));
   const size_t values = image.pixels.size();
-  OIIO::ImageSpec spec(image.width, image.height, image.channels,
-                       encoding.exrFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
-  spec.attribute("compression", kExrCompressionNames.name(encoding.exrCompression));
+  ImageWriteSpec spec{image.width, image.height, image.channels,
+                      encoding.exrFloat ? PixelType::Float : PixelType::Half};
   // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
   // the same inputs must give the same bytes (datasets are compared by hash).
-  spec.attribute("DateTime", "");
+  spec.textAttributes = {{"compression", kExrCompressionNames.name(encoding.exrCompression)},
+                         {"DateTime", ""}};
   std::vector<float> scaled;
   const float* pixels = image.pixels.data();
   if (scale != 1) {
@@ -271,19 +261,13 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
       scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
     pixels = scaled.data();
   }
-  bool written = out->open(file, spec);
-  if (encoding.exrFloat) {
-    written = written && out->write_image(OIIO::TypeDesc::FLOAT, pixels);
-  } else {
-    // Halves made by the CPU's instruction: OpenImageIO converts value by
-    // value in software, a third of a 1024x1024 frame's writing. The same
-    // IEEE rounding, so the same file.
-    std::vector<std::uint16_t> halves(values);
-    floatToHalfIeee(pixels, halves.data(), values);
-    written = written && out->write_image(OIIO::TypeDesc::HALF, halves.data());
-  }
-  if (!(written && out->close()))
-    throw UserError(concat(path, ": cannot write the image: ", out->geterror()));
+  if (encoding.exrFloat) return writeImageFile(file, spec, pixels, path);
+  // Halves made by the CPU's instruction: OpenImageIO converts value by
+  // value in software, a third of a 1024x1024 frame's writing. The same
+  // IEEE rounding, so the same file.
+  std::vector<std::uint16_t> halves(values);
+  floatToHalfIeee(pixels, halves.data(), values);
+  writeImageFile(file, spec, halves.data(), path);
 }
 
 void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,

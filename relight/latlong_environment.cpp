@@ -3,7 +3,6 @@
 // small against a texel; every sub-cell adds radiance x solid angle to the
 // texel that holds its (rotated) centre. Energy is conserved to rounding at any
 // rotation, and a small sun keeps its energy.
-#include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
@@ -12,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/warning.h"
+#include "imageio/image_file.h"
 #include "relight/environment.h"
 
 namespace acpca {
@@ -190,16 +190,17 @@ std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where,
 }
 
 std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw UserError(concat(path, ": cannot read the environment map: ", OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
+  std::string error;
+  auto in = openImage(path, error);
+  if (!in) throw UserError(concat(path, ": cannot read the environment map: ", error));
+  const ImageHeader& spec = in->header();
   if (spec.width < 2 || spec.height < 1 || spec.depth != 1 ||
       static_cast<long long>(spec.width) * spec.height > kMaxPixels)
     throw UserError(
         concat(path, ": environment map size ", spec.width, "x", spec.height, " is out of range"));
-  if (spec.nchannels < 1) throw UserError(concat(path, ": the environment map has no channels"));
+  if (spec.channels < 1) throw UserError(concat(path, ": the environment map has no channels"));
   // Only RGB (or the grey channel) is read; alpha and extra channels are skipped.
-  const int channels = std::min(spec.nchannels, 3);
+  const int channels = std::min(spec.channels, 3);
   // Even a well-compressed map needs some bytes per scanline: a header that
   // declares far more pixels than the file could hold is refused before the
   // pixel buffer is allocated.
@@ -209,8 +210,8 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
     throw UserError(concat(path, ": declares ", spec.width, "x", spec.height, " pixels but holds ",
                            fileBytes, " bytes (truncated or corrupt)"));
   std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
-    throw UserError(concat(path, ": cannot read the environment map pixels: ", in->geterror()));
+  if (!in->readImage(0, channels, PixelType::Float, all.data()))
+    throw UserError(concat(path, ": cannot read the environment map pixels: ", in->error()));
   return makeEnvironmentFromPixels(path, std::filesystem::path(path).stem().string(), spec.width,
                                    spec.height, channels, all.data());
 }

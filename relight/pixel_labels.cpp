@@ -1,13 +1,12 @@
 #include "relight/pixel_labels.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <memory>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "imageio/image_file.h"
 #include "relight/npy_file.h"
 
 namespace acpca {
@@ -122,25 +121,14 @@ void encodeLabelsExr(const std::vector<LabelLayer>& layers, const TransportHeade
       std::copy_n(&layer.values[p * lc], lc, &values[p * c + first]);
     first += lc;
   }
-  OIIO::ImageSpec spec(h.camera.size.width, h.camera.size.height, static_cast<int>(c),
-                       OIIO::TypeDesc::FLOAT);
-  spec.channelnames = names;
-  spec.alpha_channel = -1;
-  for (size_t k = 0; k < c; ++k)
-    if (names[k] == "A") spec.alpha_channel = static_cast<int>(k);
-  spec.z_channel = -1;
-  for (size_t k = 0; k < c; ++k)
-    if (names[k] == "Z") spec.z_channel = static_cast<int>(k);
-  spec.attribute("compression", "zip");
-  spec.attribute("DateTime", "");  // equal inputs, equal bytes
+  // The channels named A and Z are the file's alpha and depth.
+  ImageWriteSpec spec{h.camera.size.width, h.camera.size.height, static_cast<int>(c),
+                      PixelType::Float, names};
+  spec.textAttributes = {{"compression", "zip"}, {"DateTime", ""}};  // equal inputs, equal bytes
   if (std::any_of(layers.begin(), layers.end(),
                   [](const LabelLayer& l) { return l.aov == Aov::Object; }))
-    spec.attribute("objects", joinedObjectNames(h.objectNames));
-  auto out = OIIO::ImageOutput::create(file);
-  if (!out) throw UserError(concat(path, ": cannot create an image writer: ", OIIO::geterror()));
-  if (!(out->open(file, spec) && out->write_image(OIIO::TypeDesc::FLOAT, values.data()) &&
-        out->close()))
-    throw UserError(concat(path, ": cannot write the labels: ", out->geterror()));
+    spec.textAttributes.emplace_back("objects", joinedObjectNames(h.objectNames));
+  writeImageFile(file, spec, values.data(), path, "the labels");
 }
 
 void encodeLayerNpy(const LabelLayer& layer, const TransportHeader& h, const std::string& file,

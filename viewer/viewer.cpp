@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <opencv2/highgui.hpp>
+#include <opencv2/highgui.hpp>  // the mouse events' codes; calls go through windowSystem()
 #include <opencv2/imgproc.hpp>
 
 #include "cluster/model.h"
@@ -13,6 +13,7 @@
 #include "pictures/pictures.h"
 #include "relight/envmap_export.h"
 #include "relight/local_relight.h"
+#include "viewer/window_system.h"
 
 namespace acpca {
 
@@ -265,7 +266,7 @@ void Viewer::showLatest() {
     if (latest_.serial == onScreen_.serial) return;
     onScreen_ = latest_;  // shares the finished canvas; the worker draws the next into a new one
   }
-  cv::imshow(kWindow, onScreen_.canvas);
+  windowSystem().show(kWindow, onScreen_.canvas);
 }
 
 void Viewer::waitForLatestRequest() {
@@ -274,7 +275,7 @@ void Viewer::waitForLatestRequest() {
     finished_.wait(lock, [&] { return latest_.serial >= requested_; });
   }
   showLatest();
-  cv::waitKey(1);  // lets the window draw it
+  windowSystem().waitKey(1);  // lets the window draw it
 }
 
 void Viewer::applyDrag(int dx, int dy) {
@@ -368,7 +369,7 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       const Stopwatch waiting;
       while (waiting.milliseconds() < e.a) {
         showLatest();
-        cv::waitKey(10);
+        windowSystem().waitKey(10);
       }
       break;
     }
@@ -417,30 +418,31 @@ void Viewer::writeScreenshot(const std::string& path) const {
 }
 
 void Viewer::createTrackbars() {
-  cv::createTrackbar(kExposureBar, kWindow, nullptr, kExposureSteps, &Viewer::onTrackbar, this);
-  cv::createTrackbar(kRankBar, kWindow, nullptr, 100, &Viewer::onTrackbar, this);
+  windowSystem().addTrackbar(kExposureBar, kWindow, kExposureSteps, &Viewer::onTrackbar, this);
+  windowSystem().addTrackbar(kRankBar, kWindow, 100, &Viewer::onTrackbar, this);
   if (envs_.size() > 1)
-    cv::createTrackbar(kEnvBar, kWindow, nullptr, static_cast<int>(envs_.size()) - 1,
-                       &Viewer::onTrackbar, this);
+    windowSystem().addTrackbar(kEnvBar, kWindow, static_cast<int>(envs_.size()) - 1,
+                               &Viewer::onTrackbar, this);
   syncTrackbars();
 }
 
 void Viewer::syncTrackbars() {
   // Setting a position calls onTrackbar, which would read the bars not yet set.
   syncing_ = true;
-  cv::setTrackbarPos(kExposureBar, kWindow, exposurePosition(ui_.exposure));
-  cv::setTrackbarPos(kRankBar, kWindow, ui_.rankPercent);
-  if (envs_.size() > 1) cv::setTrackbarPos(kEnvBar, kWindow, ui_.env);
+  windowSystem().setTrackbar(kExposureBar, kWindow, exposurePosition(ui_.exposure));
+  windowSystem().setTrackbar(kRankBar, kWindow, ui_.rankPercent);
+  if (envs_.size() > 1) windowSystem().setTrackbar(kEnvBar, kWindow, ui_.env);
   syncing_ = false;
 }
 
 void Viewer::onTrackbar(int, void* self) {
   auto* v = static_cast<Viewer*>(self);
   if (v->syncing_) return;
-  ViewState next = applyExposurePosition(v->ui_, cv::getTrackbarPos(kExposureBar, kWindow));
-  if (const int rank = cv::getTrackbarPos(kRankBar, kWindow); rank >= 0) next.rankPercent = rank;
+  ViewState next = applyExposurePosition(v->ui_, windowSystem().trackbar(kExposureBar, kWindow));
+  if (const int rank = windowSystem().trackbar(kRankBar, kWindow); rank >= 0)
+    next.rankPercent = rank;
   if (v->envs_.size() > 1)
-    if (const int env = cv::getTrackbarPos(kEnvBar, kWindow); env >= 0) next.env = env;
+    if (const int env = windowSystem().trackbar(kEnvBar, kWindow); env >= 0) next.env = env;
   if (next.exposure == v->ui_.exposure && next.rankPercent == v->ui_.rankPercent &&
       next.env == v->ui_.env)
     return;
@@ -457,7 +459,7 @@ void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
     v->drag_.release();
   } else if (event == cv::EVENT_MOUSEWHEEL) {
     // One notch is 120; forward (away from the user) brings the light nearer.
-    v->applyWheel(cv::getMouseWheelDelta(flags) / 120.0);
+    v->applyWheel(windowSystem().wheelDelta(flags) / 120.0);
   } else if (event == cv::EVENT_MOUSEMOVE &&
              v->drag_.move(x, y, (flags & cv::EVENT_FLAG_LBUTTON) != 0, dx, dy)) {
     if (v->drag_.light() >= 0)
@@ -468,9 +470,9 @@ void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
 }
 
 void Viewer::run() {
-  cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
+  windowSystem().open(kWindow);
   createTrackbars();
-  cv::setMouseCallback(kWindow, &Viewer::onMouse, this);
+  windowSystem().onMouse(kWindow, &Viewer::onMouse, this);
   worker_ = std::thread([this] { workerLoop(); });
   request();
   waitForLatestRequest();
@@ -494,13 +496,13 @@ void Viewer::run() {
         "q quit");
     for (;;) {
       showLatest();
-      const int key = cv::waitKey(8);
+      const int key = windowSystem().waitKey(8);
       if (key >= 0 && !applyKey(key & 0xff)) break;
-      if (cv::getWindowProperty(kWindow, cv::WND_PROP_VISIBLE) < 1) break;  // closed
+      if (!windowSystem().visible(kWindow)) break;  // closed
     }
     if (!options_.screenshot.empty()) writeScreenshot(options_.screenshot);
   }
-  cv::destroyAllWindows();
+  windowSystem().closeAll();
 }
 
 }  // namespace acpca

@@ -16,5 +16,15 @@ assert ac.__file__.startswith(sys.prefix), f"imported {ac.__file__}, not the ven
 r = ac.open(sys.argv[1])
 image = r.relight(ac.Environment("sky"))
 assert image.shape == (r.height, r.width, 3) and image.max() > 0, image.shape
-print("installed module relit", sys.argv[1], "from", ac.__file__)
+# The image codecs load on the first image, from beside the installed module.
+def mapped(name):
+    with open("/proc/self/maps") as maps:
+        return [line.split()[-1] for line in maps if name in line]
+assert not mapped("libOpenImageIO"), "OpenImageIO loaded by the import"
+with open("pixel.ppm", "wb") as ppm:  # a 2x1 binary PPM, written by hand
+    ppm.write(b"P6 2 1 255\n" + bytes([255, 0, 0, 0, 0, 255]))
+assert ac.read_image("pixel.ppm").shape == (1, 2, 3)
+codecs = mapped("libacpca_image_codecs")
+assert codecs and all(c.startswith(sys.prefix) for c in codecs), codecs
+print("installed module relit", sys.argv[1], "from", ac.__file__, "with", codecs[0])
 PY

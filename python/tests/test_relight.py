@@ -633,3 +633,21 @@ def test_a_dataset_moved_elsewhere_loads_from_any_working_directory(tmp_path, mo
     assert images.shape == (4, 40, 40, 3) and labels["shading"].shape == (4, 40, 40, 3)
     assert np.array_equal(images[1], ac.Relighter(model).relight(ac.Environment("sky"), yaw=180))
     assert view.keys() == ac.Relighter(model).labels().keys()
+
+
+def test_the_import_loads_no_image_codecs_until_the_first_image(tmp_path):
+    # A fresh interpreter: this one has read images already.
+    script = """
+import sys, numpy as np, adaptive_cpca as ac
+def mapped(name):
+    with open("/proc/self/maps") as maps:
+        return any(name in line for line in maps)
+assert not mapped("libOpenImageIO") and not mapped("libacpca_image_codecs"), "loaded at import"
+ac.Environment.from_array(np.ones((8, 16, 3), np.float32), "flat")  # no file: none yet
+assert not mapped("libOpenImageIO")
+with open(sys.argv[1], "wb") as ppm:
+    ppm.write(b"P6 2 1 255\\n" + bytes([255, 0, 0, 0, 0, 255]))
+assert ac.read_image(sys.argv[1]).shape == (1, 2, 3)
+assert mapped("libOpenImageIO") and mapped("libacpca_image_codecs")
+"""
+    subprocess.run([sys.executable, "-c", script, str(tmp_path / "x.ppm")], check=True)
