@@ -14,8 +14,7 @@ namespace {
 /// The folder of the executable or shared object this code was linked into.
 std::filesystem::path holderFolder() {
   Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&pluginCandidates), &info) == 0 || !info.dli_fname)
-    return {};
+  if (dladdr(reinterpret_cast<void*>(&pluginCandidates), &info) == 0 || !info.dli_fname) return {};
   std::error_code ec;
   const std::filesystem::path holder = std::filesystem::canonical(info.dli_fname, ec);
   return ec ? std::filesystem::path() : holder.parent_path();

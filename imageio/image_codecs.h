@@ -19,8 +19,8 @@ class ImageCodecs {
   virtual std::unique_ptr<ImageReader> open(const std::string& path,
                                             const ImageReadOptions& options,
                                             std::string& error) = 0;
-  virtual WriteResult write(const std::string& file, const ImageWriteSpec& spec,
-                            const void* pixels, std::string& error) = 0;
+  virtual WriteResult write(const std::string& file, const ImageWriteSpec& spec, const void* pixels,
+                            std::string& error) = 0;
 
  protected:
   ~ImageCodecs() = default;

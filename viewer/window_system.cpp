@@ -10,9 +10,9 @@ WindowSystem& windowSystem() {
 #else
   const char* built = nullptr;
 #endif
-  static WindowSystem& windows = *reinterpret_cast<WindowSystem* (*)()>(loadPluginEntry(
-      {"libacpca_window.so", "ACPCA_WINDOW", built, kWindowSystemEntry,
-       "the viewer's window (OpenCV highgui; scripts/setup.sh installs it)"}))();
+  static WindowSystem& windows = *reinterpret_cast<WindowSystem* (*)()>(
+      loadPluginEntry({"libacpca_window.so", "ACPCA_WINDOW", built, kWindowSystemEntry,
+                       "the viewer's window (OpenCV highgui; scripts/setup.sh installs it)"}))();
   return windows;
 }
 

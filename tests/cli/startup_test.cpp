@@ -43,8 +43,8 @@ TEST(Startup, CommandsWithoutImagesNeverLoadAPlugin) {
                 .status,
             0);
   for (const std::string& args :
-       {std::string("--version"), std::string("--help"), std::string("scenes"),
-        "info " + model, "info " + test::fixture("small-plant") + " --json -"}) {
+       {std::string("--version"), std::string("--help"), std::string("scenes"), "info " + model,
+        "info " + test::fixture("small-plant") + " --json -"}) {
     const RunResult r = runCli(args, kNoPlugins);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.output;
     EXPECT_EQ(r.output.find("cannot load"), std::string::npos) << args << "\n" << r.output;
@@ -64,9 +64,9 @@ TEST(Startup, AMissingOrBrokenPluginIsNamedAtTheFirstImageAndNothingIsWritten) {
       {ACPCA_WINDOW_PLUGIN, "exports no acpca_image_codecs"}};
   for (const auto& c : cases) {
     const std::string out = dir.file("frame.exr");
-    const RunResult r = runCli("relight " + test::fixture("small-plant") +
-                                   " --env sky --quiet --out " + out,
-                               "ACPCA_IMAGE_CODECS=" + c.plugin);
+    const RunResult r =
+        runCli("relight " + test::fixture("small-plant") + " --env sky --quiet --out " + out,
+               "ACPCA_IMAGE_CODECS=" + c.plugin);
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_NE(r.output.find("cannot load the image codecs"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(c.says), std::string::npos) << r.output;
@@ -103,8 +103,8 @@ TEST(Startup, InfoOfAModelReadsNeitherItsCoefficientsNorItsPixels) {
                 0);
     }
   }
-  const RunResult relit = runCli("relight " + model + " --env sky --quiet --out " +
-                                 dir.file("a.exr"));
+  const RunResult relit =
+      runCli("relight " + model + " --env sky --quiet --out " + dir.file("a.exr"));
   EXPECT_EQ(relit.status, 1) << relit.output;
   // info reports what it reported before, byte for byte: it never read them.
   const RunResult after = runCli("info " + model + " --json -");
