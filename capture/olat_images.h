@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "transport/camera.h"
 
 namespace acpca {
@@ -18,6 +19,11 @@ enum class TransferFunction {
   Linear,  ///< every image as stored (`--linear`)
   Srgb,    ///< every image sRGB-decoded (`--srgb`)
 };
+inline constexpr EnumNames<TransferFunction, 3> kTransferFunctionNames{
+    "encoding",
+    {{{TransferFunction::Auto, "auto"},
+      {TransferFunction::Linear, "linear"},
+      {TransferFunction::Srgb, "srgb"}}}};
 
 /// N images of one size, each read as linear RGB float in bands.
 class OlatImages {

@@ -3,10 +3,10 @@
 
 #include <numeric>
 
-#include "cluster/cost_model.h"
 #include "cluster/partition.h"
 #include "cluster/partition_support.h"
 #include "cluster/pca.h"
+#include "model/cost_model.h"
 
 namespace acpca {
 

@@ -3,8 +3,8 @@
 // to a tolerance (or ranks from one error budget), the coefficients stored as
 // asked, and the exact transport error (docs/design.md section 5.6).
 #include "cluster/global_basis.h"
-#include "cluster/model.h"
 #include "cluster/partition.h"
+#include "model/model.h"
 
 namespace acpca {
 

@@ -8,10 +8,10 @@
 #include <numeric>
 #include <random>
 
-#include "cluster/cost_model.h"
 #include "cluster/partition_support.h"
 #include "cluster/pca.h"
 #include "cluster/symmetric_eigen.h"
+#include "model/cost_model.h"
 
 #include <Eigen/QR>
 #include "core/error.h"

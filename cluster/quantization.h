@@ -3,7 +3,7 @@
 // per cluster basis), bases and means rounded to half.
 #include <vector>
 
-#include "cluster/model.h"
+#include "model/model.h"
 
 namespace acpca {
 

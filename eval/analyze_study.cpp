@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <sstream>
 
-#include "cluster/cost_model.h"
 #include "cluster/dimensionality.h"
 #include "cluster/global_basis.h"
 #include "cluster/partition.h"
@@ -16,6 +15,7 @@
 #include "core/table.h"
 #include "eval/dimensionality_study.h"
 #include "eval/eval_report.h"
+#include "model/cost_model.h"
 
 namespace acpca {
 

@@ -14,7 +14,8 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
   if (!(o.streamGiB > 0 && o.streamGiB <= 64))
     throw ParameterError("stream size (GiB)", o.streamGiB, "is out of range (0, 64]");
   const BandwidthMeasurement stream = measureStreamingRead(o.streamGiB * (1 << 30), 5);
-  const BatchRelightResult result = relightBatch(o.batch);
+  const BatchRelightResult result =
+      relightBatch(o.batch, o.plan ? *o.plan : planBatchRelight(o.batch));
   const BatchStages& s = result.stages;
   const double frames = static_cast<double>(result.frames);
   const double endToEnd = s.wall > 0 ? frames / s.wall : 0;

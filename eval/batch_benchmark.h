@@ -4,14 +4,17 @@
 // references measured in the same run: the machine's streaming read and the
 // relight alone (projection and shading), so the batch's cost beyond the
 // relighter reads as a ratio on any machine.
+#include <optional>
+
+#include "dataset/batch_relight.h"
 #include "eval/study_output.h"
-#include "relight/batch_relight.h"
 
 namespace acpca {
 
 struct BatchBenchmarkOptions {
-  BatchRelightOptions batch;  ///< its `out` is a directory the frames go to
-  double streamGiB = 0.5;     ///< array of the streaming-read loop
+  BatchRelightOptions batch;      ///< its `out` is a directory the frames go to
+  std::optional<BatchPlan> plan;  ///< the batch's plan when made already (else made here)
+  double streamGiB = 0.5;         ///< array of the streaming-read loop
 };
 
 /// Table (stage, seconds, share of the wall, ms a frame) and the rates, as

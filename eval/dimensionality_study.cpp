@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/table.h"
 #include "eval/eval_report.h"
-#include "relight/spec_parsing.h"
+#include "lighting/spec_parsing.h"
 
 namespace acpca {
 

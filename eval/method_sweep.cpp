@@ -8,9 +8,9 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "eval/error_measures.h"
+#include "lighting/domain_lighting.h"
+#include "lighting/lighting.h"
 #include "relight/dense_relight.h"
-#include "relight/domain_lighting.h"
-#include "relight/lighting.h"
 
 namespace acpca {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
 

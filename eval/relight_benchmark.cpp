@@ -5,16 +5,16 @@
 #include <functional>
 #include <optional>
 
-#include "cluster/model.h"
-#include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/statistics.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
 #include "eval/error_measures.h"
 #include "eval/sparse_transport.h"
-#include "relight/domain_lighting.h"
-#include "relight/lighting.h"
+#include "lighting/domain_lighting.h"
+#include "lighting/lighting.h"
+#include "model/model.h"
+#include "model/model_file.h"
 #include "relight/memory_bandwidth.h"
 #include "relight/model_relighter.h"
 #include "relight/relight_kernels.h"

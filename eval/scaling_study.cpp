@@ -12,7 +12,7 @@
 #include "eval/dimensionality_study.h"
 #include "eval/eval_report.h"
 #include "eval/method_sweep.h"
-#include "relight/lighting.h"
+#include "lighting/lighting.h"
 #include "relight/model_relighter.h"
 
 namespace acpca {

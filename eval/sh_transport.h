@@ -11,9 +11,9 @@
 #include <memory>
 #include <vector>
 
-#include "cluster/model.h"
 #include "eval/spherical_harmonics.h"
-#include "relight/environment.h"
+#include "lighting/environment.h"
+#include "model/model.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

@@ -1,8 +1,8 @@
 // Raw bytes as an environment image (the first byte picks the format):
 // refused with a UserError, or integrated onto a small lattice, finite.
 #include "fuzz/fuzz_support.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;

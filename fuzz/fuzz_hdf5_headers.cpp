@@ -8,13 +8,13 @@
 #include <fuzzer/FuzzedDataProvider.h>
 #include <hdf5.h>
 
-#include "cluster/model.h"
-#include "cluster/model_file.h"
 #include "cluster/quantization.h"
 #include "fuzz/fuzz_support.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
+#include "model/model.h"
+#include "model/model_file.h"
 #include "relight/dense_relight.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
 #include "relight/model_relighter.h"
 #include "transport/hdf5_handles.h"
 #include "transport/transport_file.h"

@@ -2,7 +2,7 @@
 // UserError, or lights whose lattice lighting, seen from a few points, is
 // finite and non-negative.
 #include "fuzz/fuzz_support.h"
-#include "relight/local_light.h"
+#include "lighting/local_light.h"
 
 namespace {
 

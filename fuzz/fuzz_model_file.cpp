@@ -1,10 +1,10 @@
 // Raw bytes as a model file: refused with a UserError, or read and relit
 // under constant light with a finite result.
-#include "cluster/model.h"
-#include "cluster/model_file.h"
 #include "fuzz/fuzz_support.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
+#include "model/model.h"
+#include "model/model_file.h"
 #include "relight/model_relighter.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {

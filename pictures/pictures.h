@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "relight/image_output.h"
+#include "dataset/image_output.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

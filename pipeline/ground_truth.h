@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
 
 namespace acpca {
 

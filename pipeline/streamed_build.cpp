@@ -15,7 +15,6 @@
 #include <thread>
 
 #include "cluster/global_basis.h"
-#include "cluster/model_file.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
@@ -26,6 +25,8 @@
 #include "core/resources.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
+#include "dataset/image_output.h"
+#include "model/model_file.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/kept_transport.h"
 #include "pipeline/sampled_basis.h"
@@ -34,7 +35,6 @@
 #include "pipeline/tile_plan.h"
 #include "precompute/precompute_report.h"
 #include "precompute/scene_views.h"
-#include "relight/image_output.h"
 
 namespace acpca {
 

@@ -6,10 +6,10 @@
 
 #include "cluster/compress.h"
 #include "cluster/model_fit.h"
-#include "cluster/model_reference.h"
 #include "cluster/partition.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "model/model_reference.h"
 
 namespace acpca {
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "cluster/global_basis.h"
-#include "cluster/model.h"
 #include "core/text.h"
+#include "model/model.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/streamed_build.h"
 #include "pipeline/tile_plan.h"

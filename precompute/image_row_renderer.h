@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "precompute/indirect_light.h"
+#include "precompute/precompute_options.h"
 #include "precompute/sample_patterns.h"
 #include "precompute/shadow_rays.h"
-#include "precompute/transport_renderer.h"
 
 namespace acpca {
 

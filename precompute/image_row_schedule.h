@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "precompute/image_row_renderer.h"
-#include "precompute/transport_renderer.h"
+#include "precompute/precompute_options.h"
 
 namespace acpca {
 

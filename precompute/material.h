@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/enum_names.h"
 #include "transport/cube_lattice.h"
 
 namespace acpca {
@@ -18,6 +19,12 @@ struct Material {
   double exponent = 1.0;   ///< Phong s >= 0
   double roughness = 0.5;  ///< GGX alpha in [kMinRoughness, 1]
 };
+/// A material's "type" in scene JSON.
+inline constexpr EnumNames<Material::Type, 3> kMaterialTypeNames{
+    "material type",
+    {{{Material::Type::Diffuse, "diffuse"},
+      {Material::Type::Phong, "phong"},
+      {Material::Type::Ggx, "ggx"}}}};
 
 /// Rec. 709 luminance of a linear RGB value: weighs albedos inside a pixel.
 inline float luminance(const Eigen::Vector3f& rgb) {

@@ -4,7 +4,7 @@
 // field), and the same in words for the log.
 #include <nlohmann/json.hpp>
 
-#include "precompute/transport_renderer.h"
+#include "precompute/precompute_options.h"
 
 namespace acpca {
 

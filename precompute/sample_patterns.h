@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "precompute/embree_scene.h"
-#include "precompute/transport_renderer.h"
+#include "precompute/precompute_options.h"
 #include "transport/cube_lattice.h"
 
 namespace acpca {

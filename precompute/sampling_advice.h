@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "precompute/precompute_options.h"
 #include "precompute/scene.h"
-#include "precompute/transport_renderer.h"
 
 namespace acpca {
 

@@ -161,22 +161,22 @@ MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
   const std::string type = r.text("type");
   MaterialSpec spec;
   Material& m = spec.material;
-  if (type == "diffuse") {
-    r.allowOnly({"type", "albedo", "texture"});
-    m.type = Material::Type::Diffuse;
-  } else if (type == "phong") {
+  try {
+    m.type = kMaterialTypeNames.parse(type);
+  } catch (const ParameterError&) {
+    throw UserError(concat(r.path("type"), ": unknown material type '", type, "' (",
+                           kMaterialTypeNames.list(), ")"));
+  }
+  if (m.type == Material::Type::Diffuse) r.allowOnly({"type", "albedo", "texture"});
+  if (m.type == Material::Type::Phong) {
     r.allowOnly({"type", "albedo", "texture", "specular", "exponent"});
-    m.type = Material::Type::Phong;
     m.specular = r.numberIn("specular", 0, 1);
     m.exponent = r.numberIn("exponent", 0, 1e6);
-  } else if (type == "ggx") {
+  }
+  if (m.type == Material::Type::Ggx) {
     r.allowOnly({"type", "albedo", "texture", "specular", "roughness"});
-    m.type = Material::Type::Ggx;
     m.specular = r.numberIn("specular", 0, 1);
     m.roughness = r.numberIn("roughness", kMinRoughness, 1);
-  } else {
-    throw UserError(
-        concat(r.path("type"), ": unknown material type '", type, "' (diffuse, phong or ggx)"));
   }
   // A texture scales the albedo, which then defaults to white.
   if (r.has("texture")) {

@@ -6,8 +6,8 @@
 #include "precompute/embree_scene.h"
 #include "precompute/image_row_renderer.h"
 #include "precompute/indirect_light.h"
+#include "precompute/precompute_options.h"
 #include "precompute/shadow_rays.h"
-#include "precompute/transport_renderer.h"
 
 namespace acpca {
 

@@ -15,23 +15,23 @@
 #include "core/error.h"
 #include "core/version.h"
 #include "core/warning.h"
+#include "dataset/batch_relight.h"
+#include "dataset/file_info.h"
+#include "dataset/image_output.h"
+#include "dataset/pixel_labels.h"
 #include "imageio/image_file.h"
+#include "lighting/domain_lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
+#include "lighting/lighting_sampler.h"
+#include "lighting/local_light.h"
+#include "lighting/rotation.h"
+#include "lighting/spec_parsing.h"
 #include "python/long_calls.h"
 #include "python/opening_file.h"
 #include "python/to_python.h"
-#include "relight/batch_relight.h"
-#include "relight/domain_lighting.h"
-#include "relight/environment.h"
-#include "relight/file_info.h"
-#include "relight/image_output.h"
-#include "relight/lighting.h"
-#include "relight/lighting_sampler.h"
-#include "relight/local_light.h"
 #include "relight/local_relight.h"
-#include "relight/pixel_labels.h"
 #include "relight/relight_source.h"
-#include "relight/rotation.h"
-#include "relight/spec_parsing.h"
 
 namespace py = pybind11;
 
@@ -56,8 +56,7 @@ struct PyEnvironment {
 
 PyEnvironment environmentFromSpec(const std::string& spec) {
   // Without the GIL: a large map takes a while, and its warnings take the GIL.
-  const bool analytic =
-      spec == "sky" || spec.rfind("constant:", 0) == 0 || spec.rfind("sun:", 0) == 0;
+  const bool analytic = isAnalyticEnvironment(spec);
   return openingFile(analytic ? std::string() : spec, [&] {
     py::gil_scoped_release release;
     return PyEnvironment{std::shared_ptr<const Environment>(loadEnvironment(spec))};
@@ -468,10 +467,11 @@ void registerLights(py::module_& m) {
   py::class_<LocalLight>(m, "Light",
                          "A local light: point, sphere or spot (docs/lighting.md, \"Local "
                          "lights\"), from the CLI's spec or PointLight, SphereLight, SpotLight.")
-      .def(py::init(&parseLocalLight), py::arg("spec"))
+      .def(py::init(&parseLocalLight), py::arg("spec"),
+           ("A light from its spec:\n" + lightGrammarLines()).c_str())
       .def_property_readonly("spec", &LocalLight::canonicalSpec)
-      .def_property_readonly("kind",
-                             [](const LocalLight& l) { return kLocalLightKindNames.name(l.kind); })
+      .def_property_readonly(
+          "kind", [](const LocalLight& l) { return kLocalLightKindNames.name(l.kind()); })
       .def_property_readonly("position",
                              [](const LocalLight& l) {
                                return Point3{l.position.x(), l.position.y(), l.position.z()};
@@ -482,7 +482,6 @@ void registerLights(py::module_& m) {
       "PointLight",
       [](const Point3& position, const Emission& intensity) {
         LocalLight l;
-        l.kind = LocalLightKind::Point;
         l.position = vecOf(position);
         l.emission = emissionOf(intensity);
         return madeLight(l);
@@ -493,9 +492,8 @@ void registerLights(py::module_& m) {
       "SphereLight",
       [](const Point3& position, double radius, const Emission& radiance) {
         LocalLight l;
-        l.kind = LocalLightKind::Sphere;
+        l.shape = SphereLight{radius};
         l.position = vecOf(position);
-        l.radius = radius;
         l.emission = emissionOf(radiance);
         return madeLight(l);
       },
@@ -506,10 +504,8 @@ void registerLights(py::module_& m) {
       [](const Point3& position, const Point3& direction, double halfAngle,
          const Emission& intensity) {
         LocalLight l;
-        l.kind = LocalLightKind::Spot;
+        l.shape = SpotLight{vecOf(direction), halfAngle};
         l.position = vecOf(position);
-        l.axis = vecOf(direction);
-        l.halfAngleDegrees = halfAngle;
         l.emission = emissionOf(intensity);
         return madeLight(l);
       },
@@ -613,8 +609,9 @@ PYBIND11_MODULE(adaptive_cpca, m) {
   py::class_<PyEnvironment>(m, "Environment",
                             "A lighting: a built-in map, an image file or a numpy array.")
       .def(py::init(&environmentFromSpec), py::arg("spec"),
-           "constant:V, sun:THETA,PHI,SIZE_DEG,INTENSITY, sky, or an image file (lat-long .exr/"
-           ".hdr, or a 4:3 cube cross)")
+           (environmentGrammarList() +
+            ", or an image file (lat-long .exr/.hdr, or a 4:3 cube cross)")
+               .c_str())
       .def_static("from_array", &environmentFromArray, py::arg("array"), py::arg("name") = "array",
                   "A lat-long map, H x 2H x 3 (row 0 at the zenith), checked as a file is.")
       .def_property_readonly("name", [](const PyEnvironment& e) { return e.env->name(); })

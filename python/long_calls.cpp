@@ -13,9 +13,9 @@
 #include "capture/lights_file.h"
 #include "capture/olat_import.h"
 #include "cluster/compress.h"
-#include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/input_guard.h"
+#include "model/model_file.h"
 #include "precompute/precompute_report.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
@@ -140,12 +140,7 @@ py::object importTransport(const py::object& images, const Doubles& directions,
   o.capDegrees = cellCap;
   o.force = force;
   o.name = fs::path(out).stem().string();
-  const TransferFunction decoding =
-      encoding == "linear" ? TransferFunction::Linear
-      : encoding == "srgb" ? TransferFunction::Srgb
-      : encoding == "auto"
-          ? TransferFunction::Auto
-          : throw ParameterError("encoding", encoding, "is not auto, linear or srgb");
+  const TransferFunction decoding = kTransferFunctionNames.parse(encoding);
   // The images: paths, or an (N, H, W, 3) array of linear values.
   std::optional<FloatImages> pixels;
   std::vector<std::string> paths;

@@ -3,7 +3,7 @@
 // lightings share one pass over T (one matrix product per block of rows).
 #include <vector>
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

@@ -326,7 +326,7 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
     long long inside = 0, first = -1;
     for (long long row = 0; row < header.rows(); ++row) {
       const Vec3 d = light.position - positionOf(header, row);
-      const double reach = light.kind == LocalLightKind::Sphere ? light.radius : 0.0;
+      const double reach = light.sphere() ? light.sphere()->radius : 0.0;
       if (d.squaredNorm() <= reach * reach) {
         if (inside++ == 0) first = row;
       }
@@ -334,10 +334,10 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
     if (inside > 0)
       throw ParameterError(
           "light", light.spec,
-          concat(light.kind == LocalLightKind::Sphere ? "encloses " : "sits on ", inside,
-                 " pixel position(s) of ", path, ", the first at pixel ", pixelName(header, first),
+          concat(light.sphere() ? "encloses " : "sits on ", inside, " pixel position(s) of ", path,
+                 ", the first at pixel ", pixelName(header, first),
                  ": a local light must lie off the surfaces it lights; move it",
-                 light.kind == LocalLightKind::Sphere ? " or make it smaller" : ""));
+                 light.sphere() ? " or make it smaller" : ""));
   }
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Relighting under local lights (docs/lighting.md, "Local lights"): each
 // pixel sees the lights from its own world position as a sparse lattice
-// lighting (relight/local_light.h), which meets the pixel's transport row: T
+// lighting (lighting/local_light.h), which meets the pixel's transport row: T
 // itself (the dense ground truth) or the model's reconstruction of it,
 // u_p . (W_c^T V_g^T e_j) per texel j the pixel's lights touch, formed once per
 // cluster and texel. Both are linear in the lights, so a frame under an
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "lighting/local_light.h"
 #include "relight/local_columns.h"
-#include "relight/local_light.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
 

@@ -14,7 +14,7 @@
 #include <memory>
 #include <vector>
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
 #include "relight/packed_model.h"
 
 namespace acpca {

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "cluster/model.h"
 #include "core/huge_pages.h"
+#include "model/model.h"
 
 namespace acpca {
 

@@ -1,16 +1,36 @@
 #include "relight/relight_source.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
-#include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
-#include "relight/batch_relight.h"
+#include "lighting/spec_parsing.h"
+#include "model/model_file.h"
 #include "relight/dense_relight.h"
 #include "relight/local_relight.h"
 
 namespace acpca {
+
+void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
+  if (text.empty()) return;
+  const bool percent = text.back() == '%';
+  const double value =
+      parseFiniteNumber(percent ? text.substr(0, text.size() - 1) : text, "maximum rank", text);
+  if (percent) {
+    if (value < 0 || value > 100)
+      throw ParameterError("maximum rank", text, "a percentage is 0..100");
+    relighter.setRankFraction(value / 100);
+  } else if (value == std::floor(value)) {
+    if (value < 0) throw ParameterError("maximum rank", text, "a rank is >= 0");
+    relighter.setMaxRank(static_cast<int>(std::min(value, 1e9)));
+  } else {
+    if (value < 0 || value > 1)
+      throw ParameterError("maximum rank", text, "a fraction is in (0, 1)");
+    relighter.setRankFraction(value);
+  }
+}
 
 RelightSource openRelightSource(const std::string& path, const std::string& maxRank) {
   RelightSource s;

@@ -7,12 +7,17 @@
 #include <string>
 #include <vector>
 
-#include "relight/environment.h"
-#include "relight/local_light.h"
+#include "lighting/environment.h"
+#include "lighting/local_light.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
 
 namespace acpca {
+
+/// A limit on each cluster's rank: "K" keeps the first K bases, a fraction in
+/// (0, 1) or a percentage ("50%") that share of each cluster's. Throws a
+/// ParameterError ("maximum rank") for anything else.
+void applyRankLimit(const std::string& text, ModelRelighter& relighter);
 
 struct RelightSource {
   TransportHeader header;

@@ -2,8 +2,8 @@
 // The lightings the relight and eval suites judge the small plant by.
 #include <vector>
 
-#include "relight/environment.h"
-#include "relight/lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 
 namespace acpca::test {
 

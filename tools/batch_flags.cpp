@@ -1,18 +1,19 @@
 #include "tools/batch_flags.h"
 
-#include "relight/environment.h"
+#include "lighting/environment.h"
+#include "lighting/local_light.h"
 #include "tools/cli_common.h"
 
 namespace acpca::cli {
 
 void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& outHelp) {
   sub.add_option("--env", envs,
-                 "Lighting: image (.exr/.hdr lat-long), directory of them, constant:V, "
-                 "sun:THETA,PHI,SIZE_DEG,INTENSITY or sky (repeatable)");
+                 "Lighting: image (.exr/.hdr lat-long, 4:3 cube cross), directory of them, " +
+                     environmentGrammarList() + " (repeatable)");
   sub.add_option("--light", o.lights,
-                 "Local light, added to every frame: point:X,Y,Z,I, sphere:X,Y,Z,RADIUS,L or "
-                 "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I (I and L grey, or R,G,B; repeatable; a "
-                 "number may be a sweep A:B:S, a frame per value; docs/lighting.md)");
+                 "Local light, added to every frame (repeatable; a number may be a sweep A:B:S, "
+                 "a frame per value; docs/lighting.md):\n" +
+                     lightGrammarLines());
   sub.add_option("--light-path", o.lightPath,
                  "Local lights that move: a file with one frame's lights per line (specs "
                  "separated by spaces or ';'); every map and rotation is relit under each line");
@@ -65,7 +66,7 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                        {"--out", {"output path"}}});
 }
 
-void BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) const {
+BatchPlan BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) const {
   o.rotations = parseRotationSpecs(rotations);
   o.envs = expandEnvironmentSpecs(envs);
   if (!exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(exrCompression);
@@ -74,10 +75,11 @@ void BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) cons
   if (!sampleRotation.empty()) o.sampling.rotation = kSampledRotationNames.parse(sampleRotation);
   if (envSample->count() > 0) validateLightingSampling(o.sampling);
   if (!labelFormat.empty()) o.labelFormat = kLabelFormatNames.parse(labelFormat);
-  validateBatchRelight(o);
+  BatchPlan plan = planBatchRelight(o);
   std::vector<std::string> inputs = joined(o.envs, o.viewInputs());
   if (!o.lightPath.empty()) inputs.push_back(o.lightPath);
   refuseOutputsOverInputs(inputs, {jsonPath});
+  return plan;
 }
 
 }  // namespace acpca::cli

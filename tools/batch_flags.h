@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "relight/batch_relight.h"
+#include "dataset/batch_relight.h"
 
 namespace acpca::cli {
 
@@ -17,9 +17,10 @@ struct BatchFlags {
 
   /// Declares the flags on `command`, bound to `options` (and this).
   void add(CLI::App& command, BatchRelightOptions& options, const std::string& outHelp);
-  /// Puts the parsed maps, rotations and codec into `options` and checks them
-  /// (and that no output replaces an input, the JSON report included).
-  void apply(BatchRelightOptions& options, const std::string& jsonPath) const;
+  /// Puts the parsed maps, rotations and codec into `options`, checks them
+  /// (and that no output replaces an input, the JSON report included) and
+  /// returns the batch's plan, its specs parsed once.
+  BatchPlan apply(BatchRelightOptions& options, const std::string& jsonPath) const;
 };
 
 }  // namespace acpca::cli

@@ -8,16 +8,16 @@
 #include <string>
 #include <vector>
 
-#include "cluster/model.h"
 #include "core/error.h"
 #include "core/progress_line.h"
 #include "core/resources.h"
 #include "core/text.h"
 #include "core/thread_limit.h"
+#include "dataset/image_output.h"
 #include "eval/study_output.h"
+#include "lighting/lighting.h"
+#include "model/model.h"
 #include "precompute/scene.h"
-#include "relight/image_output.h"
-#include "relight/lighting.h"
 
 namespace acpca::cli {
 

@@ -16,7 +16,7 @@ struct BatchBenchArgs {
 };
 
 void run(BatchBenchArgs& a) {
-  a.batch.apply(a.options.batch, a.common.jsonPath);
+  a.options.plan = a.batch.apply(a.options.batch, a.common.jsonPath);
   // As `relight` would: black behind a captured light set.
   a.options.batch.background = backgroundFor("", a.options.batch.input);
   ThreadLimit limit(a.common.threads);

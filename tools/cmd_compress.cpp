@@ -3,8 +3,8 @@
 #include <map>
 
 #include "cluster/compress.h"
-#include "cluster/model_file.h"
-#include "relight/file_info.h"
+#include "dataset/file_info.h"
+#include "model/model_file.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "tools/render_flags.h"

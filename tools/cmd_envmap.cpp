@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "relight/envmap_export.h"
+#include "dataset/envmap_export.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -46,7 +46,8 @@ void run(const EnvmapArgs& a) {
 void registerEnvmap(CLI::App& app) {
   auto args = std::make_shared<EnvmapArgs>();
   auto* sub = app.add_subcommand("envmap", "Write what the cube lattice sees of a lighting");
-  sub->add_option("env", args->env, "Lighting (file, constant:V, sun:..., sky)")->required();
+  sub->add_option("env", args->env, "Lighting: an image file, " + environmentGrammarList())
+      ->required();
   sub->add_option("--out", args->out, "Lat-long EXR to write")->required();
   sub->add_option("--cross", args->cross, "Also write a horizontal cube cross EXR");
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");

@@ -1,7 +1,7 @@
 // `adaptive-cpca info`: what a transport (or model) file holds.
 #include <iostream>
 
-#include "relight/file_info.h"
+#include "dataset/file_info.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 

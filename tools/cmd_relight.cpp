@@ -1,11 +1,11 @@
 // `adaptive-cpca relight`: a model or a transport (dense ground truth) under
-// lightings and rotations -> images (relight/batch_relight.h).
+// lightings and rotations -> images (dataset/batch_relight.h).
 #include <iostream>
 
 #include "core/ranks.h"
 #include "core/resources.h"
-#include "relight/batch_relight.h"
-#include "relight/environment.h"
+#include "dataset/batch_relight.h"
+#include "lighting/environment.h"
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -28,7 +28,7 @@ void run(RelightArgs& a) {
   o.input = a.views.front();
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
   o.background = backgroundFor(a.background, o.input);
-  a.batch.apply(o, a.common.jsonPath);
+  const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
   // Under mpirun the ranks share the frames; rank 0 writes and reports.
@@ -38,7 +38,7 @@ void run(RelightArgs& a) {
   o.warn = [lead, quiet = a.common.quiet](const std::string& text) {
     if (lead && !quiet) std::cerr << "adaptive-cpca: " << text << "\n";
   };
-  BatchRelightResult result = relightBatch(o);
+  BatchRelightResult result = relightBatch(o, plan);
   progress.finish();
   if (!lead) return;
   if (!a.common.quiet) std::cerr << result.summary << "\n";

@@ -2,9 +2,9 @@
 // command line, with a clear refusal where there is no display to open.
 
 #include "core/error.h"
-#include "relight/environment.h"
-#include "relight/local_light.h"
-#include "relight/spec_parsing.h"
+#include "lighting/environment.h"
+#include "lighting/local_light.h"
+#include "lighting/spec_parsing.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 #include "viewer/display_check.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "relight/local_light.h"
+#include "lighting/local_light.h"
 #include "transport/camera.h"
 #include "transport/transport_file.h"
 

@@ -6,12 +6,12 @@
 #include <opencv2/highgui.hpp>  // the mouse events' codes; calls go through windowSystem()
 #include <opencv2/imgproc.hpp>
 
-#include "cluster/model.h"
-#include "cluster/model_file.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "dataset/envmap_export.h"
+#include "model/model.h"
+#include "model/model_file.h"
 #include "pictures/pictures.h"
-#include "relight/envmap_export.h"
 #include "relight/local_relight.h"
 #include "viewer/window_system.h"
 
@@ -332,7 +332,7 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       break;
     case Kind::Light: {
       ViewContext context = context_;
-      context.newLight = parseLocalLight(e.path);
+      context.newLight = *e.light;
       ui_ = acpca::applyKey(ui_, 'i', context).state;
       request();
       break;
@@ -404,7 +404,7 @@ void Viewer::savePictures(const std::string& stem) const {
                                   concat("view_", envs_[s.env]->name(), "_", rotationOf(s).label())
                             : fs::path(stem);
   for (ImageFormat format : {ImageFormat::Exr, ImageFormat::Png}) {
-    const std::string path = base.string() + (format == ImageFormat::Exr ? ".exr" : ".png");
+    const std::string path = base.string() + imageExtension(format);
     writeImage(*onScreen_.linear, path, format, s.exposure);
     std::string lights;  // what relight --light takes, to make the same image in a batch
     for (const LocalLight& light : s.lights) lights += " --light " + light.canonicalSpec();

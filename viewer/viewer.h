@@ -12,10 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "relight/domain_lighting.h"
-#include "relight/environment.h"
-#include "relight/image_output.h"
-#include "relight/lighting.h"
+#include "dataset/image_output.h"
+#include "lighting/domain_lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "relight/local_columns.h"
 #include "relight/model_relighter.h"
 #include "viewer/view_input.h"

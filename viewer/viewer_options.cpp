@@ -1,7 +1,7 @@
 #include <algorithm>
 
-#include "cluster/model_file.h"
 #include "core/error.h"
+#include "model/model_file.h"
 #include "viewer/viewer.h"
 
 namespace acpca {

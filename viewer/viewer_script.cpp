@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "relight/local_light.h"
-#include "relight/spec_parsing.h"
+#include "lighting/local_light.h"
+#include "lighting/spec_parsing.h"
 
 namespace acpca {
 
@@ -54,12 +54,12 @@ std::vector<ScriptEvent> readViewerScript(const std::string& path) {
       e = {ScriptEvent::Kind::Wheel, numberAt(0)};
     } else if (verb == "light") {
       need(1);
+      e = {ScriptEvent::Kind::Light, 0, 0, args[0]};
       try {
-        parseLocalLight(args[0]);  // refused here, with the line, rather than mid-run
+        e.light = parseLocalLight(args[0]);  // refused here, with the line, rather than mid-run
       } catch (const UserError& error) {
         throw UserError(concat(where, ": ", error.what()));
       }
-      e = {ScriptEvent::Kind::Light, 0, 0, args[0]};
     } else if (verb == "rotate") {
       need(1);
       const auto comma = args[0].find(',');

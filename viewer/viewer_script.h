@@ -13,9 +13,12 @@
 //   screenshot FILE  write the window's canvas (image and status strip) as PNG
 //   wait MS          keep the window up for MS milliseconds
 // Blank lines and lines starting with # are skipped.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "lighting/local_light.h"
 
 namespace acpca {
 
@@ -37,9 +40,10 @@ struct ScriptEvent {
   ScriptEvent(Kind kind, double a = 0, double b = 0, std::string path = {})
       : kind(kind), a(a), b(b), path(std::move(path)) {}
   Kind kind;
-  double a, b;          ///< numbers (key code in a for Key)
-  double c = 0, d = 0;  ///< DragFrom: the drag (a, b: where it starts)
-  std::string path;     ///< Save, Screenshot; Light: the spec
+  double a, b;                      ///< numbers (key code in a for Key)
+  double c = 0, d = 0;              ///< DragFrom: the drag (a, b: where it starts)
+  std::string path;                 ///< Save, Screenshot; Light: the spec
+  std::optional<LocalLight> light;  ///< Light: the spec, parsed once as the script is read
 };
 
 /// Reads a script; throws UserError naming the file and line of anything wrong.

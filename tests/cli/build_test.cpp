@@ -12,11 +12,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "cluster/model_file.h"
-#include "cluster/model_reference.h"
 #include "core/statistics.h"
+#include "model/model_file.h"
+#include "model/model_reference.h"
 #include "relight/dense_relight.h"
 #include "tests/cli/run_cli.h"
+#include "tests/model_support.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -135,12 +136,7 @@ TEST(Build, AnInterruptedBuildLeavesNoModelAndResumesToTheSameOne) {
   EXPECT_NE(test::readFile(dir.file("r.json")).find("\"tiles_resumed\": 5"), std::string::npos)
       << test::readFile(dir.file("r.json"));
   const Model whole = readModel(dir.file("whole.h5")), resumedModel = readModel(dir.file("m.h5"));
-  EXPECT_EQ(resumedModel.clusterRows, whole.clusterRows);
-  EXPECT_EQ(resumedModel.ranks, whole.ranks);
-  EXPECT_EQ(resumedModel.bases, whole.bases);
-  EXPECT_EQ(resumedModel.coeffI8, whole.coeffI8);
-  EXPECT_EQ(resumedModel.coeffScale, whole.coeffScale);
-  EXPECT_DOUBLE_EQ(resumedModel.transportError, whole.transportError);
+  test::expectSameModelArrays(resumedModel, whole);
 
   // Tiles of other settings are not mixed in: --resume refuses them.
   ASSERT_NE(runCli(build + "--out " + dir.file("n.h5"), "ACPCA_FAULT_TILE=3").status, 0);

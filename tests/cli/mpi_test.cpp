@@ -13,7 +13,7 @@
 #include <map>
 #include <sstream>
 
-#include "cluster/model_file.h"
+#include "model/model_file.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 

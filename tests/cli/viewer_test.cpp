@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cluster/model_file.h"
-#include "relight/local_light.h"
+#include "lighting/local_light.h"
+#include "model/model_file.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 

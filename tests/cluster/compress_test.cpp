@@ -6,12 +6,13 @@
 #include <random>
 
 #include "cluster/compress.h"
-#include "cluster/cost_model.h"
 #include "cluster/global_basis.h"
-#include "cluster/model_file.h"
-#include "cluster/model_reference.h"
-#include "cluster/model_summary.h"
 #include "cluster/rank_allocation.h"
+#include "model/cost_model.h"
+#include "model/model_file.h"
+#include "model/model_reference.h"
+#include "model/model_summary.h"
+#include "tests/model_support.h"
 #include "tests/test_support.h"
 #include "transport/hdf5_handles.h"
 
@@ -402,15 +403,7 @@ TEST_F(CompressPlant, AModelWrittenInPiecesReadsAsTheWholeOne) {
     writer.finish(whole);
   }
   const Model back = readModel(dir.file("pieces.h5"));
-  EXPECT_EQ(back.clusterRows, whole.clusterRows);
-  EXPECT_EQ(back.rowOffsets, whole.rowOffsets);
-  EXPECT_EQ(back.basisOffsets, whole.basisOffsets);
-  EXPECT_EQ(back.coefficientOffsets, whole.coefficientOffsets);
-  EXPECT_EQ(back.bases, whole.bases);
-  EXPECT_EQ(back.means, whole.means);
-  EXPECT_EQ(back.coeffI8, whole.coeffI8);
-  EXPECT_EQ(back.coeffScale, whole.coeffScale);
-  EXPECT_DOUBLE_EQ(back.transportError, whole.transportError);
+  test::expectSameModelArrays(back, whole);
   // A writer that never finishes leaves nothing behind.
   { ModelFileWriter unfinished(dir.file("never.h5"), whole, ModelSizes::of(whole)); }
   EXPECT_FALSE(std::filesystem::exists(dir.file("never.h5")));

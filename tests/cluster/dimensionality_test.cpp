@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "cluster/cost_model.h"
 #include "cluster/dimensionality.h"
+#include "model/cost_model.h"
 #include "tests/test_support.h"
 
 namespace acpca {

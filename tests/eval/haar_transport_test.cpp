@@ -9,8 +9,8 @@
 
 #include "eval/error_measures.h"
 #include "eval/haar_transport.h"
+#include "lighting/lighting.h"
 #include "relight/dense_relight.h"
-#include "relight/lighting.h"
 #include "tests/test_support.h"
 
 namespace acpca {

@@ -8,9 +8,9 @@
 #include <tbb/global_control.h>
 
 #include "core/statistics.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "relight/dense_relight.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
 #include "tests/lighting_support.h"
 #include "tests/test_support.h"
 

@@ -12,8 +12,8 @@
 #include "eval/error_measures.h"
 #include "eval/sh_transport.h"
 #include "eval/spherical_harmonics.h"
+#include "lighting/lighting.h"
 #include "relight/dense_relight.h"
-#include "relight/lighting.h"
 #include "tests/test_support.h"
 
 namespace acpca {

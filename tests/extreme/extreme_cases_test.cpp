@@ -15,11 +15,11 @@
 #include "eval/error_measures.h"
 #include "eval/haar_transport.h"
 #include "eval/sh_transport.h"
+#include "lighting/lighting.h"
 #include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "relight/dense_relight.h"
-#include "relight/lighting.h"
 #include "relight/model_relighter.h"
 #include "tests/render_support.h"
 

@@ -8,12 +8,12 @@
 #include <numbers>
 #include <random>
 
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "precompute/material.h"
 #include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
 #include "tests/render_support.h"
 
 namespace acpca {

@@ -3,8 +3,8 @@
 // (mean over RGB, albedo applied) of every row under one lighting.
 #include <vector>
 
-#include "relight/environment.h"
-#include "relight/lighting.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "tests/render_support.h"
 
 namespace acpca::test {

@@ -10,8 +10,8 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "lighting/lighting.h"
 #include "precompute/scene.h"
-#include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"
 #include "tests/temp_dir.h"

@@ -51,7 +51,7 @@ TEST(LocalLights, ASphereOverAFloorGivesTheClosedFormOfASphericalSource) {
       const Vec3 toLight = light.position - positionOf(t.header(), r);
       const double d = toLight.norm(), cosTheta = toLight.y() / d;
       const double expected =
-          kAlbedo * light.emission.x() * std::pow(light.radius / d, 2) * cosTheta;
+          kAlbedo * light.emission.x() * std::pow(light.sphere()->radius / d, 2) * cosTheta;
       worst = std::max(worst, std::abs(rgb[3 * r] / expected - 1));
     }
     EXPECT_LT(worst, 0.01) << spec;

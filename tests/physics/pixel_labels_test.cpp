@@ -7,12 +7,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "dataset/batch_relight.h"
+#include "dataset/pixel_labels.h"
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
-#include "relight/batch_relight.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
-#include "relight/pixel_labels.h"
 #include "tests/temp_dir.h"
 #include "tests/test_support.h"
 

@@ -11,9 +11,9 @@
 #include <thread>
 
 #include "core/error.h"
+#include "lighting/lighting.h"
 #include "precompute/scene.h"
 #include "relight/dense_relight.h"
-#include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"
 #include "tests/temp_dir.h"

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "lighting/environment.h"
+#include "lighting/lighting.h"
 #include "precompute/scene.h"
-#include "relight/environment.h"
-#include "relight/lighting.h"
 #include "tests/physics/grey_rows.h"
 #include "tests/render_support.h"
 

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <memory>
 
+#include "lighting/lighting.h"
 #include "precompute/scene.h"
-#include "relight/lighting.h"
 #include "tests/render_support.h"
 #include "tests/texture_support.h"
 

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "relight/image_output.h"
-#include "relight/lighting.h"
+#include "lighting/lighting.h"
+#include "relight/image_composer.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -74,23 +74,6 @@ TEST_F(DenseRelight, ComposedImagesShowBackgroundAsAsked) {
     }
   EXPECT_GT(background, 0) << "the test scene should show some sky";
   for (const float v : withEnv.pixels) EXPECT_TRUE(std::isfinite(v));
-}
-
-TEST(ImageOutput, PngIsSrgbEncodedAndWritesAreAtomic) {
-  EXPECT_NEAR(linearToSrgb(0.0), 0.0, 1e-12);
-  EXPECT_NEAR(linearToSrgb(1.0), 1.0, 1e-12);
-  EXPECT_NEAR(linearToSrgb(0.18), 0.4614, 1e-3);
-  test::TempDir dir;
-  Image image{4, 2, 3, std::vector<float>(24, 0.5f)};
-  EXPECT_THROW(writeImage(image, dir.file("no/dir/x.png"), ImageFormat::Png, 0), UserError);
-  writeImage(image, dir.file("x.exr"), ImageFormat::Exr, 1.0);
-  writeImage(image, dir.file("x.png"), ImageFormat::Png, 0);
-  int files = 0;
-  for (const auto& e : test::fs::directory_iterator(dir.path())) {
-    ++files;
-    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos);
-  }
-  EXPECT_EQ(files, 2);
 }
 
 }  // namespace

@@ -1,0 +1,190 @@
+#include "dataset/image_output.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/half.h"
+#include "dataset/npy_file.h"
+#include "imageio/image_file.h"
+
+namespace acpca {
+
+double toneMapped(double v, ToneCurve tone) {
+  if (tone == ToneCurve::Aces && v > 0) v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
+  return std::clamp(v, 0.0, 1.0);
+}
+
+namespace {
+/// The 8-bit code of a scaled linear value, by the formula itself.
+unsigned char srgbCode(float scaled) {
+  return static_cast<unsigned char>(std::lround(linearToSrgb(scaled) * 255));
+}
+}  // namespace
+
+SrgbEncoder::Tables::Tables() {
+  // Non-negative floats order like their bit patterns, so each threshold is
+  // found by bisection over the bits: the smallest x with srgbCode(x) > b.
+  for (int b = 0; b < 255; ++b) {
+    std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);  // srgbCode(1) = 255
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (srgbCode(std::bit_cast<float>(mid)) > b)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    thresholds[b] = std::bit_cast<float>(lo);
+  }
+  thresholds[255] = std::numeric_limits<float>::infinity();
+  for (size_t k = 0; k < bucketCode.size(); ++k)
+    bucketCode[k] =
+        srgbCode(std::bit_cast<float>(kFirstBucket + (std::uint32_t(k) << (23 - kBucketBits))));
+}
+
+// The tables hold scaled values, so one set serves every exposure; built once
+// (7,650 pow calls), not once a frame.
+SrgbEncoder::SrgbEncoder(double exposureEv, ToneCurve tone)
+    : scale_(static_cast<float>(std::exp2(exposureEv))), tone_(tone), tables_(tables()) {}
+
+const SrgbEncoder::Tables& SrgbEncoder::tables() {
+  static const Tables shared;
+  return shared;
+}
+
+unsigned char SrgbEncoder::operator()(float linear) const {
+  float scaled = linear * scale_;
+  // A curve maps first; the tables then encode its value exactly.
+  if (tone_ != ToneCurve::Clamp) scaled = static_cast<float>(toneMapped(scaled, tone_));
+  if (!(scaled > 0)) return 0;  // negative, zero or NaN
+  if (scaled >= 1) return 255;
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(scaled);
+  int code =
+      bits < kFirstBucket ? 0 : tables_.bucketCode[(bits - kFirstBucket) >> (23 - kBucketBits)];
+  while (scaled >= tables_.thresholds[code]) ++code;  // thresholds[255] is infinite
+  return static_cast<unsigned char>(code);
+}
+
+std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
+  std::vector<unsigned char> bytes(image.pixels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), 1 << 16),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const bool alpha = image.channels == 4 && i % 4 == 3;
+                        bytes[i] = alpha ? static_cast<unsigned char>(std::lround(
+                                               std::clamp(image.pixels[i], 0.0f, 1.0f) * 255))
+                                         : (*this)(image.pixels[i]);
+                      }
+                    });
+  return bytes;
+}
+
+namespace {
+
+/// 8-bit values as PNG into `file` (errors name `path`).
+void encodePng8(int width, int height, int channels, const unsigned char* values,
+                const std::string& file, const std::string& path, int level) {
+  ImageWriteSpec spec{width, height, channels, PixelType::UInt8};
+  spec.integerAttributes = {{"png:compressionLevel", std::clamp(level, 0, 9)}};
+  writeImageFile(file, spec, values, path);
+}
+
+/// 16-bit sRGB: round(65535 linearToSrgb(tone(v 2^exposure))), alpha as
+/// coverage; by the formula, value by value (no table has 65,536 steps).
+void encodePng16(const Image& image, const std::string& file, const std::string& path,
+                 double exposureEv, const ImageEncoding& encoding) {
+  const double scale = std::exp2(exposureEv);
+  std::vector<std::uint16_t> values(image.pixels.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, values.size(), 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const double v = image.pixels[i];
+                        const double coded =
+                            image.channels == 4 && i % 4 == 3
+                                ? std::clamp(v, 0.0, 1.0)
+                                : linearToSrgb(toneMapped(v * scale, encoding.tone));
+                        values[i] = static_cast<std::uint16_t>(std::lround(coded * 65535));
+                      }
+                    });
+  ImageWriteSpec spec{image.width, image.height, image.channels, PixelType::UInt16};
+  spec.integerAttributes = {{"png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9)}};
+  writeImageFile(file, spec, values.data(), path);
+}
+
+/// float32 H x W x C, linear, times 2^exposure (alpha as coverage).
+void encodeNpy(const Image& image, const std::string& file, const std::string& path,
+               double exposureEv) {
+  const float scale = static_cast<float>(std::exp2(exposureEv));
+  std::vector<float> values(image.pixels);
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!(image.channels == 4 && i % 4 == 3)) values[i] *= scale;
+  writeNpy(file, path,
+           {static_cast<size_t>(image.height), static_cast<size_t>(image.width),
+            static_cast<size_t>(image.channels)},
+           values.data());
+}
+
+}  // namespace
+
+void encodeImage(const Image& image, const std::string& file, const std::string& path,
+                 ImageFormat format, double exposureEv, const ImageEncoding& encoding) {
+  if (format == ImageFormat::Png) {
+    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv, encoding.tone).encode(image);
+    return encodePng8(image.width, image.height, image.channels, bytes.data(), file, path,
+                      encoding.pngLevel);
+  }
+  if (format == ImageFormat::Png16) return encodePng16(image, file, path, exposureEv, encoding);
+  if (format == ImageFormat::Npy) return encodeNpy(image, file, path, exposureEv);
+  const float scale = static_cast<float>(std::exp2(exposureEv));
+  const size_t values = image.pixels.size();
+  ImageWriteSpec spec{image.width, image.height, image.channels,
+                      encoding.exrFloat ? PixelType::Float : PixelType::Half};
+  // OpenImageIO stamps EXRs with the time of writing unless told otherwise:
+  // the same inputs must give the same bytes (datasets are compared by hash).
+  spec.textAttributes = {{"compression", kExrCompressionNames.name(encoding.exrCompression)},
+                         {"DateTime", ""}};
+  std::vector<float> scaled;
+  const float* pixels = image.pixels.data();
+  if (scale != 1) {
+    scaled.resize(values);
+    for (size_t i = 0; i < values; ++i)
+      scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
+    pixels = scaled.data();
+  }
+  if (encoding.exrFloat) return writeImageFile(file, spec, pixels, path);
+  // Halves made by the CPU's instruction: OpenImageIO converts value by
+  // value in software, a third of a 1024x1024 frame's writing. The same
+  // IEEE rounding, so the same file.
+  std::vector<std::uint16_t> halves(values);
+  floatToHalfIeee(pixels, halves.data(), values);
+  writeImageFile(file, spec, halves.data(), path);
+}
+
+void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
+                bool exrFloat) {
+  AtomicOutput output(path);  // the temporary name keeps the extension that picks the codec
+  ImageEncoding encoding;
+  encoding.exrFloat = exrFloat;
+  encodeImage(image, output.tempPath(), path, format, exposureEv, encoding);
+  output.commit();
+}
+
+void writePng8(int width, int height, int channels, const unsigned char* values,
+               const std::string& path) {
+  AtomicOutput output(path);
+  encodePng8(width, height, channels, values, output.tempPath(), path, ImageEncoding{}.pngLevel);
+  output.commit();
+}
+
+const char* imageExtension(ImageFormat format) {
+  return format == ImageFormat::Exr ? ".exr" : format == ImageFormat::Npy ? ".npy" : ".png";
+}
+
+}  // namespace acpca

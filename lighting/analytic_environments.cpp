@@ -1,0 +1,144 @@
+// The analytic environments: constant (the furnace test), a sun disc, and the
+// built-in sun-and-sky.
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.h"
+#include "lighting/environment.h"
+
+namespace acpca {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+double toRadians(double degrees) {
+  return degrees * kPi / 180.0;
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+class ConstantEnvironment : public Environment {
+ public:
+  explicit ConstantEnvironment(const Rgb& radiance) : radiance_(radiance) {}
+  std::string name() const override {
+    if (radiance_.x() == radiance_.y() && radiance_.y() == radiance_.z())
+      return "constant_" + formatNumber(radiance_.x());
+    return "constant_" + formatNumber(radiance_.x()) + "_" + formatNumber(radiance_.y()) + "_" +
+           formatNumber(radiance_.z());
+  }
+  Rgb radiance(const Vec3&) const override { return radiance_; }
+  void integrate(const CubeLattice& lattice, const Eigen::Matrix3d&,
+                 LatticeLighting& lighting) const override {
+    for (int j = 0; j < lattice.size(); ++j)  // exact: radiance times solid angle
+      for (int c = 0; c < 3; ++c) lighting[3 * j + c] += radiance_[c] * lattice.solidAngle(j);
+  }
+
+ private:
+  Rgb radiance_;
+};
+
+/// A disc of uniform radiance. Its energy, radiance x 2 pi (1 - cos(size/2)), is
+/// split over equal-solid-angle samples of the disc, each added to the texel
+/// that holds it: the total is exact and the footprint follows the disc.
+class SunEnvironment : public Environment {
+ public:
+  SunEnvironment(double theta, double phi, double size, const Rgb& radiance)
+      : theta_(theta), phi_(phi), size_(size), radiance_(radiance) {
+    centre_ = directionFromAngles(toRadians(theta), toRadians(phi));
+    cosHalf_ = std::cos(0.5 * toRadians(size));
+  }
+  std::string name() const override {
+    return "sun_" + formatNumber(theta_) + "_" + formatNumber(phi_) + "_" + formatNumber(size_) +
+           "_" + formatNumber(radiance_.maxCoeff());
+  }
+  Rgb radiance(const Vec3& d) const override {
+    return d.normalized().dot(centre_) >= cosHalf_ ? radiance_ : Rgb::Zero();
+  }
+  Rgb energy() const { return radiance_ * 2 * kPi * (1 - cosHalf_); }
+  void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                 LatticeLighting& lighting) const override {
+    // Rings of equal solid angle (cos theta uniform), more of them than the
+    // disc spans texels so that its footprint is resolved.
+    const double texelAngle = 0.5 * kPi / lattice.resolution();
+    const int rings =
+        std::clamp(static_cast<int>(std::ceil(16 * toRadians(size_) / texelAngle)), 8, 512);
+    const int segments = 2 * rings;
+    const Vec3 axis = rotation * centre_;
+    const Vec3 helper = std::abs(axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+    const Vec3 u = axis.cross(helper).normalized(), v = axis.cross(u);
+    const Rgb share = energy() / (static_cast<double>(rings) * segments);
+    for (int r = 0; r < rings; ++r) {
+      const double cosT = 1 - (r + 0.5) / rings * (1 - cosHalf_);
+      const double sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
+      for (int s = 0; s < segments; ++s) {
+        const double phi = 2 * kPi * (s + 0.5 * (r & 1)) / segments;
+        const Vec3 w = cosT * axis + sinT * (std::cos(phi) * u + std::sin(phi) * v);
+        const int j = lattice.texelOf(w);
+        for (int c = 0; c < 3; ++c) lighting[3 * j + c] += share[c];
+      }
+    }
+  }
+
+ private:
+  double theta_, phi_, size_;
+  Rgb radiance_;
+  Vec3 centre_;
+  double cosHalf_;
+};
+
+/// Sun and sky: a blue sky brightening towards the horizon with a glow around
+/// the sun, a dim ground below the horizon, and a 2-degree sun 35 degrees from
+/// the zenith. On level ground the sun gives about 1.6 and the sky about 1.0 of
+/// irradiance, so shadows are crisp but not black and a white diffuse floor
+/// shows about 0.8 at exposure 0. Documented in docs/lighting.md.
+class SkyEnvironment : public Environment {
+ public:
+  static constexpr double kSunTheta = 35, kSunPhi = 60, kSunSize = 2;
+  SkyEnvironment() : sun_(kSunTheta, kSunPhi, kSunSize, Rgb(2000, 1900, 1700)) {
+    sunDirection_ = directionFromAngles(toRadians(kSunTheta), toRadians(kSunPhi));
+  }
+  std::string name() const override { return "sky"; }
+  Rgb radiance(const Vec3& d) const override {
+    const Rgb sun = sun_.radiance(d);
+    return sun.maxCoeff() > 0 ? sun : skyRadiance(d.normalized());
+  }
+  void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                 LatticeLighting& lighting) const override {
+    integrateSmoothFunction(
+        lattice, rotation, [this](const Vec3& d) { return skyRadiance(d); }, 4, lighting);
+    sun_.integrate(lattice, rotation, lighting);
+  }
+
+ private:
+  Rgb skyRadiance(const Vec3& d) const {
+    if (d.y() < 0) return {0.10, 0.09, 0.08};  // ground
+    const Rgb zenith(0.16, 0.30, 0.64), horizon(0.60, 0.66, 0.76);
+    const double t = std::pow(1 - d.y(), 4);
+    const double glow = 0.5 * std::exp(-40 * (1 - d.dot(sunDirection_)));
+    return (1 - t) * zenith + t * horizon + glow * Rgb(1.0, 0.9, 0.7);
+  }
+  SunEnvironment sun_;
+  Vec3 sunDirection_;
+};
+
+}  // namespace
+
+std::unique_ptr<Environment> makeConstantEnvironment(const Rgb& radiance) {
+  return std::make_unique<ConstantEnvironment>(radiance);
+}
+
+std::unique_ptr<Environment> makeSunEnvironment(double theta, double phi, double size,
+                                                const Rgb& radiance) {
+  return std::make_unique<SunEnvironment>(theta, phi, size, radiance);
+}
+
+std::unique_ptr<Environment> makeSkyEnvironment() {
+  return std::make_unique<SkyEnvironment>();
+}
+
+}  // namespace acpca

@@ -1,0 +1,110 @@
+#pragma once
+// Environment lighting: analytic maps (constant, sun, sky) and lat-long images,
+// integrated onto the cube lattice by area, never point-sampled, so that a small
+// sun keeps its energy at every resolution and rotation (docs/design.md section 3).
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "transport/camera.h"
+#include "transport/cube_lattice.h"
+
+namespace acpca {
+
+using Rgb = Eigen::Vector3d;
+
+/// Per-texel lighting on the lattice: RGB radiance integrated over each texel's
+/// solid angle (radiance x dOmega), laid out [texel * 3 + channel].
+using LatticeLighting = std::vector<double>;
+
+class Environment {
+ public:
+  virtual ~Environment() = default;
+  /// Short name for output files and manifests ("sky", "sun_50_30_4_1000", file stem).
+  virtual std::string name() const = 0;
+  /// Radiance arriving from unit direction d, of the unrotated map.
+  virtual Rgb radiance(const Vec3& d) const = 0;
+  /// Adds, for every texel j, the integral of the rotated map's radiance over the
+  /// texel: integral over texel j of L(R^T w) dw. Total energy is conserved.
+  virtual void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                         LatticeLighting& lighting) const = 0;
+};
+
+/// A built-in map's grammar, written once: loadEnvironment parses by it, its
+/// errors quote it, and the CLI's help, Python's docstrings and
+/// docs/lighting.md are made from it or checked against it.
+struct EnvironmentGrammar {
+  const char* prefix;   ///< what a spec starts with ("sky" is the whole spec)
+  const char* grammar;  ///< the spec written out
+  const char* meaning;
+};
+inline constexpr std::array<EnvironmentGrammar, 3> kEnvironmentGrammars{{
+    {"constant:", "constant:V or constant:R,G,B", "uniform radiance from every direction"},
+    {"sun:", "sun:THETA,PHI,SIZE_DEG,INTENSITY",
+     "a disc SIZE_DEG across of radiance INTENSITY, THETA from +Y, PHI from -Z towards +X"},
+    {"sky", "sky", "the built-in sun and sky"},
+}};
+/// The built-in maps' grammars joined ("constant:V or constant:R,G,B,
+/// sun:..., sky"), for help texts and messages.
+std::string environmentGrammarList();
+
+/// Parses an ENV argument: a built-in map (kEnvironmentGrammars) or an image
+/// file (lat-long or cube cross, anything OpenImageIO reads). Throws
+/// ParameterError ("environment") or UserError naming the argument.
+std::unique_ptr<Environment> loadEnvironment(const std::string& spec);
+/// Negative values are ringing from filtering when they hold at most this share
+/// of a map's summed magnitude (all channels): they are clamped to 0, with a
+/// warning above kSilentNegativeShare. Debian's blender-data world maps hold up
+/// to 6e-7, which no relit value can show (below half an f16 step).
+inline constexpr double kMaxNegativeShare = 0.01;
+inline constexpr double kSilentNegativeShare = 1e-6;
+
+/// Loads an environment image (OpenImageIO): RGB, finite; tiny negative values
+/// clamped (kMaxNegativeShare); a horizontal cube cross when its aspect is 4:3,
+/// a lat-long map when it is 2:1 (requireLatLongAspect), else refused.
+std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
+/// True if spec names an analytic map rather than a file.
+bool isAnalyticEnvironment(const std::string& spec);
+
+/// Lighting specs with each directory replaced by the lighting images it holds
+/// (.exr, .hdr, .pfm, .tif; sorted); analytic specs and files pass through.
+/// Throws ParameterError for a directory without any.
+std::vector<std::string> expandEnvironmentSpecs(const std::vector<std::string>& specs);
+
+std::unique_ptr<Environment> makeConstantEnvironment(const Rgb& radiance);
+/// A disc of angular diameter sizeDegrees and uniform radiance, centred at the
+/// lat-long angles theta (from +Y) and phi (0 towards -Z, 90 towards +X).
+std::unique_ptr<Environment> makeSunEnvironment(double thetaDegrees, double phiDegrees,
+                                                double sizeDegrees, const Rgb& radiance);
+/// The built-in sun-and-sky (docs/lighting.md).
+std::unique_ptr<Environment> makeSkyEnvironment();
+/// A horizontal cube cross (4 x 3 faces of faceSize pixels, the layout of
+/// latticeToCross), RGB row-major.
+std::unique_ptr<Environment> makeCubeCrossEnvironment(std::string name, int faceSize,
+                                                      std::vector<float> rgb);
+/// A lat-long image in memory: width x height RGB, row 0 at the zenith.
+std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
+                                                    std::vector<float> rgb);
+/// A lat-long map's width within this share of twice its height is read with a
+/// warning (a map cropped or padded by a pixel); further off, it is refused.
+inline constexpr double kLatLongAspectTolerance = 0.01;
+/// Refuses (UserError naming `where` and the size) an image that is not a
+/// 2:1 lat-long map within kLatLongAspectTolerance; warns when not exactly.
+void requireLatLongAspect(const std::string& where, int width, int height);
+/// An environment image in memory, checked and read as loadEnvironmentImage
+/// reads a file: width x height pixels of `channels` floats (1: grey; beyond 3
+/// ignored), row 0 at the top. `where` names it in errors and warnings.
+std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
+                                                       int width, int height, int channels,
+                                                       const float* values);
+
+/// Integrates a smooth radiance function over every texel by splitting the texel
+/// into sub x sub cells weighted by their exact solid angles (for analytic maps).
+void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                             const std::function<Rgb(const Vec3&)>& radiance, int sub,
+                             LatticeLighting& lighting);
+
+}  // namespace acpca

@@ -1,0 +1,219 @@
+// Lat-long (equirectangular) environment images. Each source pixel is treated
+// as constant radiance over its exact solid angle and split into sub-cells
+// small against a texel; every sub-cell adds radiance x solid angle to the
+// texel that holds its (rotated) centre. Energy is conserved to rounding at any
+// rotation, and a small sun keeps its energy.
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/warning.h"
+#include "imageio/image_file.h"
+#include "lighting/environment.h"
+
+namespace acpca {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr long long kMaxPixels = 1LL << 28;  // 16k x 16k
+
+/// acc[3 j + c] += omega * p[c] for each cell of a row in turn (j its texel, p
+/// its map pixel). Neighbouring cells mostly share a texel: its sums stay in
+/// registers over the run, the same additions in the same order.
+void addRow(const float* pixels, int sub, int cells, const int* texel, double omega,
+            std::vector<double>& acc) {
+  int current = -1;
+  double sum[3] = {0, 0, 0};
+  for (int i = 0; i < cells; ++i) {
+    const float* p = pixels + 3 * (i / sub);
+    if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
+    if (texel[i] != current) {
+      if (current >= 0)
+        for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
+      current = texel[i];
+      for (int c = 0; c < 3; ++c) sum[c] = acc[3 * current + c];
+    }
+    for (int c = 0; c < 3; ++c) sum[c] += omega * p[c];
+  }
+  if (current >= 0)
+    for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
+}
+
+class LatLongEnvironment : public Environment {
+ public:
+  LatLongEnvironment(std::string name, int width, int height, std::vector<float> rgb)
+      : name_(std::move(name)), width_(width), height_(height), rgb_(std::move(rgb)) {
+    ACPCA_CHECK(rgb_.size() == 3ull * width * height, "lat-long buffer ", rgb_.size());
+  }
+  std::string name() const override { return name_; }
+
+  Rgb radiance(const Vec3& dir) const override {
+    const Vec3 d = dir.normalized();
+    // docs/design.md section 3: u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
+    const double u = 0.5 + std::atan2(d.x(), -d.z()) / (2 * kPi);
+    const double v = std::acos(std::clamp(d.y(), -1.0, 1.0)) / kPi;
+    // Bilinear between pixel centres, wrapping in u and clamping in v.
+    const double x = u * width_ - 0.5, y = std::clamp(v * height_ - 0.5, 0.0, height_ - 1.0);
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const double fx = x - x0, fy = y - y0;
+    Rgb sum = Rgb::Zero();
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dx = 0; dx <= 1; ++dx) {
+        // Wrap in u; x0 + dx lies in [-1, width] but at the seam, so the
+        // divisions of the general wrap are rarely needed (every background
+        // pixel of every frame comes through here).
+        int px = x0 + dx;
+        if (px < 0 || px >= width_) px = (px % width_ + width_) % width_;
+        const int py = std::min(y0 + dy, height_ - 1);
+        const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+        sum += w * pixel(px, py);
+      }
+    return sum;
+  }
+
+  void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
+                 LatticeLighting& lighting) const override {
+    ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
+    // Sub-cells at most 1/8 of a texel's angular size.
+    const double texelAngle = 0.5 * kPi / lattice.resolution();
+    const int sub = std::max(1, static_cast<int>(std::ceil(8 * (kPi / height_) / texelAngle)));
+    const int subW = width_ * sub, subH = height_ * sub;
+    std::vector<double> sinPhi(subW), cosPhi(subW);
+    for (int i = 0; i < subW; ++i) {
+      const double phi = 2 * kPi * ((i + 0.5) / subW - 0.5);  // u = 0.5 + phi / 2 pi
+      sinPhi[i] = std::sin(phi), cosPhi[i] = std::cos(phi);
+    }
+    const double dPhi = 2 * kPi / subW;
+    // Fixed chunks of source rows, each with its own partial sums, added in
+    // order: the result does not depend on the thread count.
+    constexpr int kChunks = 16;
+    const int chunkRows = (subH + kChunks - 1) / kChunks;
+    const int chunks = (subH + chunkRows - 1) / chunkRows;
+    std::vector<std::vector<double>> partial(chunks);
+    tbb::parallel_for(0, chunks, [&](int chunk) {
+      auto& acc = partial[chunk];
+      acc.assign(lighting.size(), 0.0);
+      std::vector<double> x(subW), y(subW), z(subW);
+      std::vector<int> texel(subW);
+      for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
+        const double theta0 = kPi * r / subH, theta1 = kPi * (r + 1) / subH;
+        const double omega = (std::cos(theta0) - std::cos(theta1)) * dPhi;
+        const double theta = 0.5 * (theta0 + theta1);
+        const double sinT = std::sin(theta), cosT = std::cos(theta);
+        const int py = r / sub;
+        // The row's cells under the rotation, then their texels in SIMD lanes.
+        for (int i = 0; i < subW; ++i) {
+          const Vec3 d = rotation * Vec3(sinT * sinPhi[i], cosT, -sinT * cosPhi[i]);
+          x[i] = d.x(), y[i] = d.y(), z[i] = d.z();
+        }
+        lattice.texelsOf(x.data(), y.data(), z.data(), subW, texel.data());
+        addRow(&rgb_[3 * static_cast<size_t>(py) * width_], sub, subW, texel.data(), omega, acc);
+      }
+    });
+    for (const auto& acc : partial)
+      for (size_t k = 0; k < lighting.size(); ++k) lighting[k] += acc[k];
+  }
+
+ private:
+  Rgb pixel(int x, int y) const {
+    const float* p = &rgb_[3 * (static_cast<size_t>(y) * width_ + x)];
+    return {p[0], p[1], p[2]};
+  }
+  std::string name_;
+  int width_, height_;
+  std::vector<float> rgb_;
+};
+
+}  // namespace
+
+std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
+                                                    std::vector<float> rgb) {
+  return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));
+}
+
+void requireLatLongAspect(const std::string& where, int width, int height) {
+  const long long twice = 2LL * height;
+  if (width == twice) return;
+  const double off = std::abs(width - twice) / static_cast<double>(twice);
+  if (off > kLatLongAspectTolerance)
+    throw UserError(concat(where, ": a ", width, "x", height,
+                           " image is neither a lat-long map (2:1) nor a horizontal cube cross "
+                           "(4:3); its aspect is ",
+                           static_cast<double>(width) / height, ":1"));
+  warn(concat(where, ": ", width, "x", height, " is not quite 2:1 (", 100 * off,
+              "% off); read as a lat-long map, its texels stretched to the sphere"));
+}
+
+std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
+                                                       int width, int height, int channels,
+                                                       const float* values) {
+  if (width < 2 || height < 1 || static_cast<long long>(width) * height > kMaxPixels)
+    throw UserError(
+        concat(where, ": environment map size ", width, "x", height, " is out of range"));
+  if (channels < 1) throw UserError(concat(where, ": the environment map has no channels"));
+  std::vector<float> rgb(static_cast<size_t>(width) * height * 3);
+  // Filtered and resampled HDRIs carry tiny negative texels (ringing); they
+  // are clamped to 0, as renderers do, unless they hold a real share of the
+  // map's energy. NaN and Inf are refused.
+  long long negatives = 0;
+  float mostNegative = 0;
+  double negativeSum = 0, absoluteSum = 0;
+  for (size_t p = 0; p < rgb.size() / 3; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = values[p * channels + std::min(c, channels < 3 ? 0 : c)];
+      if (!std::isfinite(v))
+        throw UserError(concat(where, ": pixel (", p % width, ", ", p / width, ") channel ", c,
+                               " is ", v, "; radiance must be finite"));
+      absoluteSum += std::abs(v);
+      if (v < 0) ++negatives, negativeSum -= v, mostNegative = std::min(mostNegative, v);
+      rgb[3 * p + c] = std::max(v, 0.0f);
+    }
+  if (negatives > 0) {
+    const double share = negativeSum / absoluteSum;
+    if (share > kMaxNegativeShare)
+      throw UserError(concat(where, ": ", negatives, " negative values (down to ", mostNegative,
+                             ") hold ", 100 * share, "% of the map's summed magnitude; more than ",
+                             100 * kMaxNegativeShare, "% is not ringing but a broken map"));
+    if (share > kSilentNegativeShare)
+      warn(concat(where, ": ", negatives, " negative values clamped to 0 (the most negative ",
+                  mostNegative, ", ", 100 * share, "% of the summed magnitude)"));
+  }
+  // A 4:3 image is a horizontal cube cross; lat-long maps are 2:1.
+  if (width * 3 == height * 4 && width % 4 == 0)
+    return makeCubeCrossEnvironment(std::move(name), width / 4, std::move(rgb));
+  requireLatLongAspect(where, width, height);
+  return makeLatLongEnvironment(std::move(name), width, height, std::move(rgb));
+}
+
+std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
+  std::string error;
+  auto in = openImage(path, error);
+  if (!in) throw UserError(concat(path, ": cannot read the environment map: ", error));
+  const ImageHeader& spec = in->header();
+  if (spec.width < 2 || spec.height < 1 || spec.depth != 1 ||
+      static_cast<long long>(spec.width) * spec.height > kMaxPixels)
+    throw UserError(
+        concat(path, ": environment map size ", spec.width, "x", spec.height, " is out of range"));
+  if (spec.channels < 1) throw UserError(concat(path, ": the environment map has no channels"));
+  // Only RGB (or the grey channel) is read; alpha and extra channels are skipped.
+  const int channels = std::min(spec.channels, 3);
+  // Even a well-compressed map needs some bytes per scanline: a header that
+  // declares far more pixels than the file could hold is refused before the
+  // pixel buffer is allocated.
+  const double declaredBytes = double(spec.width) * spec.height * channels * sizeof(float);
+  const double fileBytes = double(std::filesystem::file_size(path));
+  if (declaredBytes > 4096 * fileBytes)
+    throw UserError(concat(path, ": declares ", spec.width, "x", spec.height, " pixels but holds ",
+                           fileBytes, " bytes (truncated or corrupt)"));
+  std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->readImage(0, channels, PixelType::Float, all.data()))
+    throw UserError(concat(path, ": cannot read the environment map pixels: ", in->error()));
+  return makeEnvironmentFromPixels(path, std::filesystem::path(path).stem().string(), spec.width,
+                                   spec.height, channels, all.data());
+}
+
+}  // namespace acpca

@@ -1,0 +1,38 @@
+#pragma once
+// Lighting labels for datasets: the first nine spherical-harmonic
+// coefficients of the radiance a lattice lighting holds (docs/formats.md,
+// "Batch manifest"). The radiance is piecewise constant, texel by texel, so
+// each coefficient is exact up to the quadrature of Y over each texel.
+#include <array>
+#include <vector>
+
+#include "lighting/domain_lighting.h"
+#include "lighting/environment.h"
+#include "transport/cube_lattice.h"
+
+namespace acpca {
+
+/// Real orthonormal spherical harmonics of bands 0 to 2 at the unit direction
+/// d, in the order (0,0), (1,-1), (1,0), (1,1), (2,-2), (2,-1), (2,0), (2,1),
+/// (2,2), the usual polynomials in x, y, z taken in our world axes (+Y up):
+/// Y(1,-1) ~ y, Y(1,0) ~ z, Y(1,1) ~ x, Y(2,0) ~ 3 z^2 - 1.
+std::array<double, 9> realSh9(const Vec3& d);
+
+/// Projects lattice lightings onto realSh9: per band the integral of the
+/// lattice's radiance (each texel's lighting over its solid angle) times Y.
+class ShProjector {
+ public:
+  explicit ShProjector(const CubeLattice& lattice);
+  /// A file's domain: its lattice, or a captured light set's cells (the
+  /// lighting of each taken as uniform over the cell, as for a texel).
+  explicit ShProjector(const DomainLighting& domain);
+  /// Nine RGB coefficients: constant radiance 1 gives 2 sqrt(pi) for (0,0).
+  std::array<Rgb, 9> project(const LatticeLighting& lighting) const;
+
+ private:
+  /// Per texel, the mean of each Y over the texel (16 x 16 cells of exact
+  /// solid angle).
+  std::vector<std::array<double, 9>> meanY_;
+};
+
+}  // namespace acpca

@@ -1,0 +1,116 @@
+#include "relight/image_composer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace acpca {
+
+Background parseBackground(const std::string& text) {
+  return kBackgroundNames.parse(text);
+}
+
+void requireBackgroundShown(const TransportHeader& header, Background background,
+                            const std::string& path) {
+  if (header.isLightSet() && background == Background::Env)
+    throw ParameterError("background", "env",
+                         concat(path,
+                                " is a captured light set: no camera sees the environment "
+                                "behind it (use black or alpha)"));
+}
+
+NegativeClamp clampNegative(float* pixels, size_t values, int channels, bool keep) {
+  NegativeClamp clamp;
+  for (size_t i = 0; i < values; ++i) {
+    if (pixels[i] >= 0 || (channels == 4 && i % 4 == 3)) continue;
+    ++clamp.values;
+    clamp.mostNegative = std::min(clamp.mostNegative, pixels[i]);
+    if (!keep) pixels[i] = 0;
+  }
+  return clamp;
+}
+
+Image composeImage(const TransportHeader& header, const std::vector<float>& rowRgb,
+                   Background background, const Environment& env, const Eigen::Matrix3d& rotation) {
+  Image image;
+  image.width = header.camera.size.width;
+  image.height = header.camera.size.height;
+  image.channels = background == Background::Alpha ? 4 : 3;
+  image.pixels.resize(static_cast<size_t>(image.width) * image.height * image.channels);
+  composeInto(header, rowRgb.data(), background, env, rotation, image.pixels.data());
+  return image;
+}
+
+void composeInto(const TransportHeader& header, const float* rowRgb, Background background,
+                 const Environment& env, const Eigen::Matrix3d& rotation, float* pixels) {
+  const ImageComposer composer(header);
+  composer.background(background, env, rotation, pixels);
+  composer.addRows(rowRgb, pixels, ImageComposer::channels(background));
+}
+
+ImageComposer::ImageComposer(const TransportHeader& header)
+    : camera_(header.camera),
+      rowPixels_(header.pixels),
+      rowCoverage_(header.coverage),
+      coverage_(static_cast<size_t>(header.camera.size.pixels()), 0.0f) {
+  for (long long r = 0; r < header.rows(); ++r) coverage_[header.pixels[r]] = header.coverage[r];
+  // The pixels that show some environment, and their camera rays.
+  const int width = camera_.size.width, height = camera_.size.height;
+  backgroundRowStart_.push_back(0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t pixel = static_cast<size_t>(y) * width + x;
+      if (coverage_[pixel] >= 1) continue;
+      backgroundPixel_.push_back(pixel);
+      backgroundRay_.push_back(camera_.rayDirection(x + 0.5, y + 0.5));
+    }
+    backgroundRowStart_.push_back(backgroundPixel_.size());
+  }
+}
+
+void ImageComposer::background(Background background, const Environment& env,
+                               const Eigen::Matrix3d& rotation, float* pixels,
+                               bool silhouettesOnly) const {
+  const Camera& camera = camera_;
+  const int width = camera.size.width, height = camera.size.height;
+  const int channels = ImageComposer::channels(background);
+  const Eigen::Matrix3d inverse = rotation.transpose();
+  // Background pixels evaluate the environment, the costly part: rows in
+  // parallel, each through the camera ray worked out once (backgroundRay_).
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t pixel = static_cast<size_t>(y) * width + x;
+      float* out = pixels + pixel * channels;
+      const float cov = coverage_[pixel];
+      for (int c = 0; c < 3; ++c) out[c] = 0;
+      if (background == Background::Alpha) out[3] = cov;
+    }
+    if (background != Background::Env) return;
+    for (size_t i = backgroundRowStart_[y]; i < backgroundRowStart_[y + 1]; ++i) {
+      const size_t pixel = backgroundPixel_[i];
+      const float cov = coverage_[pixel];
+      if (silhouettesOnly && cov == 0) continue;
+      const Rgb bg = env.radiance(inverse * backgroundRay_[i]);
+      float* out = pixels + pixel * channels;
+      for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
+    }
+  });
+}
+
+void ImageComposer::addRows(const float* rowRgb, float* pixels, int channels) const {
+  // Each row has its own pixel: rows in parallel write disjoint values.
+  const long long rows = static_cast<long long>(rowPixels_.size());
+  tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 4096),
+                    [&](const tbb::blocked_range<long long>& range) {
+                      for (long long r = range.begin(); r != range.end(); ++r) {
+                        float* out = pixels + static_cast<size_t>(rowPixels_[r]) * channels;
+                        for (int c = 0; c < 3; ++c) out[c] += rowCoverage_[r] * rowRgb[3 * r + c];
+                      }
+                    });
+}
+
+}  // namespace acpca
