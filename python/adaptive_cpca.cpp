@@ -568,7 +568,7 @@ void registerLighting(py::module_& m) {
 
 }  // namespace acpca::python
 
-PYBIND11_MODULE(adaptive_cpca, m) {
+PYBIND11_MODULE(_core, m) {
   using namespace acpca;
   using namespace acpca::python;
   m.attr("__version__") = kVersion;

@@ -26,5 +26,12 @@ with open("pixel.ppm", "wb") as ppm:  # a 2x1 binary PPM, written by hand
 assert ac.read_image("pixel.ppm").shape == (1, 2, 3)
 codecs = mapped("libacpca_image_codecs")
 assert codecs and all(c.startswith(sys.prefix) for c in codecs), codecs
+try:
+    import torch
+except ImportError:
+    torch = None
+if torch is not None:  # the pure-Python part, installed beside the compiled one
+    import adaptive_cpca.torch as act
+    assert act.__file__.startswith(sys.prefix), act.__file__
 print("installed module relit", sys.argv[1], "from", ac.__file__, "with", codecs[0])
 PY
