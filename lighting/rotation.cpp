@@ -59,7 +59,8 @@ void validateRotation(const EnvRotation& r) {
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   if (spec.find(':') != std::string::npos) {
     const auto parts = split(spec, ':');
-    if (parts.size() != 3) throw ParameterError("rotation", spec, "expected A:B:S");
+    if (parts.size() != 3)
+      throw ParameterError("rotation", spec, concat("expected ", kRotationSweepGrammar));
     const double a = parseNumber(parts[0], spec), b = parseNumber(parts[1], spec),
                  s = parseNumber(parts[2], spec);
     if (s <= 0) throw ParameterError("rotation", spec, "the step must be > 0");
@@ -72,7 +73,8 @@ std::vector<EnvRotation> parseRotationSpec(const std::string& spec) {
   }
   const auto parts = split(spec, ',');
   if (parts.size() != 1 && parts.size() != 3)
-    throw ParameterError("rotation", spec, "expected YAW or YAW,PITCH,ROLL or A:B:S");
+    throw ParameterError("rotation", spec,
+                         concat("expected ", kRotationGrammar, " or ", kRotationSweepGrammar));
   EnvRotation r;
   r.yaw = parseNumber(parts[0], spec);
   if (parts.size() == 3) {

@@ -21,8 +21,14 @@ Eigen::Matrix3d rotationMatrix(const EnvRotation& r);
 /// finite number, as the text specs are refused.
 void validateRotation(const EnvRotation& r);
 
-/// Parses one --rotate SPEC: "YAW[,PITCH,ROLL]" or "A:B:S" (yaw from A inclusive
-/// to B exclusive in steps of S). Throws UserError naming the spec.
+/// The --rotate grammar, written once: the parser's errors quote it, the
+/// CLI's help is made from it, and a test holds README.md and
+/// docs/lighting.md to it. Degrees; a sweep turns the yaw alone.
+inline constexpr const char* kRotationGrammar = "YAW[,PITCH,ROLL]";
+inline constexpr const char* kRotationSweepGrammar = "A:B:S";
+
+/// Parses one --rotate SPEC: kRotationGrammar or kRotationSweepGrammar (yaw
+/// from A inclusive to B exclusive in steps of S). Throws UserError naming the spec.
 std::vector<EnvRotation> parseRotationSpec(const std::string& spec);
 /// One rotation, "YAW[,PITCH,ROLL]" (empty: the identity); a sweep is refused,
 /// the UserError naming `flag`.

@@ -2,6 +2,7 @@
 
 #include "lighting/environment.h"
 #include "lighting/local_light.h"
+#include "lighting/rotation.h"
 #include "tools/cli_common.h"
 
 namespace acpca::cli {
@@ -18,7 +19,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                  "Local lights that move: a file with one frame's lights per line (specs "
                  "separated by spaces or ';'); every map and rotation is relit under each line");
   sub.add_option("--out", o.out, outHelp)->required();
-  sub.add_option("--rotate", rotations, "YAW[,PITCH,ROLL] or a yaw sweep A:B:S (repeatable)");
+  sub.add_option("--rotate", rotations,
+                 concat(kRotationGrammar, " in degrees or a yaw sweep ", kRotationSweepGrammar,
+                        " (repeatable)"));
   sub.add_option("--format", o.format,
                  "exr, png (8-bit), png16, npy, a comma-separated list of them, or both (exr,png); "
                  "default: from --out, exr in a batch");

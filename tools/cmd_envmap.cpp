@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "dataset/envmap_export.h"
+#include "lighting/rotation.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
 
@@ -51,7 +52,7 @@ void registerEnvmap(CLI::App& app) {
   sub->add_option("--out", args->out, "Lat-long EXR to write")->required();
   sub->add_option("--cross", args->cross, "Also write a horizontal cube cross EXR");
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
-  sub->add_option("--rotate", args->rotate, "YAW[,PITCH,ROLL] in degrees");
+  sub->add_option("--rotate", args->rotate, std::string(kRotationGrammar) + " in degrees");
   sub->add_option("--size", args->size, "Lat-long size WxH");
   addFastRotationFlag(*sub, args->rotationMode);
   args->common.add(*sub, false);

@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "lighting/rotation.h"
 
 namespace acpca {
 namespace {
@@ -259,7 +260,7 @@ std::string firstForm(const char* grammar) {
   return text.substr(0, text.find(" or "));
 }
 
-TEST(Grammars, TheDocsWriteEveryLightAndMapGrammarAsTheCodeDoes) {
+TEST(Grammars, TheDocsWriteEveryLightMapAndRotationGrammarAsTheCodeDoes) {
   // Each grammar is written once, in the code (kLightGrammars,
   // kEnvironmentGrammars); the help and docstrings are made from it, and the
   // docs a user reads must say the same.
@@ -273,6 +274,8 @@ TEST(Grammars, TheDocsWriteEveryLightAndMapGrammarAsTheCodeDoes) {
     for (const EnvironmentGrammar& g : kEnvironmentGrammars)
       EXPECT_NE(text.find("`" + firstForm(g.grammar) + "`"), std::string::npos)
           << doc << " does not write " << firstForm(g.grammar);
+    for (const char* rotation : {kRotationGrammar, kRotationSweepGrammar})
+      EXPECT_NE(text.find(rotation), std::string::npos) << doc << " does not write " << rotation;
   }
   const std::string lines = lightGrammarLines();
   for (const LightGrammar& g : kLightGrammars) EXPECT_NE(lines.find(g.grammar), std::string::npos);
