@@ -18,13 +18,15 @@ packages=(
   python3 python3-dev python3-numpy pybind11-dev
 )
 # ...and what the test suites, the fuzzers and CI add: image tools, the
-# format check, Python's test tools, PyTorch (adaptive_cpca.torch) and the
-# wheel's build tools, an X server for the viewer, clang for the fuzzers, and
-# the real assets the tests check against.
+# format check, Python's test tools, PyTorch (adaptive_cpca.torch; it reads
+# EXR maps through OpenImageIO's binding) and the wheel's build tools, an X
+# server for the viewer, clang for the fuzzers, and the real assets the tests
+# check against.
 if [ "${1:-}" != build ]; then
   packages+=(
     clang-format
     python3-venv python3-h5py python3-matplotlib python3-pytest python3-torch
+    python3-openimageio
     python3-build python3-wheel python3-setuptools
     xvfb xauth
     clang libclang-rt-14-dev

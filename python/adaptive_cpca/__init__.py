@@ -7,6 +7,9 @@ model files in PyTorch on any device, in pure Python over torch and h5py,
 without the compiled part.
 """
 
+import importlib as _importlib
+import importlib.util as _importlib_util
+
 try:
     from . import _core
 except ImportError as error:  # the pure-Python parts work without it
@@ -19,6 +22,9 @@ else:
 
 
 def __getattr__(name):
+    # A pure-Python submodule (torch, torch_lighting, ...) is imported, not refused.
+    if not name.startswith("__") and _importlib_util.find_spec(f"{__name__}.{name}"):
+        return _importlib.import_module(f"{__name__}.{name}")
     if _core is None and not name.startswith("__"):
         raise ImportError(f"adaptive_cpca.{name} needs the compiled module, which did not load "
                           f"({_core_error}); adaptive_cpca.torch works without it")

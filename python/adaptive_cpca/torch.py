@@ -7,22 +7,33 @@ Works on torch 1.13 (Debian 12's) and 2.x.
 
     from adaptive_cpca.torch import TorchRelighter
     r = TorchRelighter("plant-model.h5", device="cuda")
-    images = r.relight(lightings)   # [B, l, 3] lattice lightings -> [B, 3, H, W]
+    sky = r.environment("sky")                  # or a map file, or a [H, 2H, 3] tensor
+    lighting = r.lighting(sky, yaw=30)          # [l, 3], made on the device
+    images = r.relight(torch.stack([lighting, r.lighting(sky, yaw=60)]))  # [2, 3, H, W]
 
 A lattice lighting holds, per column (a cube-lattice texel, or a captured
 set's light), the radiance integrated over its solid angle, as the CLI and
-`Relighter.lighting(env).values` make it.
+`Relighter.lighting(env).values` make it; `lighting()` integrates it here
+with the lattice's exact texel solid angles (adaptive_cpca.torch_lighting).
 """
+
+import math
 
 import h5py
 import numpy as np
 import torch
 
-__all__ = ["TorchRelighter"]
+from .torch_domain import LightingDomain
+from .torch_lighting import Environment, rotation_matrix
+from .torch_model import DeviceModel
 
-# Rows relit per widened block of a cluster's coefficients: bounds the float
-# copy of stored i8 or f16 coefficients (CPU torch 1.13 multiplies neither).
-_BLOCK_ROWS = 65536
+__all__ = ["TorchRelighter", "Environment"]
+
+# model/model_file.h: kOldestModelVersion and kModelVersion.
+OLDEST_MODEL_VERSION, MODEL_VERSION = 2, 6
+# The datasets held on the device.
+_HELD = ("global_basis", "pixels", "albedo", "coverage", "cluster_rows", "bases", "means",
+         "coefficients", "coefficient_scale")
 
 
 def _attribute(f, name, default=None):
@@ -34,6 +45,14 @@ def _attribute(f, name, default=None):
     return value
 
 
+def _free_bytes(device):
+    """Memory free on a CUDA device; None where torch cannot say (the CPU)."""
+    if device.type != "cuda":
+        return None
+    free, _ = torch.cuda.mem_get_info(device)
+    return free
+
+
 class TorchRelighter:
     """A model file on a torch device, relighting batches of lattice lightings.
 
@@ -41,10 +60,10 @@ class TorchRelighter:
     coefficients and bases are widened block by block in the arithmetic) and
     relights as docs/formats.md defines it: row p of cluster c under L is
     albedo_p (u_p . W_c^T V_g^T L + mean_c . V_g^T L), composed over the
-    background as `coverage * relit`.
+    background as `coverage * relit + (1 - coverage) * background`.
     """
 
-    def __init__(self, path, device="cpu"):
+    def __init__(self, path, device="cpu", kernel="auto"):
         self.path = str(path)
         self.device = torch.device(device)
         with h5py.File(self.path, "r") as f:
@@ -52,13 +71,32 @@ class TorchRelighter:
                 raise ValueError(f"{self.path}: not an adaptive-cpca model file "
                                  f"(format {_attribute(f, 'format')!r}); a transport relights "
                                  "through adaptive_cpca.open")
+            version = int(_attribute(f, "version", 0))
+            if not OLDEST_MODEL_VERSION <= version <= MODEL_VERSION:
+                raise ValueError(
+                    f"{self.path}: model format version {version}; this reader reads "
+                    f"{OLDEST_MODEL_VERSION} to {MODEL_VERSION}: " +
+                    ("compress (or build) it again" if version < OLDEST_MODEL_VERSION else
+                     "written by a newer adaptive-cpca"))
             if int(_attribute(f, "complete", 0)) != 1:
-                raise ValueError(f"{self.path}: incomplete model file (no complete = 1)")
-            version = int(_attribute(f, "version"))
-            if version < 2:
-                raise ValueError(f"{self.path}: model version {version} is no longer read; "
-                                 "run compress (or build) again")
-            self._read(f)
+                raise ValueError(f"{self.path}: the model file is incomplete")
+            self._require_memory(f)
+            try:
+                self._read(f, kernel)
+            except RuntimeError as e:
+                if "out of memory" not in str(e):
+                    raise
+                raise MemoryError(f"{self.path}: {self.device} ran out of memory holding the "
+                                  f"model ({self.model_bytes / 2**30:.2f} GiB)") from None
+        self._domain = None
+        self._rays = None
+
+    def _require_memory(self, f):
+        self.model_bytes = sum(f[name].size * f[name].dtype.itemsize for name in _HELD)
+        free = _free_bytes(self.device)
+        if free is not None and self.model_bytes > free:
+            raise MemoryError(f"{self.path}: the model needs {self.model_bytes / 2**30:.2f} GiB "
+                              f"on {self.device}, which has {free / 2**30:.2f} GiB free")
 
     def _tensor(self, array, dtype=None):
         t = torch.from_numpy(np.ascontiguousarray(array))
@@ -66,85 +104,142 @@ class TorchRelighter:
             t = t.to(dtype)
         return t.to(self.device)
 
-    def _read(self, f):
+    def _read(self, f, kernel):
         self.width = int(_attribute(f, "width"))
         self.height = int(_attribute(f, "height"))
         self.method = _attribute(f, "method")
         self.channels = int(_attribute(f, "channels", 1))
+        self.cubemap = int(_attribute(f, "cubemap"))
         self.coefficient_precision = _attribute(f, "coeffs", "f32")
         self.basis_precision = _attribute(f, "bases", "f32")
-        self.has_mean = bool(int(_attribute(f, "has_mean", 0)))
         basis = f["global_basis"][:]
         self.global_bases = basis.shape[1]
         self.lattice_size = basis.shape[0] // self.channels
         self.rows = int(_attribute(f, "occupied_pixels"))
+        self._read_lighting_domain(f)
         # [w, N] float32: the projection V_g^T L is one product a batch.
         self.global_basis = self._tensor(basis, torch.float32)
-        self.pixels = self._tensor(f["pixels"][:].astype(np.int64))
-        self.albedo = self._tensor(f["albedo"][:], torch.float32)
-        self.coverage = self._tensor(f["coverage"][:], torch.float32)
-        self.cluster_rows = self._tensor(f["cluster_rows"][:].astype(np.int64))
-        self.row_offsets = f["cluster_row_offsets"][:].astype(np.int64)
-        self.ranks = f["cluster_rank"][:].astype(np.int64)
-        self.basis_offsets = f["cluster_basis_offsets"][:].astype(np.int64)
-        self.coefficient_offsets = f["coefficient_offsets"][:].astype(np.int64)
-        # Stored precision kept: float16 and int8 stay so in memory.
-        self.bases = self._tensor(f["bases"][:])
-        self.means = self._tensor(f["means"][:])
-        self.coefficients = self._tensor(f["coefficients"][:])
-        self.coefficient_scale = self._tensor(f["coefficient_scale"][:], torch.float32)
-        self.first_basis = np.concatenate([[0], np.cumsum(self.ranks)])
+        # Rows held in cluster order: each cluster's block is a slice.
+        order = f["cluster_rows"][:].astype(np.int64)
+        self.pixels = self._tensor(f["pixels"][:].astype(np.int64)[order])
+        self.albedo = self._tensor(f["albedo"][:][order], torch.float32)
+        self.coverage = self._tensor(f["coverage"][:][order], torch.float32)
+        self.file_order = self._tensor(np.argsort(order))
+        self.model = DeviceModel(f, self.path, self.device, kernel)
+
+    def _read_lighting_domain(self, f):
+        if self.cubemap:
+            self.camera = {name: np.asarray(f.attrs[f"camera_{name}"], dtype=np.float64)
+                           for name in ("eye", "target", "up", "fov_deg")}
+            self._light_set = None
+            return
+        self.camera = None
+        self._light_set = {
+            "directions": f["light_direction"][:], "solid_angles": f["light_solid_angle"][:],
+            "cells": _attribute(f, "light_cells", "capped-voronoi"),
+            "cap_degrees": float(_attribute(f, "light_cell_cap_deg", 180.0))}
 
     @property
     def clusters(self):
-        return len(self.ranks)
+        return len(self.model.ranks)
 
+    @property
+    def is_light_set(self):
+        return self.cubemap == 0
+
+    @property
+    def domain(self):
+        """The file's lighting domain (lattice or light cells), made on first use."""
+        if self._domain is None:
+            if self._light_set is None:
+                self._domain = LightingDomain(self.device, cubemap=self.cubemap)
+            else:
+                self._domain = LightingDomain(self.device, **self._light_set)
+        return self._domain
+
+    # -- lighting -----------------------------------------------------------
+    def environment(self, env):
+        """An Environment on this device: a spec (constant:, sun:, sky), an
+        image file, or a map [H, W, C] (array or tensor). Load a map once and
+        pass it to lighting() for every rotation."""
+        return env if isinstance(env, Environment) else Environment(env, self.device)
+
+    def lighting(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, dtype=torch.float32):
+        """The lattice lighting [l, 3] of env (as environment() takes it) under
+        the rotation, times 2^exposure: per column the rotated map's radiance
+        integrated over the texel (or the light's cell), made on the device
+        in float64 and returned as dtype."""
+        if not math.isfinite(float(exposure)):
+            raise ValueError(f"exposure {exposure}: not a finite number of stops")
+        rotation = rotation_matrix(yaw, pitch, roll, self.device)
+        values = self.domain.integrate(self.environment(env), rotation)
+        return (values * 2.0 ** float(exposure)).to(dtype)
+
+    def sh9(self, lightings):
+        """The first nine real SH coefficients of each lighting's radiance
+        [B, 9, 3] (or [9, 3] for one [l, 3]), as the batch manifest's `sh9`."""
+        one = torch.as_tensor(lightings).dim() == 2
+        values = self._lightings(lightings, torch.float64)
+        out = torch.einsum("jb,kjc->kbc", self.domain.sh9_means(), values)
+        return out[0] if one else out
+
+    def view(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, layout="chw"):
+        """The map as the camera sees it behind the subject, times 2^exposure:
+        [3, H, W] (or [H, W, 3]) float32, each pixel the rotated map's radiance
+        along its centre's ray; relight(background=...) composes over it."""
+        if self.camera is None:
+            raise ValueError(f"background env: {self.path} is a captured light set: no camera "
+                             "sees the environment behind it (use black or alpha)")
+        rotation = rotation_matrix(yaw, pitch, roll, self.device)
+        radiance = self.environment(env).radiance(self._camera_rays() @ rotation)
+        image = (radiance * 2.0 ** float(exposure)).to(torch.float32)
+        image = image.reshape(self.height, self.width, 3)
+        return image if layout == "hwc" else image.permute(2, 0, 1).contiguous()
+
+    def _camera_rays(self):
+        """Each pixel centre's camera ray (transport/camera.h), float64 [H W, 3]."""
+        if self._rays is None:
+            eye, target, up = (self.camera[k] for k in ("eye", "target", "up"))
+            forward = (target - eye) / np.linalg.norm(target - eye)
+            right = np.cross(forward, up)
+            right /= np.linalg.norm(right)
+            true_up = np.cross(right, forward)
+            tan_half = math.tan(0.5 * math.radians(float(self.camera["fov_deg"])))
+            aspect = self.width / self.height
+            x = (2 * (np.arange(self.width) + 0.5) / self.width - 1) * tan_half * aspect
+            y = (1 - 2 * (np.arange(self.height) + 0.5) / self.height) * tan_half
+            rays = (forward + x[None, :, None] * right + y[:, None, None] * true_up)
+            rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
+            self._rays = self._tensor(rays.reshape(-1, 3))
+        return self._rays
+
+    # -- relighting ---------------------------------------------------------
     def _projected(self, lightings):
         """V_g^T L for each lighting: [B, N, 3] (RGB rows: channel c's block)."""
         l = self.lattice_size
         if self.channels == 1:
             return torch.einsum("wn,bwc->bnc", self.global_basis, lightings)
-        return torch.stack([self.global_basis[c * l:(c + 1) * l].t() @ lightings[:, :, c].t()
-                            for c in range(3)], dim=2).permute(1, 0, 2)
+        return torch.stack([lightings[:, :, c] @ self.global_basis[c * l:(c + 1) * l]
+                            for c in range(3)], dim=2)
 
-    def relit_rows(self, lightings):
-        """Each row's relit RGB (albedo applied), [B, P, 3], before composition."""
+    def _cluster_rows(self, lightings):
+        """Each row's relit RGB, albedo applied, rows in cluster order: [B, P, 3]."""
         lightings = self._lightings(lightings)
         batch, n = lightings.shape[0], self.global_bases
-        projected = self._projected(lightings).reshape(batch, n, 3)
-        flat = projected.permute(1, 0, 2).reshape(n, batch * 3)  # [N, 3B]
-        out = torch.zeros(self.rows, batch * 3, dtype=torch.float32, device=self.device)
-        for c in range(self.clusters):
-            self._relight_cluster(c, flat, out)
-        out = out.reshape(self.rows, batch, 3).permute(1, 0, 2)
-        return out * self.albedo.unsqueeze(0)
+        flat = self._projected(lightings).permute(1, 0, 2).reshape(n, batch * 3)  # [N, 3B]
+        out = self.model.relit(flat)
+        return out.reshape(self.rows, batch, 3).permute(1, 0, 2) * self.albedo.unsqueeze(0)
 
-    def _relight_cluster(self, c, flat, out):
-        n, rank = self.global_bases, int(self.ranks[c])
-        first, last = int(self.row_offsets[c]), int(self.row_offsets[c + 1])
-        if last == first:
-            return
-        # W_c^T (V_g^T L): [n_c, 3B]; the mean's term [3B].
-        # W_c is N x n_c column-major: its rows as stored are W_c^T.
-        wt = self.bases[int(self.basis_offsets[c]):int(self.basis_offsets[c + 1])]
-        towards = wt.to(torch.float32).reshape(rank, n) @ flat if rank else None
-        mean = self.means[c * n:(c + 1) * n].to(torch.float32) @ flat if self.has_mean else None
-        scale = self.coefficient_scale[int(self.first_basis[c]):int(self.first_basis[c + 1])]
-        offset = int(self.coefficient_offsets[c])
-        for start in range(first, last, _BLOCK_ROWS):
-            stop = min(last, start + _BLOCK_ROWS)
-            value = torch.zeros(stop - start, flat.shape[1], device=self.device)
-            if rank:
-                u = self.coefficients[offset + (start - first) * rank:
-                                      offset + (stop - first) * rank]
-                u = u.to(torch.float32).reshape(stop - start, rank) * scale
-                value = u @ towards
-            if mean is not None:
-                value = value + mean
-            out[self.cluster_rows[start:stop]] = value
+    def relit_rows(self, lightings):
+        """Each row's relit RGB (albedo applied), [B, P, 3], rows in the file's
+        order, before composition."""
+        return self._cluster_rows(lightings)[:, self.file_order]
 
-    def _lightings(self, lightings):
-        lightings = torch.as_tensor(lightings, dtype=torch.float32, device=self.device)
+    def _lightings(self, lightings, dtype=torch.float32):
+        lightings = torch.as_tensor(lightings)
+        if lightings.dtype not in (torch.float32, torch.float64):
+            raise ValueError(f"lightings of dtype {lightings.dtype}: float32 or float64")
+        lightings = lightings.to(device=self.device, dtype=dtype)
         if lightings.dim() == 2:
             lightings = lightings.unsqueeze(0)
         if lightings.dim() != 3 or lightings.shape[1:] != (self.lattice_size, 3):
@@ -157,26 +252,64 @@ class TorchRelighter:
     def relight(self, lightings, background="black", keep_negative=False, layout="chw"):
         """Images of a batch of lattice lightings [B, l, 3] (or one, [l, 3]).
 
-        background: 'black' (3 channels) or 'alpha' (4, the fourth each
-        pixel's coverage). Values below zero (a model's reconstruction can
-        undershoot) are clamped to 0 unless keep_negative, as the CLI does.
-        layout: 'chw' gives [B, C, H, W], 'hwc' gives [B, H, W, C].
+        background: 'black' (3 channels), 'alpha' (4, the fourth each pixel's
+        coverage) or the radiance behind the subject, [3, H, W] or [B, 3, H,
+        W] in the layout asked for (view() makes the map's). Values below zero
+        (a model's reconstruction can undershoot) are clamped to 0 unless
+        keep_negative, as the CLI does. layout: 'chw' gives [B, C, H, W],
+        'hwc' gives [B, H, W, C].
         """
-        if background not in ("black", "alpha"):
-            raise ValueError(f"background {background!r}: 'black' or 'alpha' (an environment "
-                             "behind the subject comes with the lighting work of this module)")
         if layout not in ("chw", "hwc"):
             raise ValueError(f"layout {layout!r}: 'chw' or 'hwc'")
-        rows = self.relit_rows(lightings) * self.coverage[None, :, None]
-        if not keep_negative:
-            rows = rows.clamp_min(0)
+        behind = None
+        if torch.is_tensor(background):
+            behind = self._background(background, layout)
+        elif background not in ("black", "alpha"):
+            raise ValueError(f"background {background!r}: 'black', 'alpha' or a tensor of "
+                             "radiance (view(env) makes the map's; relight_map composes it)")
+        rows = self._cluster_rows(lightings) * self.coverage[None, :, None]
         batch = rows.shape[0]
         channels = 4 if background == "alpha" else 3
-        image = torch.zeros(batch, self.height * self.width, channels, device=self.device)
-        image[:, self.pixels, :3] = rows
+        pixels = self.height * self.width
+        if behind is not None:
+            image = (behind.expand(batch, pixels, 3) * (1 - self._coverage_image()[:, None])).clone()
+            image[:, self.pixels] += rows
+        else:
+            image = torch.zeros(batch, pixels, channels, device=self.device)
+            image[:, self.pixels, :3] = rows
+        if not keep_negative:
+            image[..., :3] = image[..., :3].clamp_min(0)
         if background == "alpha":
-            alpha = torch.zeros(self.height * self.width, device=self.device)
-            alpha[self.pixels] = self.coverage
-            image[:, :, 3] = alpha
+            image[:, :, 3] = self._coverage_image()
         image = image.reshape(batch, self.height, self.width, channels)
         return image if layout == "hwc" else image.permute(0, 3, 1, 2).contiguous()
+
+    def _coverage_image(self):
+        alpha = torch.zeros(self.height * self.width, device=self.device)
+        alpha[self.pixels] = self.coverage
+        return alpha
+
+    def _background(self, background, layout):
+        """A background tensor as [1 or B, H W, 3]."""
+        b = background.to(device=self.device, dtype=torch.float32)
+        if b.dim() == 3:
+            b = b.unsqueeze(0)
+        if layout == "chw" and b.dim() == 4:
+            b = b.permute(0, 2, 3, 1)
+        if b.dim() != 4 or tuple(b.shape[1:]) != (self.height, self.width, 3):
+            shape = (3, self.height, self.width) if layout == "chw" else (self.height,
+                                                                          self.width, 3)
+            raise ValueError(f"a background of shape {tuple(background.shape)}: this model "
+                             f"takes {list(shape)} or [B, {', '.join(map(str, shape))}]")
+        return b.reshape(b.shape[0], -1, 3)
+
+    def relight_map(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, background="env",
+                    keep_negative=False, layout="chw"):
+        """One frame of a map, as `relight --env ENV --rotate ... --exposure`
+        writes it: [C, H, W] (or [H, W, C]) over the map ('env'), 'black' or
+        'alpha'."""
+        env = self.environment(env)
+        lighting = self.lighting(env, yaw, pitch, roll, exposure)
+        if background == "env":
+            background = self.view(env, yaw, pitch, roll, exposure, layout)
+        return self.relight(lighting, background, keep_negative, layout)[0]
