@@ -90,6 +90,7 @@ class TorchRelighter:
                                   f"model ({self.model_bytes / 2**30:.2f} GiB)") from None
         self._domain = None
         self._rays = None
+        self._coverage = None
 
     def _require_memory(self, f):
         self.model_bytes = sum(f[name].size * f[name].dtype.itemsize for name in _HELD)
@@ -124,6 +125,7 @@ class TorchRelighter:
         self.pixels = self._tensor(f["pixels"][:].astype(np.int64)[order])
         self.albedo = self._tensor(f["albedo"][:][order], torch.float32)
         self.coverage = self._tensor(f["coverage"][:][order], torch.float32)
+        self._albedo_channels = self.albedo.t().contiguous()  # [3, P]
         self.file_order = self._tensor(np.argsort(order))
         self.model = DeviceModel(f, self.path, self.device, kernel)
 
@@ -223,17 +225,16 @@ class TorchRelighter:
                             for c in range(3)], dim=2)
 
     def _cluster_rows(self, lightings):
-        """Each row's relit RGB, albedo applied, rows in cluster order: [B, P, 3]."""
+        """Each row's relit RGB, albedo applied, rows in cluster order: [B, 3, P]."""
         lightings = self._lightings(lightings)
         batch, n = lightings.shape[0], self.global_bases
         flat = self._projected(lightings).permute(1, 0, 2).reshape(n, batch * 3)  # [N, 3B]
-        out = self.model.relit(flat)
-        return out.reshape(self.rows, batch, 3).permute(1, 0, 2) * self.albedo.unsqueeze(0)
+        return self.model.relit(flat).view(batch, 3, self.rows).mul_(self._albedo_channels)
 
     def relit_rows(self, lightings):
         """Each row's relit RGB (albedo applied), [B, P, 3], rows in the file's
         order, before composition."""
-        return self._cluster_rows(lightings)[:, self.file_order]
+        return self._cluster_rows(lightings)[:, :, self.file_order].permute(0, 2, 1)
 
     def _lightings(self, lightings, dtype=torch.float32):
         lightings = torch.as_tensor(lightings)
@@ -249,7 +250,8 @@ class TorchRelighter:
             raise ValueError("lightings hold values that are not finite")
         return lightings
 
-    def relight(self, lightings, background="black", keep_negative=False, layout="chw"):
+    def relight(self, lightings, background="black", keep_negative=False, layout="chw",
+                out=None):
         """Images of a batch of lattice lightings [B, l, 3] (or one, [l, 3]).
 
         background: 'black' (3 channels), 'alpha' (4, the fourth each pixel's
@@ -257,7 +259,8 @@ class TorchRelighter:
         W] in the layout asked for (view() makes the map's). Values below zero
         (a model's reconstruction can undershoot) are clamped to 0 unless
         keep_negative, as the CLI does. layout: 'chw' gives [B, C, H, W],
-        'hwc' gives [B, H, W, C].
+        'hwc' gives [B, H, W, C]. out: a float32 tensor of that shape on the
+        device to write into (a training loop's buffer: no fresh images).
         """
         if layout not in ("chw", "hwc"):
             raise ValueError(f"layout {layout!r}: 'chw' or 'hwc'")
@@ -267,41 +270,61 @@ class TorchRelighter:
         elif background not in ("black", "alpha"):
             raise ValueError(f"background {background!r}: 'black', 'alpha' or a tensor of "
                              "radiance (view(env) makes the map's; relight_map composes it)")
-        rows = self._cluster_rows(lightings) * self.coverage[None, :, None]
-        batch = rows.shape[0]
-        channels = 4 if background == "alpha" else 3
-        pixels = self.height * self.width
+        rows = self._cluster_rows(lightings).mul_(self.coverage)  # [B, 3, P]
+        batch, channels = rows.shape[0], 4 if background == "alpha" else 3
+        image = self._image(out, batch, channels, layout)
+        colour = image[:, :3]
         if behind is not None:
-            image = (behind.expand(batch, pixels, 3) * (1 - self._coverage_image()[:, None])).clone()
-            image[:, self.pixels] += rows
+            if behind.shape[0] not in (1, batch):
+                raise ValueError(f"a background of {behind.shape[0]} images for {batch} lightings")
+            colour.copy_(behind * (1 - self._coverage_image()))
+            rows += colour[:, :, self.pixels]
         else:
-            image = torch.zeros(batch, pixels, channels, device=self.device)
-            image[:, self.pixels, :3] = rows
+            colour.zero_()
         if not keep_negative:
-            image[..., :3] = image[..., :3].clamp_min(0)
+            rows.clamp_(min=0)
+        colour[:, :, self.pixels] = rows
         if background == "alpha":
-            image[:, :, 3] = self._coverage_image()
-        image = image.reshape(batch, self.height, self.width, channels)
-        return image if layout == "hwc" else image.permute(0, 3, 1, 2).contiguous()
+            image[:, 3] = self._coverage_image()
+        image = image.view(batch, channels, self.height, self.width)
+        if layout == "chw":
+            return image if out is None else out
+        hwc = image.permute(0, 2, 3, 1)
+        return out.copy_(hwc) if out is not None else hwc.contiguous()
+
+    def _image(self, out, batch, channels, layout):
+        """A channels-first image [B, C, H W]: `out` itself when it is one."""
+        shape = ((batch, channels, self.height, self.width) if layout == "chw" else
+                 (batch, self.height, self.width, channels))
+        if out is not None:
+            if tuple(out.shape) != shape or out.dtype != torch.float32 or \
+                    out.device != self.device or not out.is_contiguous():
+                raise ValueError(f"out: a contiguous float32 tensor {list(shape)} on "
+                                 f"{self.device}, not {out.dtype} {list(out.shape)} on {out.device}")
+            if layout == "chw":
+                return out.view(batch, channels, -1)
+        return torch.empty(batch, channels, self.height * self.width, device=self.device)
 
     def _coverage_image(self):
-        alpha = torch.zeros(self.height * self.width, device=self.device)
-        alpha[self.pixels] = self.coverage
-        return alpha
+        """Each pixel's coverage, [H W] (0 where no row is)."""
+        if self._coverage is None:
+            self._coverage = torch.zeros(self.height * self.width, device=self.device)
+            self._coverage[self.pixels] = self.coverage
+        return self._coverage
 
     def _background(self, background, layout):
-        """A background tensor as [1 or B, H W, 3]."""
+        """A background tensor as [1 or B, 3, H W]."""
         b = background.to(device=self.device, dtype=torch.float32)
         if b.dim() == 3:
             b = b.unsqueeze(0)
-        if layout == "chw" and b.dim() == 4:
-            b = b.permute(0, 2, 3, 1)
-        if b.dim() != 4 or tuple(b.shape[1:]) != (self.height, self.width, 3):
+        if layout == "hwc" and b.dim() == 4:
+            b = b.permute(0, 3, 1, 2)
+        if b.dim() != 4 or tuple(b.shape[1:]) != (3, self.height, self.width):
             shape = (3, self.height, self.width) if layout == "chw" else (self.height,
                                                                           self.width, 3)
             raise ValueError(f"a background of shape {tuple(background.shape)}: this model "
                              f"takes {list(shape)} or [B, {', '.join(map(str, shape))}]")
-        return b.reshape(b.shape[0], -1, 3)
+        return b.reshape(b.shape[0], 3, -1)
 
     def relight_map(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, background="env",
                     keep_negative=False, layout="chw"):

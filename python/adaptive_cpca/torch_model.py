@@ -93,8 +93,9 @@ class DeviceModel:
         return spans
 
     def relit(self, projected):
-        """Each row's value under projected lightings V_g^T L [N, K]: [P, K]
-        float32, rows in cluster order (albedo not applied)."""
+        """Each row's value under projected lightings V_g^T L [N, K]: [K, P]
+        float32 (a column per row, so that images are made channels-first
+        without a transpose), rows in cluster order, albedo not applied."""
         towards = torch.empty(int(self.first_basis[-1]), projected.shape[1],
                               dtype=torch.float32, device=self.device)
         for start in range(0, towards.shape[0], _BASIS_ROWS):
@@ -102,11 +103,11 @@ class DeviceModel:
             torch.matmul(self.bases[start:stop].to(torch.float32), projected,
                          out=towards[start:stop])
         towards *= self.scale[:, None]
-        out = torch.empty(self.rows, projected.shape[1], dtype=torch.float32, device=self.device)
+        out = torch.empty(projected.shape[1], self.rows, dtype=torch.float32, device=self.device)
         for span in self.spans:
             (self._sparse_span if self.kernel == "sparse" else self._dense_span)(span, towards, out)
         if self.has_mean:
-            out += (self.means.to(torch.float32) @ projected)[self.row_cluster]
+            out += (projected.t() @ self.means.to(torch.float32).t())[:, self.row_cluster]
         return out
 
     def _dense_span(self, span, towards, out):
@@ -115,17 +116,18 @@ class DeviceModel:
         wide = wide.to(torch.float32)
         for start, stop, rank, basis, entry in span:
             if rank == 0:
-                out[start:stop].zero_()
+                out[:, start:stop].zero_()
                 continue
             u = wide[entry - entry0:entry - entry0 + (stop - start) * rank].view(stop - start, rank)
-            torch.matmul(u, towards[basis:basis + rank], out=out[start:stop])
+            # (u W^T)^T written straight into the strided columns.
+            torch.matmul(towards[basis:basis + rank].t(), u.t(), out=out[:, start:stop])
 
     def _sparse_span(self, span, towards, out):
         first, last = span[0][0], span[-1][1]
         crow = self.row_entries[first:last + 1] - self.row_entries[first]
         entries = int(crow[-1])
         if entries == 0:
-            out[first:last].zero_()
+            out[:, first:last].zero_()
             return
         entry0 = span[0][4]
         values = self.coefficients[entry0:entry0 + entries].to(torch.float32)
@@ -137,4 +139,4 @@ class DeviceModel:
             warnings.filterwarnings("ignore", message="Sparse CSR tensor support is in beta")
             matrix = torch.sparse_csr_tensor(crow, column, values,
                                              size=(last - first, towards.shape[0]))
-            out[first:last] = matrix @ towards
+            out[:, first:last] = (matrix @ towards).t()

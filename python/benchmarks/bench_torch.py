@@ -6,7 +6,9 @@
 Per model: the CLI's `bench relight` (its median ms/frame for a lighting
 already on the lattice, and the machine's streaming read in the same run),
 then adaptive_cpca.torch's relight of lightings made once on the device, at
-each batch size (median ms per frame over --frames frames after a warm-up),
+each batch size (median ms per frame over --frames frames after a warm-up;
+fresh images each call, and into one buffer, `out=`, as a training loop
+would reuse it),
 and the lighting made on the device (sky, and the first Blender world map
 rotated). Prints each figure, its ratio to the compiled relighter and the
 bytes a frame reads over the streaming read.
@@ -78,9 +80,12 @@ def main():
             lightings = torch.stack([t.lighting(sky, yaw=360.0 * k / batch)
                                      for k in range(batch)])
             repeats = max(3, a.frames // batch)
-            ms = timed(lambda: t.relight(lightings), device, repeats) / batch
-            print(f"  torch batch {batch:3d}: {ms:8.3f} ms/frame, {1000 / ms:8.1f} frames/s, "
-                  f"{ms / cpp_ms:5.2f}x the compiled relighter's time")
+            buffer = t.relight(lightings)
+            for what, call in (("fresh images", lambda: t.relight(lightings)),
+                               ("into a buffer", lambda: t.relight(lightings, out=buffer))):
+                ms = timed(call, device, repeats) / batch
+                print(f"  torch batch {batch:3d}, {what:13s}: {ms:8.3f} ms/frame, "
+                      f"{1000 / ms:8.1f} frames/s, {ms / cpp_ms:5.2f}x the compiled relighter's")
         worlds = sorted(glob.glob(os.path.join(WORLDS, "*.exr")))
         for name, env in [("sky", sky)] + [(os.path.basename(w), t.environment(w))
                                            for w in worlds[:1]]:

@@ -308,6 +308,22 @@ def test_layouts_backgrounds_and_negative_values(tmp_path_factory):
     assert float(kept.min()) < 0
     # Relighting is linear in the lighting.
     expect_close(kept.numpy(), -t.relight(lightings, keep_negative=True).numpy(), "linearity")
+    # Into a buffer of either layout: the same values, the buffer itself.
+    two = torch.from_numpy(np.concatenate([lightings, 2 * lightings]))
+    for layout, channels in (("chw", 3), ("hwc", 3), ("chw", 4), ("hwc", 4)):
+        background = "alpha" if channels == 4 else "black"
+        fresh = t.relight(two, background=background, layout=layout)
+        buffer = torch.full_like(fresh, float("nan"))
+        assert t.relight(two, background=background, layout=layout, out=buffer) is buffer
+        assert torch.equal(buffer, fresh), (layout, channels)
+    with pytest.raises(ValueError, match=r"out: a contiguous float32 tensor \[2, 3, 40, 40\]"):
+        t.relight(two, out=torch.zeros(2, 3, 40, 41))
+    # One background for every lighting, or one each.
+    behind = torch.rand(2, 3, r.height, r.width)
+    each = t.relight(two, background=behind)
+    assert relative_l2(each[1].numpy(), t.relight(two[1], background=behind[1])[0].numpy()) < 1e-6
+    with pytest.raises(ValueError, match="a background of 2 images for 1 lightings"):
+        t.relight(two[0], background=behind)
 
 
 def test_bad_input_is_refused_in_words(tmp_path_factory, tmp_path, monkeypatch):
