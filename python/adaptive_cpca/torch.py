@@ -170,12 +170,18 @@ class TorchRelighter:
         """The lattice lighting [l, 3] of env (as environment() takes it) under
         the rotation, times 2^exposure: per column the rotated map's radiance
         integrated over the texel (or the light's cell), made on the device
-        in float64 and returned as dtype."""
-        if not math.isfinite(float(exposure)):
+        in float64 and returned as dtype. Given sequences of angles (or
+        exposures), one lighting each in one pass: [B, l, 3]."""
+        stops = np.asarray(torch.as_tensor(exposure).cpu(), dtype=np.float64)
+        if not np.isfinite(stops).all():
             raise ValueError(f"exposure {exposure}: not a finite number of stops")
-        rotation = rotation_matrix(yaw, pitch, roll, self.device)
-        values = self.domain.integrate(self.environment(env), rotation)
-        return (values * 2.0 ** float(exposure)).to(dtype)
+        rotations = rotation_matrix(yaw, pitch, roll, self.device)
+        one = rotations.dim() == 2 and stops.ndim == 0
+        rotations = rotations.reshape(-1, 3, 3)
+        scale = torch.as_tensor(2.0 ** stops, dtype=torch.float64, device=self.device)
+        values = self.domain.integrate(self.environment(env), rotations)
+        values = values * scale.reshape(-1, 1, 1)
+        return (values[0] if one else values).to(dtype)
 
     def sh9(self, lightings):
         """The first nine real SH coefficients of each lighting's radiance
@@ -188,15 +194,23 @@ class TorchRelighter:
     def view(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, layout="chw"):
         """The map as the camera sees it behind the subject, times 2^exposure:
         [3, H, W] (or [H, W, 3]) float32, each pixel the rotated map's radiance
-        along its centre's ray; relight(background=...) composes over it."""
+        along its centre's ray; relight(background=...) composes over it.
+        Given sequences of angles (or exposures): [B, 3, H, W]."""
         if self.camera is None:
             raise ValueError(f"background env: {self.path} is a captured light set: no camera "
                              "sees the environment behind it (use black or alpha)")
-        rotation = rotation_matrix(yaw, pitch, roll, self.device)
-        radiance = self.environment(env).radiance(self._camera_rays() @ rotation)
-        image = (radiance * 2.0 ** float(exposure)).to(torch.float32)
-        image = image.reshape(self.height, self.width, 3)
-        return image if layout == "hwc" else image.permute(2, 0, 1).contiguous()
+        rotations = rotation_matrix(yaw, pitch, roll, self.device)
+        stops = np.asarray(torch.as_tensor(exposure).cpu(), dtype=np.float64)
+        one = rotations.dim() == 2 and stops.ndim == 0
+        rotations = rotations.reshape(-1, 3, 3)
+        # R^T d for each rotation and pixel: [B, H W, 3].
+        radiance = self.environment(env).radiance(self._camera_rays() @ rotations)
+        scale = torch.as_tensor(2.0 ** stops, dtype=torch.float64, device=self.device)
+        image = (radiance * scale.reshape(-1, 1, 1)).to(torch.float32)
+        image = image.reshape(-1, self.height, self.width, 3)
+        if layout == "chw":
+            image = image.permute(0, 3, 1, 2)
+        return (image[0] if one else image).contiguous()
 
     def _camera_rays(self):
         """Each pixel centre's camera ray (transport/camera.h), float64 [H W, 3]."""
@@ -214,6 +228,52 @@ class TorchRelighter:
             rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
             self._rays = self._tensor(rays.reshape(-1, 3))
         return self._rays
+
+    # -- labels -------------------------------------------------------------
+    LABELS = ("albedo", "normal", "depth", "position", "mask", "object")
+
+    def labels(self, aovs="all"):
+        """The view's per-pixel labels by name, numpy arrays H x W (x C) as
+        `Relighter.labels()` gives them (docs/datasets.md, "The labels"):
+        albedo premultiplied by coverage, normal, planar depth, position,
+        mask (coverage), object (int32, -1 for background); aovs 'all', or a
+        comma-separated list of those names."""
+        names = self.LABELS if aovs == "all" else tuple(aovs.split(","))
+        for name in names:
+            if name not in self.LABELS:
+                raise ValueError(f"label {name!r}: one of {', '.join(self.LABELS)} (the "
+                                 "shading is a frame's: relit / albedo)")
+            if self.is_light_set and name != "mask":
+                raise ValueError(f"{self.path}: cannot give the '{name}' label: a captured "
+                                 "light set holds images, not the geometry or albedo under them")
+        need = {"albedo": "albedo", "normal": "normal", "depth": "position",
+                "position": "position", "object": "object", "mask": "coverage"}
+        with h5py.File(self.path, "r") as f:
+            rows = {key: f[key][:] for key in {need[n] for n in names} | {"coverage", "pixels"}
+                    if key in f}
+        out = {}
+        for name in names:
+            if need[name] not in rows:
+                raise ValueError(f"{self.path}: cannot give the '{name}' label: the file has no "
+                                 f"{need[name]} dataset (compress or build it again)")
+            values = self._label_rows(name, rows)
+            image = np.full((self.height * self.width,) + values.shape[1:],
+                            -1 if name == "object" else 0, values.dtype)
+            image[rows["pixels"]] = values
+            out[name] = image.reshape((self.height, self.width) + values.shape[1:])
+        return out
+
+    def _label_rows(self, name, rows):
+        """One label's values per row, in the file's row order."""
+        if name == "albedo":  # premultiplied by coverage, as the frame is
+            return (rows["coverage"][:, None] * rows["albedo"]).astype(np.float32)
+        if name == "depth":  # planar: along the view axis
+            eye, target = self.camera["eye"], self.camera["target"]
+            forward = (target - eye) / np.linalg.norm(target - eye)
+            return ((rows["position"].astype(np.float64) - eye) @ forward).astype(np.float32)
+        if name == "object":
+            return rows["object"].astype(np.int32)
+        return rows[{"normal": "normal", "position": "position", "mask": "coverage"}[name]]
 
     # -- relighting ---------------------------------------------------------
     def _projected(self, lightings):

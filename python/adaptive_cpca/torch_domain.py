@@ -95,15 +95,20 @@ class LightingDomain:
         self._texel, self._cell = pairs // self.size, pairs % self.size
 
     def gather(self, values):
-        """Per-texel values of the fine lattice [l_fine, C] summed onto the cells."""
-        out = torch.zeros(self.size, values.shape[1], dtype=_F64, device=self.device)
-        out.index_add_(0, self._cell, self._fraction[:, None] * values[self._texel])
-        return out
+        """Per-texel values of the fine lattice [..., l_fine, C] summed onto
+        the cells: [..., l, C]."""
+        shape = values.shape[:-2]
+        values = values.reshape(-1, *values.shape[-2:])
+        out = torch.zeros(values.shape[0], self.size, values.shape[-1], dtype=_F64,
+                          device=self.device)
+        out.index_add_(1, self._cell, self._fraction[None, :, None] * values[:, self._texel])
+        return out.reshape(*shape, self.size, values.shape[-1])
 
-    def integrate(self, environment, rotation):
-        """The rotated environment on the domain: [l, 3] float64 (a light set's
-        cells each hold the map's integral over the cell)."""
-        fine = environment.integrate(self.lattice, rotation)
+    def integrate(self, environment, rotations):
+        """The environment under each rotation [B, 3, 3] on the domain: [B,
+        l, 3] float64 (a light set's cells each hold the map's integral over
+        the cell)."""
+        fine = environment.integrate(self.lattice, rotations)
         if not self.is_light_set:
             return fine
         return self.gather(fine) * self._scale[:, None]

@@ -43,16 +43,27 @@ _F64 = torch.float64
 
 
 def rotation_matrix(yaw=0.0, pitch=0.0, roll=0.0, device="cpu"):
-    """R = Rz(roll) Rx(pitch) Ry(yaw), degrees, float64 [3, 3]."""
-    for name, value in (("yaw", yaw), ("pitch", pitch), ("roll", roll)):
-        if not math.isfinite(float(value)):
-            raise ValueError(f"{name} {value}: not a finite number of degrees")
-    y, p, r = (math.radians(float(a)) for a in (yaw, pitch, roll))
-    ry = [[math.cos(y), 0, math.sin(y)], [0, 1, 0], [-math.sin(y), 0, math.cos(y)]]
-    rx = [[1, 0, 0], [0, math.cos(p), -math.sin(p)], [0, math.sin(p), math.cos(p)]]
-    rz = [[math.cos(r), -math.sin(r), 0], [math.sin(r), math.cos(r), 0], [0, 0, 1]]
-    m = np.array(rz) @ np.array(rx) @ np.array(ry)
-    return torch.tensor(m, dtype=_F64, device=device)
+    """R = Rz(roll) Rx(pitch) Ry(yaw), degrees, float64 [3, 3]; given
+    sequences (or 1-D tensors) of angles, one for each: [B, 3, 3]."""
+    angles = [np.atleast_1d(np.asarray(torch.as_tensor(a).cpu(), dtype=np.float64))
+              for a in (yaw, pitch, roll)]
+    batched = any(np.ndim(a) > 0 and not (torch.is_tensor(a) and a.dim() == 0)
+                  for a in (yaw, pitch, roll))
+    y, p, r = np.broadcast_arrays(*angles)
+    for name, values in (("yaw", y), ("pitch", p), ("roll", r)):
+        if not np.isfinite(values).all():
+            raise ValueError(f"{name} {values[~np.isfinite(values)][0]}: not a finite number "
+                             "of degrees")
+    y, p, r = np.radians(y), np.radians(p), np.radians(r)
+    zero, one = np.zeros_like(y), np.ones_like(y)
+    ry = np.stack([np.stack([np.cos(y), zero, np.sin(y)], -1), np.stack([zero, one, zero], -1),
+                   np.stack([-np.sin(y), zero, np.cos(y)], -1)], -2)
+    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, np.cos(p), -np.sin(p)], -1),
+                   np.stack([zero, np.sin(p), np.cos(p)], -1)], -2)
+    rz = np.stack([np.stack([np.cos(r), -np.sin(r), zero], -1),
+                   np.stack([np.sin(r), np.cos(r), zero], -1), np.stack([zero, zero, one], -1)], -2)
+    m = torch.tensor(rz @ rx @ ry, dtype=_F64, device=device)
+    return m if batched else m[0]
 
 
 def direction_from_angles(theta, phi):
@@ -138,11 +149,6 @@ class CubeLattice:
         return omega, w / w.norm(dim=-1, keepdim=True)
 
 
-def _rotated(d, rotation):
-    """R d for directions d [..., 3]."""
-    return d @ rotation.t()
-
-
 def _parse_numbers(text, spec):
     values = []
     for part in text.split(","):
@@ -161,8 +167,10 @@ class Environment:
     (lat-long .exr/.hdr/.pfm, or a 4:3 horizontal cube cross) or a map given
     as an array or tensor [H, W, C] (row 0 at the zenith), held on a device.
 
-    `integrate(lattice, rotation)` gives the rotated map's lattice lighting
-    [l, 3] (float64); `radiance(d)` the unrotated map's radiance toward d."""
+    `integrate(lattice, rotations)` gives the lattice lighting of the map
+    under each rotation [B, 3, 3]: [B, l, 3] (float64); `radiance(d)` the
+    unrotated map's radiance toward d. What no rotation changes (the map's
+    sub-cells and their solid angles) is made once per lattice resolution."""
 
     def __init__(self, spec, device="cpu", name=None):
         self.device = torch.device(device)
@@ -170,6 +178,7 @@ class Environment:
         self._constant = None
         self._map = None
         self._sky = False
+        self._cached = {}
         if isinstance(spec, str):
             self._parse(spec)
         else:
@@ -254,22 +263,34 @@ class Environment:
         self._map = torch.from_numpy(np.ascontiguousarray(rgb)).to(self.device)
 
     # -- integration ----------------------------------------------------------
-    def integrate(self, lattice, rotation):
-        """The rotated map integrated onto the lattice: [l, 3] float64."""
-        out = torch.zeros(lattice.size, 3, dtype=_F64, device=self.device)
-        rotation = rotation.to(device=self.device, dtype=_F64)
+    def integrate(self, lattice, rotations):
+        """The map under each rotation [B, 3, 3] integrated onto the lattice:
+        [B, l, 3] float64 (integral over texel j of L(R^T w) dw)."""
+        rotations = rotations.to(device=self.device, dtype=_F64)
+        batch = rotations.shape[0]
         if self._constant is not None:
-            return out + lattice.solid_angles[:, None] * self._constant
+            values = lattice.solid_angles[:, None] * self._constant
+            return values.expand(batch, lattice.size, 3).clone()
+        out = torch.zeros(batch * lattice.size, 3, dtype=_F64, device=self.device)
         if self._sky:
-            omega, w = lattice.texel_cells(4)
-            sky = self._sky_radiance(_rotated(w, rotation.t()))
-            out += (omega[..., None] * sky).sum(dim=1)
+            omega, w = self._cells(lattice, lambda: lattice.texel_cells(4))
+            # R^T w for each rotation: the map's radiance where texel cells look.
+            sky = self._sky_radiance(torch.einsum("bji,tcj->btci", rotations, w))
+            out += (omega[..., None] * sky).sum(dim=2).reshape(-1, 3)
         if self._sun is not None:
-            self._sun.integrate(lattice, rotation, out)
+            self._sun.integrate(lattice, rotations, out)
         if self._map is not None:
-            (_integrate_cross if self._cross else _integrate_latlong)(self._map, lattice,
-                                                                     rotation, out)
-        return out
+            made = _latlong_cells if not self._cross else _cross_cells
+            directions, values = self._cells(lattice, lambda: made(self._map, lattice))
+            _add_cells(directions, values, lattice, rotations, out)
+        return out.view(batch, lattice.size, 3)
+
+    def _cells(self, lattice, make):
+        """What integrating onto a lattice of this resolution needs and no
+        rotation changes, made once."""
+        if lattice.resolution not in self._cached:
+            self._cached[lattice.resolution] = make()
+        return self._cached[lattice.resolution]
 
     def radiance(self, d):
         """Radiance of the unrotated map toward directions d [..., 3]: [..., 3]."""
@@ -311,24 +332,31 @@ class _Sun:
         self.rgb = torch.tensor(rgb, dtype=_F64, device=device)
         self.device = device
 
-    def integrate(self, lattice, rotation, out):
+    def integrate(self, lattice, rotations, out):
+        """Adds each rotation's disc to out [B l, 3]."""
         texel_angle = 0.5 * math.pi / lattice.resolution
         rings = min(512, max(8, math.ceil(16 * math.radians(self.size) / texel_angle)))
         segments = 2 * rings
-        axis = rotation @ torch.tensor(self.centre, dtype=_F64, device=self.device)
-        helper = [0.0, 1.0, 0.0] if abs(float(axis[1])) < 0.9 else [1.0, 0.0, 0.0]
-        u = torch.linalg.cross(axis, torch.tensor(helper, dtype=_F64, device=self.device))
-        u = u / u.norm()
+        axis = rotations @ torch.tensor(self.centre, dtype=_F64, device=self.device)  # [B, 3]
+        y_helper = (axis[:, 1].abs() < 0.9)[:, None]
+        helper = torch.where(y_helper, torch.tensor([0.0, 1.0, 0.0], dtype=_F64,
+                                                    device=self.device),
+                             torch.tensor([1.0, 0.0, 0.0], dtype=_F64, device=self.device))
+        u = torch.linalg.cross(axis, helper)
+        u = u / u.norm(dim=-1, keepdim=True)
         v = torch.linalg.cross(axis, u)
         r = torch.arange(rings, device=self.device, dtype=_F64)[:, None]
         s = torch.arange(segments, device=self.device, dtype=_F64)[None, :]
         cos_t = 1 - (r + 0.5) / rings * (1 - self.cos_half)
         sin_t = torch.sqrt(torch.clamp(1 - cos_t * cos_t, min=0))
         phi = 2 * math.pi * (s + 0.5 * (r.long() & 1).to(_F64)) / segments
-        w = (cos_t[..., None] * axis + sin_t[..., None] *
-             (torch.cos(phi)[..., None] * u + torch.sin(phi)[..., None] * v))
+        around = torch.cos(phi)[None, ..., None] * u[:, None, None] + \
+            torch.sin(phi)[None, ..., None] * v[:, None, None]
+        w = cos_t[None, ..., None] * axis[:, None, None] + sin_t[None, ..., None] * around
         share = self.rgb * (2 * math.pi * (1 - self.cos_half)) / (rings * segments)
-        texels = lattice.texel_of(w).reshape(-1)
+        batch = rotations.shape[0]
+        first = (torch.arange(batch, device=self.device) * lattice.size)[:, None, None]
+        texels = (lattice.texel_of(w) + first).reshape(-1)
         out.index_add_(0, texels, share.expand(texels.numel(), 3))
 
     def radiance(self, d):
@@ -337,11 +365,13 @@ class _Sun:
         return torch.where(inside, self.rgb.expand(d.shape), torch.zeros_like(d))
 
 
-def _integrate_latlong(rgb, lattice, rotation, out):
-    """Each pixel over its exact solid angle ((cos t0 - cos t1) dphi), in
-    sub-cells at most 1/8 of a texel across, added at the rotated centre."""
+def _latlong_cells(rgb, lattice):
+    """A lat-long map's sub-cells: each pixel over its exact solid angle
+    ((cos t0 - cos t1) dphi) split into sub-cells at most 1/8 of a texel
+    across; their unrotated centre directions [n, 3] and radiance x solid
+    angle [n, 3], cells of black pixels left out."""
     height, width = rgb.shape[:2]
-    device = out.device
+    device = rgb.device
     texel_angle = 0.5 * math.pi / lattice.resolution
     sub = max(1, math.ceil(8 * (math.pi / height) / texel_angle))
     sub_w, sub_h = width * sub, height * sub
@@ -350,6 +380,7 @@ def _integrate_latlong(rgb, lattice, rotation, out):
     sin_phi, cos_phi = torch.sin(phi), torch.cos(phi)
     d_phi = 2 * math.pi / sub_w
     column_pixel = torch.arange(sub_w, device=device) // sub
+    directions, values = [], []
     chunk = max(1, _CHUNK_CELLS // sub_w)
     for first in range(0, sub_h, chunk):
         r = torch.arange(first, min(sub_h, first + chunk), device=device, dtype=_F64)
@@ -358,11 +389,25 @@ def _integrate_latlong(rgb, lattice, rotation, out):
         theta = 0.5 * (theta0 + theta1)
         sin_t, cos_t = torch.sin(theta)[:, None], torch.cos(theta)[:, None]
         d = torch.stack([sin_t * sin_phi, cos_t.expand(-1, sub_w), -sin_t * cos_phi], dim=-1)
-        texels = lattice.texel_of(_rotated(d, rotation))
         rows = rgb[r.long() // sub]  # [rows, W, 3]
-        pixels = rows if sub == 1 else rows[:, column_pixel]
-        values = pixels.to(_F64) * omega[:, None, None]
-        out.index_add_(0, texels.reshape(-1), values.reshape(-1, 3))
+        pixels = (rows if sub == 1 else rows[:, column_pixel]).to(_F64)
+        lit = (pixels != 0).any(dim=-1)
+        directions.append(d[lit])
+        values.append((pixels * omega[:, None, None])[lit])
+    return torch.cat(directions), torch.cat(values)
+
+
+def _add_cells(directions, values, lattice, rotations, out):
+    """Each cell's value added, for each rotation b, to the texel holding R_b
+    d: out [B l, 3]."""
+    batch = rotations.shape[0]
+    chunk = max(1, _CHUNK_CELLS // batch)
+    first_texel = (torch.arange(batch, device=out.device) * lattice.size)[:, None]
+    for first in range(0, directions.shape[0], chunk):
+        d = directions[first:first + chunk]
+        texels = lattice.texel_of(torch.einsum("bij,nj->bni", rotations, d)) + first_texel
+        v = values[first:first + chunk]
+        out.index_add_(0, texels.reshape(-1), v.expand(batch, -1, 3).reshape(-1, 3))
 
 
 # lighting/cube_cross.h: the cross's faces (column, row, centre, right, down).
@@ -376,9 +421,12 @@ _CROSS_FACES = (
 )
 
 
-def _integrate_cross(rgb, lattice, rotation, out):
+def _cross_cells(rgb, lattice):
+    """A cube cross's sub-cells: each pixel constant over its exact solid
+    angle on its face, split into sub-cells at most 1/8 of a texel across;
+    centre directions [n, 3] and radiance x solid angle [n, 3]."""
     face_size = rgb.shape[0] // 3
-    device = out.device
+    device = rgb.device
     sub = max(1, (8 * lattice.resolution + face_size - 1) // face_size)
     cells = face_size * sub
     cell = 2.0 / cells
@@ -386,14 +434,16 @@ def _integrate_cross(rgb, lattice, rotation, out):
     a0 = -1 + k.to(_F64) * cell
     omega = rectangle_solid_angle(a0[None, :], a0[:, None], a0[None, :] + cell,
                                   a0[:, None] + cell)  # [j (down), i (right)]
+    directions, values = [], []
     for column, row, centre, right, down in _CROSS_FACES:
         c, rt, dn = (torch.tensor(v, dtype=_F64, device=device) for v in (centre, right, down))
         w = (c + (a0[None, :, None] + 0.5 * cell) * rt + (a0[:, None, None] + 0.5 * cell) * dn)
-        w = w / w.norm(dim=-1, keepdim=True)
-        texels = lattice.texel_of(_rotated(w, rotation))
         face = rgb[row * face_size:(row + 1) * face_size, column * face_size:(column + 1) * face_size]
         pixels = face[k // sub][:, k // sub].to(_F64)
-        out.index_add_(0, texels.reshape(-1), (pixels * omega[..., None]).reshape(-1, 3))
+        lit = (pixels != 0).any(dim=-1)
+        directions.append((w / w.norm(dim=-1, keepdim=True))[lit])
+        values.append((pixels * omega[..., None])[lit])
+    return torch.cat(directions), torch.cat(values)
 
 
 def _latlong_radiance(rgb, d):

@@ -141,6 +141,16 @@ def test_lightings_made_in_torch_equal_the_modules(tmp_path_factory, tmp_path):
     for yaw, pitch, roll, _ in ROTATIONS:
         energy = t.lighting("sun:90,0,180,1", yaw, pitch, roll, dtype=torch.float64).sum(0)
         assert torch.allclose(energy, torch.full((3,), 2 * np.pi, dtype=torch.float64))
+    # Many rotations in one pass: each as it is alone; the map's view likewise.
+    yaws, pitches, rolls, stops = (list(v) for v in zip(*ROTATIONS))
+    for spec in specs:
+        env = t.environment(spec)
+        together = t.lighting(env, yaws, pitches, rolls, stops, dtype=torch.float64)
+        alone = torch.stack([t.lighting(env, *a, dtype=torch.float64) for a in ROTATIONS])
+        assert together.shape == (len(ROTATIONS), t.lattice_size, 3)
+        assert torch.allclose(together, alone, rtol=1e-12, atol=0), spec
+        views = t.view(env, yaws, pitches, rolls, stops)
+        assert torch.equal(views, torch.stack([t.view(env, *a) for a in ROTATIONS])), spec
     # A map given as a tensor is the same map as its file.
     from adaptive_cpca.image_reading import read_image
     pfm = [s for s in specs if s.endswith(".pfm")][0]
