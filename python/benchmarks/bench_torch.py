@@ -10,8 +10,11 @@ each batch size (median ms per frame over --frames frames after a warm-up;
 fresh images each call, and into one buffer, `out=`, as a training loop
 would reuse it),
 and the lighting made on the device (sky, and the first Blender world map
-rotated). Prints each figure, its ratio to the compiled relighter and the
-bytes a frame reads over the streaming read.
+rotated); with --dataset, RelightDataset (the Blender world maps and the
+sky, turned over the sphere) feeding a training step of train_sh9's network
+at each --workers count, against the relight alone of the same batches.
+Prints each figure, its ratio to the compiled relighter and the bytes a
+frame reads over the streaming read.
 """
 
 import argparse
@@ -20,12 +23,17 @@ import json
 import os
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 
 import torch
 
 from adaptive_cpca.torch import TorchRelighter
+from adaptive_cpca.torch_dataset import RelightDataset
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
+import train_sh9  # noqa: E402
 
 WORLDS = "/usr/share/blender/datafiles/studiolights/world"
 
@@ -55,6 +63,25 @@ def timed(call, device, repeats):
     return statistics.median(ms)
 
 
+def dataset_figures(model, t, batch, workers, batches=8):
+    """Frames a second of RelightDataset feeding a training step, per worker count."""
+    maps = sorted(glob.glob(os.path.join(WORLDS, "*.exr"))) + ["sky"]
+    net = train_sh9.network(t.height, t.width)
+    optimiser = torch.optim.Adam(net.parameters(), lr=1e-3)
+    for w in workers:
+        data = RelightDataset(model, maps, batch_size=batch, seed=3, draws=batch * batches,
+                              rotation="sphere", labels=None)
+        start = time.perf_counter()
+        for b in torch.utils.data.DataLoader(data, batch_size=None, num_workers=w):
+            loss = torch.nn.functional.mse_loss(net(b["images"]), b["sh9"].reshape(-1, 27))
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+        rate = batch * batches / (time.perf_counter() - start)
+        print(f"  RelightDataset, batches of {batch}, {w} workers, feeding a training step: "
+              f"{rate:7.1f} frames/s")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("models", nargs="+")
@@ -63,6 +90,8 @@ def main():
     p.add_argument("--frames", type=int, default=20)
     p.add_argument("--batch", type=int, nargs="+", default=[1, 32])
     p.add_argument("--cli", default="build/tools/adaptive-cpca")
+    p.add_argument("--dataset", action="store_true")
+    p.add_argument("--workers", type=int, nargs="+", default=[0, 2])
     a = p.parse_args()
     device = torch.device(a.device)
     print(f"torch {torch.__version__}, {torch.get_num_threads()} threads, device {device}")
@@ -86,6 +115,8 @@ def main():
                 ms = timed(call, device, repeats) / batch
                 print(f"  torch batch {batch:3d}, {what:13s}: {ms:8.3f} ms/frame, "
                       f"{1000 / ms:8.1f} frames/s, {ms / cpp_ms:5.2f}x the compiled relighter's")
+        if a.dataset:
+            dataset_figures(model, t, a.batch[-1], a.workers)
         worlds = sorted(glob.glob(os.path.join(WORLDS, "*.exr")))
         for name, env in [("sky", sky)] + [(os.path.basename(w), t.environment(w))
                                            for w in worlds[:1]]:
