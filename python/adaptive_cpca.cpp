@@ -76,6 +76,24 @@ PyEnvironment environmentFromArray(const FloatArray& array, const std::string& n
   return {std::move(env)};
 }
 
+/// The map under each (yaw, pitch, roll) on a 6 x R x R lattice, B x l x 3:
+/// adaptive_cpca.torch's fast path on the CPU (the same integration).
+py::array_t<double> latticeLightings(const PyEnvironment& e, int cubemap,
+                                     const std::vector<std::tuple<double, double, double>>& turns) {
+  const CubeLattice lattice(cubemap);
+  const auto count = static_cast<py::ssize_t>(turns.size());
+  py::array_t<double> out({count, static_cast<py::ssize_t>(lattice.size()), py::ssize_t{3}});
+  double* values = out.mutable_data();
+  py::gil_scoped_release release;
+  for (size_t k = 0; k < turns.size(); ++k) {
+    const EnvRotation rotation{std::get<0>(turns[k]), std::get<1>(turns[k]), std::get<2>(turns[k])};
+    validateRotation(rotation);
+    const LatticeLighting lighting = computeLighting(*e.env, lattice, rotation);
+    std::copy(lighting.begin(), lighting.end(), values + k * lighting.size());
+  }
+  return out;
+}
+
 /// No environment: local lights alone, over black.
 std::shared_ptr<const Environment> darkness() {
   static const std::shared_ptr<const Environment> black = makeConstantEnvironment(Rgb::Zero());
@@ -615,6 +633,9 @@ PYBIND11_MODULE(_core, m) {
       .def_static("from_array", &environmentFromArray, py::arg("array"), py::arg("name") = "array",
                   "A lat-long map, H x 2H x 3 (row 0 at the zenith), checked as a file is.")
       .def_property_readonly("name", [](const PyEnvironment& e) { return e.env->name(); })
+      .def("lattice_lightings", &latticeLightings, py::arg("cubemap"), py::arg("rotations"),
+           "Each (yaw, pitch, roll)'s lighting on a 6 x R x R lattice, B x l x 3, as "
+           "Relighter.lighting(...).values gives it for a file of that lattice.")
       .def("__repr__", [](const PyEnvironment& e) {
         return "<adaptive_cpca.Environment " + e.env->name() + ">";
       });

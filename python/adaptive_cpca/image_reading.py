@@ -29,6 +29,11 @@ def read_image(path):
 
 def _read_with_a_library(path):
     from . import _core
+    import torch.utils.data
+    # Not in a DataLoader worker: OpenImageIO's thread pool does not survive a fork.
+    if torch.utils.data.get_worker_info() is not None:
+        raise ValueError(f"{path}: a map file is read before the DataLoader forks its workers "
+                         "(RelightDataset reads its maps when it is made)")
     if _core is not None:
         try:
             return _core.read_image(path)

@@ -63,7 +63,10 @@ class TorchRelighter:
     background as `coverage * relit + (1 - coverage) * background`.
     """
 
-    def __init__(self, path, device="cpu", kernel="auto"):
+    def __init__(self, path, device="cpu", kernel="auto", lighting="auto"):
+        if lighting not in ("auto", "torch"):
+            raise ValueError(f"lighting {lighting!r}: 'auto' or 'torch'")
+        self.lighting_backend = lighting
         self.path = str(path)
         self.device = torch.device(device)
         with h5py.File(self.path, "r") as f:
@@ -177,11 +180,25 @@ class TorchRelighter:
             raise ValueError(f"exposure {exposure}: not a finite number of stops")
         rotations = rotation_matrix(yaw, pitch, roll, self.device)
         one = rotations.dim() == 2 and stops.ndim == 0
-        rotations = rotations.reshape(-1, 3, 3)
+        env = self.environment(env)
+        compiled = self._compiled_lighting(env)
+        if compiled is not None:
+            angles = np.broadcast_arrays(*(np.atleast_1d(np.asarray(
+                torch.as_tensor(a).cpu(), dtype=np.float64)) for a in (yaw, pitch, roll)))
+            turns = list(zip(*(a.tolist() for a in angles)))
+            values = torch.from_numpy(compiled.lattice_lightings(self.cubemap, turns))
+        else:
+            values = self.domain.integrate(env, rotations.reshape(-1, 3, 3))
         scale = torch.as_tensor(2.0 ** stops, dtype=torch.float64, device=self.device)
-        values = self.domain.integrate(self.environment(env), rotations)
         values = values * scale.reshape(-1, 1, 1)
         return (values[0] if one else values).to(dtype)
+
+    def _compiled_lighting(self, env):
+        """On the CPU, with lighting='auto', where the compiled part loaded: the
+        map's compiled Environment (a cube-lattice file's lighting only)."""
+        if self.lighting_backend != "auto" or self.device.type != "cpu" or self.is_light_set:
+            return None
+        return env.compiled()
 
     def sh9(self, lightings):
         """The first nine real SH coefficients of each lighting's radiance

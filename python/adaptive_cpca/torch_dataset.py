@@ -15,8 +15,10 @@ import os
 
 import torch
 
+from .image_reading import read_image
 from .sampling import draw, epoch_seed
 from .torch import TorchRelighter
+from .torch_lighting import Environment
 
 __all__ = ["RelightDataset"]
 
@@ -68,6 +70,10 @@ class RelightDataset(torch.utils.data.IterableDataset):
         super().__init__()
         self.models = [models] if isinstance(models, str) else list(models)
         self.maps = _expanded([maps] if isinstance(maps, str) or torch.is_tensor(maps) else maps)
+        # Map files read now, before any DataLoader forks: the readers' thread
+        # pools do not survive a fork.
+        self._pixels = {k: read_image(m) for k, m in enumerate(self.maps)
+                        if isinstance(m, str) and os.path.isfile(m)}
         if not self.models or not self.maps:
             raise ValueError("RelightDataset needs at least one model and one map")
         if batch_size < 1 or (draws is not None and draws < 1):
@@ -114,7 +120,9 @@ class RelightDataset(torch.utils.data.IterableDataset):
                     k: torch.from_numpy(v) for k, v in r.camera.items()}
                 views.append((r, labels, camera))
             self._views = views
-            self._environments = [views[0][0].environment(m) for m in self.maps]
+            self._environments = [
+                Environment(m, self.device, pixels=self._pixels.get(k)) if isinstance(m, str)
+                else views[0][0].environment(m) for k, m in enumerate(self.maps)]
         return self._views
 
     def batch(self, k):

@@ -123,9 +123,10 @@ ROTATIONS = [(0, 0, 0, 0), (37, 12, -5, -1.5), (200, -80, 30, 2)]
 
 
 def test_lightings_made_in_torch_equal_the_modules(tmp_path_factory, tmp_path):
-    # Every --env kind, rotated and exposed, integrated in float64 both ways.
+    # Every --env kind, rotated and exposed, integrated in float64 both ways
+    # (in torch: on the CPU, lighting='auto' would call the compiled part).
     path = compress(tmp_path_factory, PLANT, "--method", "global")
-    r, t = ac.open(path), TorchRelighter(path)
+    r, t = ac.open(path), TorchRelighter(path, lighting="torch")
     specs = ["constant:0.5", "constant:1,2,3", "sun:50,30,4,1000", "sun:10,200,0.3,5e4",
              "sun:90,0,179,1", "sky"] + map_files(tmp_path)
     for spec in specs:
@@ -158,6 +159,25 @@ def test_lightings_made_in_torch_equal_the_modules(tmp_path_factory, tmp_path):
     assert torch.equal(t.lighting(given, 30), t.lighting(pfm, 30))
     from adaptive_cpca import torch_lighting
     assert torch_lighting.ENVIRONMENT_GRAMMARS in ac.Environment.__init__.__doc__
+
+
+def test_the_compiled_lighting_on_the_cpu_is_torchs(tmp_path_factory, tmp_path):
+    # lighting='auto' on the CPU integrates through the compiled part: the
+    # same values, one rotation or many, exposed; a map given as a tensor
+    # and a captured set's cells stay in torch.
+    path = compress(tmp_path_factory, PLANT, "--method", "global")
+    fast, slow = TorchRelighter(path), TorchRelighter(path, lighting="torch")
+    yaws, pitches, rolls, stops = (list(v) for v in zip(*ROTATIONS))
+    for spec in ["sky", "sun:50,30,4,1000"] + map_files(tmp_path):
+        env = fast.environment(spec)
+        assert env.compiled() is not None
+        for args in ((yaws, pitches, rolls, stops), ROTATIONS[1]):
+            mine = fast.lighting(env, *args, dtype=torch.float64)
+            theirs = slow.lighting(spec, *args, dtype=torch.float64)
+            assert torch.allclose(mine, theirs, rtol=1e-12, atol=0), spec
+    assert fast.environment(torch.ones(8, 16, 3)).compiled() is None
+    with pytest.raises(ValueError, match="lighting 'gpu': 'auto' or 'torch'"):
+        TorchRelighter(path, lighting="gpu")
 
 
 def test_frames_over_the_map_equal_the_modules(tmp_path_factory, tmp_path):

@@ -4,6 +4,7 @@ Run by ctest (python_tests) as test_torch.py is; skipped where PyTorch is
 not installed (Debian's python3-torch).
 """
 
+import glob
 import os
 import subprocess
 import sys
@@ -87,6 +88,29 @@ def test_any_worker_count_gives_the_same_stream_and_a_seed_the_same_tensors(mode
                                   exposure_jitter=1.0))
     for k in range(4):
         assert torch.equal(next(endless)["images"], alone[k]["images"])
+
+
+def test_map_files_and_forked_workers_after_the_compiled_part_ran(models, tmp_path):
+    # The main process integrates a map file through the compiled part (its
+    # thread pools start), then workers fork: they must neither hang nor
+    # differ (the files are read before the fork, workers integrate in torch).
+    worlds = sorted(glob.glob("/usr/share/blender/datafiles/studiolights/world/*.exr"))[:1]
+    cross = str(tmp_path / "cross.exr")
+    subprocess.run([CLI, "envmap", "sky", "--cross", cross, "--out", str(tmp_path / "flat.exr"),
+                    "--quiet"], check=True)
+    maps = worlds + [cross, "sky"]
+
+    def data():
+        return RelightDataset(models[0], maps, batch_size=4, seed=2, draws=12,
+                              rotation="sphere", labels=None)
+    alone = list(torch.utils.data.DataLoader(data(), batch_size=None, num_workers=0))
+    forked = list(torch.utils.data.DataLoader(data(), batch_size=None, num_workers=2,
+                                              timeout=120))
+    assert len(alone) == len(forked) == 3
+    for a, b in zip(alone, forked):
+        assert torch.equal(a["draw"], b["draw"])
+        error = (a["images"] - b["images"]).norm() / b["images"].norm()
+        assert error <= 1e-6, float(error)  # compiled there, torch here: equal to rounding
 
 
 def test_frames_labels_and_cameras_are_the_modules(models):
