@@ -26,10 +26,8 @@ Prints each figure beside its target and writes them all to --json.
 import argparse
 import json
 import os
-import statistics
 import sys
 import tempfile
-import time
 
 import torch
 
@@ -39,22 +37,8 @@ sys.path.insert(0, os.path.join(HERE, "..", "examples"))
 
 import model_layout  # noqa: E402
 from adaptive_cpca.torch import TorchRelighter  # noqa: E402
+from bench_torch import timed as timed_ms  # noqa: E402
 from adaptive_cpca.torch_dataset import RelightDataset  # noqa: E402
-
-
-def timed_ms(call, device, repeats):
-    """Median wall time of call() in ms, the device synchronised around it."""
-    call()
-    times = []
-    for _ in range(repeats):
-        if device.type == "cuda":
-            torch.cuda.synchronize(device)
-        start = time.perf_counter()
-        call()
-        if device.type == "cuda":
-            torch.cuda.synchronize(device)
-        times.append(1000 * (time.perf_counter() - start))
-    return statistics.median(times)
 
 
 def streaming_read(device, gib):
