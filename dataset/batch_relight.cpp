@@ -25,6 +25,7 @@
 #include "core/text.h"
 #include "core/warning.h"
 #include "dataset/batch_manifest.h"
+#include "dataset/camera_files.h"
 #include "dataset/dataset_identity.h"
 #include "dataset/envmap_export.h"
 #include "dataset/file_hash.h"
@@ -706,6 +707,8 @@ BatchPlan planBatchRelight(const BatchRelightOptions& a) {
   }
   if (a.pngLevel < 0 || a.pngLevel > 9)
     throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
+  if (a.colmap && !plan.batch)
+    throw ParameterError("COLMAP", "", "is written beside a batch's frames: give a batch");
   plan.formats = imageFormatsFor(a.format, a.out, plan.batch);
   const std::vector<ImageFormat>& formats = plan.formats;
   // No frame may replace the model, the transport or a lighting it reads.
@@ -765,7 +768,8 @@ struct BatchRun {
   std::vector<double> msPerFrame;
   nlohmann::json outputs = nlohmann::json::array();
   nlohmann::json labels = nlohmann::json::array();
-  size_t frames = 0;  ///< frames of the views done
+  size_t frames = 0;            ///< frames of the views done
+  std::vector<Camera> cameras;  ///< each view's (none for captured light sets)
   UncoveredLighting uncovered;
   long long framesWithNegatives = 0;  ///< rank 0: frames written with values below zero
   NegativeClamp negatives;
@@ -777,6 +781,9 @@ struct BatchRun {
 void requireLightingDomain(const TransportHeader& h, const BatchRun& run, const std::string& path) {
   const BatchRelightOptions& a = run.a;
   if (!h.isLightSet()) return;
+  if (a.colmap)
+    throw ParameterError("COLMAP", path,
+                         "is a captured light set: it has no camera for a COLMAP model");
   requireBackgroundShown(h, a.background, path);
   for (const auto& lights : run.sets) requireLocalLightsApply(h, path, false, lights);
   DomainLighting::requireRotationMode(true, a.rotationMode);
@@ -949,8 +956,14 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
       requireLightingDomain(source->header, run, views[k]);
       run.stages.open += open.seconds();
     }
+    if (!source->header.isLightSet()) run.cameras.push_back(source->header.camera);
     run.frames +=
         relightView(run, *source, BatchView{k, views.size(), views[k], run.frames, indexDigits});
+  }
+  // The camera files read the finished manifest.jsonl: one pass, flat memory.
+  if (run.manifests && run.cameras.size() == views.size()) {
+    run.manifests.reset();
+    writeCameraFiles(a.out, run.cameras, a.colmap);
   }
   run.uncovered.report();
   BatchRelightResult result;

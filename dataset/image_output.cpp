@@ -86,15 +86,14 @@ std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
   return bytes;
 }
 
-namespace {
-
-/// 8-bit values as PNG into `file` (errors name `path`).
 void encodePng8(int width, int height, int channels, const unsigned char* values,
                 const std::string& file, const std::string& path, int level) {
   ImageWriteSpec spec{width, height, channels, PixelType::UInt8};
   spec.integerAttributes = {{"png:compressionLevel", std::clamp(level, 0, 9)}};
   writeImageFile(file, spec, values, path);
 }
+
+namespace {
 
 /// 16-bit sRGB: round(65535 linearToSrgb(tone(v 2^exposure))), alpha as
 /// coverage; by the formula, value by value (no table has 65,536 steps).

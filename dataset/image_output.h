@@ -62,8 +62,11 @@ void writeImage(const Image& image, const std::string& path, ImageFormat format,
 void encodeImage(const Image& image, const std::string& file, const std::string& path,
                  ImageFormat format, double exposureEv, const ImageEncoding& encoding);
 
-/// Writes 8-bit values (rows top to bottom, channels interleaved) as PNG,
-/// atomically; throws UserError naming the path.
+/// 8-bit values (rows top to bottom, channels interleaved) as PNG into
+/// `file` (a temporary name the caller renames; errors name `path`).
+void encodePng8(int width, int height, int channels, const unsigned char* values,
+                const std::string& file, const std::string& path, int level);
+/// Writes 8-bit values as PNG, atomically; throws UserError naming the path.
 void writePng8(int width, int height, int channels, const unsigned char* values,
                const std::string& path);
 

@@ -1,17 +1,22 @@
 #include "dataset/pixel_labels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "dataset/image_output.h"
 #include "dataset/npy_file.h"
 #include "imageio/image_file.h"
 
 namespace acpca {
 
 namespace {
+
+/// The mask picture's deflate level: written once a view, so small beats fast.
+constexpr int kMaskPngLevel = 9;
 
 constexpr std::array<Aov, 7> kAllAovs{Aov::Albedo, Aov::Normal, Aov::Depth,  Aov::Position,
                                       Aov::Mask,   Aov::Object, Aov::Shading};
@@ -208,6 +213,18 @@ std::vector<std::string> writeViewLabels(const std::vector<LabelLayer>& layers,
       files.push_back(
           std::make_unique<AtomicOutput>(concat(stem, "_", kAovNames.name(layer.aov), ".npy")));
       encodeLayerNpy(layer, header, files.back()->tempPath(), files.back()->finalPath());
+    }
+  // Coverage as an 8-bit picture, round(255 A): the mask image loaders such
+  // as nerfstudio read (transforms.json's mask_path).
+  for (const LabelLayer& layer : layers)
+    if (layer.aov == Aov::Mask) {
+      std::vector<unsigned char> codes(layer.values.size());
+      std::transform(layer.values.begin(), layer.values.end(), codes.begin(), [](float a) {
+        return static_cast<unsigned char>(std::lround(255 * std::clamp(a, 0.0f, 1.0f)));
+      });
+      files.push_back(std::make_unique<AtomicOutput>(stem + "_mask.png"));
+      encodePng8(header.camera.size.width, header.camera.size.height, 1, codes.data(),
+                 files.back()->tempPath(), files.back()->finalPath(), kMaskPngLevel);
     }
   for (auto& file : files) {
     file->commit();

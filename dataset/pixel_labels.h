@@ -59,8 +59,10 @@ inline constexpr EnumNames<LabelFormat, 3> kLabelFormatNames{
 
 /// Writes a view's labels: STEM.exr (float, every layer's channels, the
 /// object names in the header attribute "objects") and/or STEM_AOV.npy per
-/// layer (float32 H x W [x C]; object: int32 H x W). Every file appears
-/// under its name only once all are written. Returns the paths written.
+/// layer (float32 H x W [x C]; object: int32 H x W), and with the mask
+/// STEM_mask.png (8-bit, round(255 A): what image loaders read as a mask).
+/// Every file appears under its name only once all are written. Returns the
+/// paths written.
 std::vector<std::string> writeViewLabels(const std::vector<LabelLayer>& layers,
                                          const TransportHeader& header, const std::string& stem,
                                          LabelFormat format);

@@ -51,6 +51,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
   sub.add_flag("--lighting-exr", o.lightingImages,
                "Write each frame's lattice lighting beside it, FRAME_lighting.exr (lat-long, "
                "8R x 4R, before exposure)");
+  sub.add_flag("--colmap", o.colmap,
+               "Write COLMAP's text model (sparse/0: cameras.txt, images.txt, points3D.txt) "
+               "beside transforms.json");
   sub.add_option("--label-format", labelFormat, "Labels as exr (float), npy or both (default exr)");
   sub.add_flag("--keep-negative", o.keepNegative,
                "Write the raw reconstruction: frames and shading keep values below zero "
@@ -61,6 +64,7 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                        {"--exr-compression", {"EXR compression"}},
                        {"--png-level", {"PNG level"}},
                        {"--aov", {"AOV"}},
+                       {"--colmap", {"COLMAP"}},
                        {"--tone", {"tone curve"}},
                        {"--env-sample", {"environment samples"}},
                        {"--sample-rotation", {"sampled rotation"}},

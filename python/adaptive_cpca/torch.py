@@ -136,6 +136,7 @@ class TorchRelighter:
         if self.cubemap:
             self.camera = {name: np.asarray(f.attrs[f"camera_{name}"], dtype=np.float64)
                            for name in ("eye", "target", "up", "fov_deg")}
+            self.camera.update(self._transforms_fields())
             self._light_set = None
             return
         self.camera = None
@@ -229,14 +230,30 @@ class TorchRelighter:
             image = image.permute(0, 3, 1, 2)
         return (image[0] if one else image).contiguous()
 
+    def _camera_axes(self):
+        """The camera's unit view direction, image right and image up (transport/camera.h)."""
+        eye, target, up = (self.camera[k] for k in ("eye", "target", "up"))
+        forward = (target - eye) / np.linalg.norm(target - eye)
+        right = np.cross(forward, up)
+        right /= np.linalg.norm(right)
+        return forward, right, np.cross(right, forward)
+
+    def _transforms_fields(self):
+        """The camera as a batch's transforms.json holds it (docs/datasets.md,
+        "Cameras"): transform_matrix (4x4 camera to world, OpenGL axes) and
+        fl_x, fl_y, cx, cy, w, h in pixels."""
+        forward, right, true_up = self._camera_axes()
+        matrix = np.eye(4)
+        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = right, true_up, -forward
+        matrix[:3, 3] = self.camera["eye"]
+        focal = 0.5 * self.height / math.tan(0.5 * math.radians(float(self.camera["fov_deg"])))
+        return {"transform_matrix": matrix, "fl_x": focal, "fl_y": focal, "cx": 0.5 * self.width,
+                "cy": 0.5 * self.height, "w": self.width, "h": self.height}
+
     def _camera_rays(self):
         """Each pixel centre's camera ray (transport/camera.h), float64 [H W, 3]."""
         if self._rays is None:
-            eye, target, up = (self.camera[k] for k in ("eye", "target", "up"))
-            forward = (target - eye) / np.linalg.norm(target - eye)
-            right = np.cross(forward, up)
-            right /= np.linalg.norm(right)
-            true_up = np.cross(right, forward)
+            forward, right, true_up = self._camera_axes()
             tan_half = math.tan(0.5 * math.radians(float(self.camera["fov_deg"])))
             aspect = self.width / self.height
             x = (2 * (np.arange(self.width) + 0.5) / self.width - 1) * tan_half * aspect

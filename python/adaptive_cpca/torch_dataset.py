@@ -52,7 +52,8 @@ class RelightDataset(torch.utils.data.IterableDataset):
     index), `map`, `yaw`, `pitch`, `roll`, `exposure` [B] (the draws, the
     batch's `exposure` plus each draw's offset), `view` (the model's index),
     `labels` (the view's `TorchRelighter.labels()` as tensors, channels
-    first under `layout="chw"`) and `camera` (eye, target, up, fov_deg; none
+    first under `layout="chw"`) and `camera` (eye, target, up, fov_deg, and
+    transforms.json's transform_matrix, fl_x, fl_y, cx, cy, w, h; none
     for a captured light set).
 
     draws: N draws in all (the last batch may be short), or None for an
@@ -117,7 +118,7 @@ class RelightDataset(torch.utils.data.IterableDataset):
                             t = t.permute(2, 0, 1) if t.dim() == 3 else t.unsqueeze(0)
                         labels[name] = t.contiguous()
                 camera = None if r.camera is None else {
-                    k: torch.from_numpy(v) for k, v in r.camera.items()}
+                    k: torch.as_tensor(v) for k, v in r.camera.items()}
                 views.append((r, labels, camera))
             self._views = views
             self._environments = [

@@ -134,6 +134,12 @@ TEST_F(ImportCli, ACompressedCaptureRelightsAsABatch) {
   for (const auto& e : fs::directory_iterator(f("frames")))
     frames += e.path().extension() == ".exr";
   EXPECT_EQ(frames, 6);
+  // A light set has no camera: no camera files, and a COLMAP model is refused.
+  EXPECT_FALSE(fs::exists(f("frames/transforms.json")));
+  expectFailure(
+      "relight " + f("m.h5") + " --env sky --rotate 0:360:120 --colmap --out " + f("colmap"),
+      "--colmap '" + f("m.h5") + "': is a captured light set");
+  EXPECT_FALSE(fs::exists(f("colmap")));
   // The batch benchmark takes the relight's default background, black.
   const RunResult bench = runCli("bench batch " + f("m.h5") + " --env sky --rotate 0:360:120 " +
                                  "--stream-gib 0.01 --quiet --out " + f("bench"));

@@ -11,6 +11,7 @@
 
 #include "tests/cli/image_pixels.h"
 #include "tests/cli/run_cli.h"
+#include "tests/cli/sphere_floor_scene.h"
 #include "tests/test_support.h"
 
 namespace acpca {
@@ -18,14 +19,9 @@ namespace {
 
 using test::TempDir;
 
-constexpr const char* kObjects = R"("objects": [
-  {"shape": "sphere", "center": [0, 0.6, 0], "radius": 0.6,
-   "material": {"type": "diffuse", "albedo": [0.7, 0.3, 0.2]}},
-  {"shape": "plane", "center": [0, 0, 0], "normal": [0, 1, 0], "size": 4,
-   "material": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}}])";
-
 std::string writeScene(const TempDir& dir, const std::string& name, const std::string& cameras) {
-  std::ofstream(dir.file(name)) << "{\"cameras\": " << cameras << ", " << kObjects << "}";
+  std::ofstream(dir.file(name)) << "{\"cameras\": " << cameras << ", "
+                                << test::kSphereOnFloorObjects << "}";
   return dir.file(name);
 }
 
