@@ -67,6 +67,8 @@ struct BatchRelightOptions {
   /// Each frame's lattice lighting as a lat-long EXR (FRAME_lighting.exr):
   /// the radiance the frame was relit under, after rotation, before exposure.
   bool lightingImages = false;
+  /// > 0: frames packed N to a tar, WebDataset style (dataset/batch_shards.h).
+  long long shardSize = 0;
   /// COLMAP's text model (sparse/0) beside transforms.json (dataset/camera_files.h).
   bool colmap = false;
   std::string maxRank;  ///< see applyRankLimit; models only

@@ -25,6 +25,7 @@
 #include "core/text.h"
 #include "core/warning.h"
 #include "dataset/batch_manifest.h"
+#include "dataset/batch_shards.h"
 #include "dataset/camera_files.h"
 #include "dataset/dataset_identity.h"
 #include "dataset/envmap_export.h"
@@ -315,7 +316,10 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
 /// What a batch's views share on rank 0: the directory's manifests and each
 /// lighting file's SHA-256 (built-in lightings are named by their spec).
 struct BatchManifests {
-  BatchManifests(const BatchRelightOptions& a, const std::vector<EnvInput>& inputs, size_t views) {
+  /// frames: in the whole batch; keyDigits: of a frame's index in names.
+  BatchManifests(const BatchRelightOptions& a, const std::vector<EnvInput>& inputs, size_t views,
+                 long long frames, int keyDigits) {
+    if (a.shardSize > 0) shards.emplace(a.out, a.shardSize, frames, keyDigits);
     std::vector<std::string> columns{"input", "env",      "yaw",    "pitch",
                                      "roll",  "exposure", "lights", "output"};
     if (views > 1) columns.insert(columns.begin(), "view");
@@ -328,6 +332,7 @@ struct BatchManifests {
   std::optional<BatchManifest> csv;
   std::optional<JsonLinesManifest> jsonLines;
   std::unordered_map<const EnvInput*, std::string> hashes;
+  std::optional<BatchShards> shards;  ///< --shard-size
 };
 
 /// One view of a batch: its input, its place among the views, and the
@@ -371,6 +376,13 @@ std::vector<std::string> inDataset(const std::vector<std::string>& paths) {
   return names;
 }
 
+/// What a frame's commit puts in place and lists: its files by kind (final
+/// paths) and its lighting's sh9.
+struct FrameFiles {
+  std::vector<std::string> frames, shading, lighting;
+  nlohmann::json sh9 = nlohmann::json::array();
+};
+
 /// Rank 0's writing: every frame encoded and written on writing threads of
 /// its own while the next frames relight, each committed in frame order (its
 /// files renamed into place, then its manifest row, so a batch killed midway
@@ -396,6 +408,7 @@ class FrameWriting {
         domain_(domain),
         view_(std::move(view)),
         manifests_(manifests),
+        shards_(manifests && manifests->shards ? &*manifests->shards : nullptr),
         labels_(header, a.aovs, a.labelFormat, a.background, encoding_, a.keepNegative),
         writer_(writingThreads(), kFramesInFlight) {
     labelPaths_ =
@@ -442,96 +455,127 @@ class FrameWriting {
 
  private:
   /// Frame i's files under temporary names; returns what puts them in place.
+  /// A frame whose shard was packed before the batch began is written again
+  /// only in the manifests.
   OrderedWriter::Commit encode(size_t i, const Image& image, double ms,
                                const NegativeClamp& negatives) {
     const Frame& f = frames_[i];
     const fs::path out(a_.out);
+    const bool write = !(shards_ && shards_->packed(static_cast<long long>(view_.firstFrame + i)));
     auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
-    nlohmann::json sh9 = nlohmann::json::array();
-    std::vector<std::string> lightingPaths;
+    FrameFiles written;
     if (sh_ || a_.lightingImages) {
       const LatticeLighting lighting = lightingOf(i);
       if (sh_)
-        for (const Rgb& c : sh_->project(lighting)) sh9.push_back({c.x(), c.y(), c.z()});
+        for (const Rgb& c : sh_->project(lighting)) written.sh9.push_back({c.x(), c.y(), c.z()});
       if (a_.lightingImages) {
-        const std::string path = (batch_ ? (out / frameStem(a_, f, view_, i)).string() + "_lighting"
-                                         : stemBeside("lighting")) +
-                                 ".exr";
+        const std::string path = fileStem(i, "lighting") + ".exr";
         // The radiance the lattice (or a light set's cells) holds, before
         // exposure; 8R x 4R sees every texel.
         const int r = domain_.mapLattice().resolution();
-        files->push_back(std::make_unique<AtomicOutput>(path));
-        encodeImage(latticeRadianceToLatLong(domain_.mapLighting(lighting), domain_.mapLattice(),
-                                             8 * r, 4 * r),
-                    files->back()->tempPath(), path, ImageFormat::Exr, 0, encoding_);
-        lightingPaths.push_back(path);
+        if (write) {
+          files->push_back(std::make_unique<AtomicOutput>(path));
+          encodeImage(latticeRadianceToLatLong(domain_.mapLighting(lighting), domain_.mapLattice(),
+                                               8 * r, 4 * r),
+                      files->back()->tempPath(), path, ImageFormat::Exr, 0, encoding_);
+        }
+        written.lighting.push_back(path);
       }
     }
-    std::vector<std::string> paths;
     for (ImageFormat format : formats_) {
-      fs::path path = out;
+      std::string path = a_.out;
       if (batch_)
-        path = out / (frameStem(a_, f, view_, i) + imageExtension(format));
+        path = fileStem(i, "") + imageExtension(format);
       else if (formats_.size() > 1)
-        path = out.parent_path() / (out.stem().string() + imageExtension(format));
-      files->push_back(std::make_unique<AtomicOutput>(path.string()));
-      encodeImage(image, files->back()->tempPath(), path.string(), format, f.exposure, encoding_);
-      paths.push_back(path.string());
+        path = (out.parent_path() / (out.stem().string() + imageExtension(format))).string();
+      if (write) {
+        files->push_back(std::make_unique<AtomicOutput>(path));
+        encodeImage(image, files->back()->tempPath(), path, format, f.exposure, encoding_);
+      }
+      written.frames.push_back(path);
     }
-    std::vector<std::string> shading;
-    if (labels_.shading())
-      shading = labels_.encodeShading(
-          image, *f.input->env, rotationMatrix(f.rotation), f.exposure,
-          batch_ ? (out / frameStem(a_, f, view_, i)).string() + "_shading" : stemBeside("shading"),
-          *files);
-    return [this, i, ms, negatives, files, paths, shading, lightingPaths, sh9 = std::move(sh9)] {
+    if (labels_.shading()) {
+      const std::string stem = fileStem(i, "shading");
+      written.shading =
+          write ? labels_.encodeShading(image, *f.input->env, rotationMatrix(f.rotation),
+                                        f.exposure, stem, *files)
+                : labels_.shadingPaths(stem);
+    }
+    return [this, i, ms, negatives, files, written = std::move(written)] {
       const Stopwatch busy;
       for (auto& file : *files) file->commit();
       const Frame& f = frames_[i];
       const std::string lights = joinedBySemicolons(lightSpecs_[f.lights]);
-      if (manifests_) {
-        std::vector<Table::Cell> row{
-            view_.input,     f.input->spec, f.rotation.yaw, f.rotation.pitch,
-            f.rotation.roll, f.exposure,    lights,         joinedBySemicolons(inDataset(paths))};
-        if (view_.count > 1) row.insert(row.begin(), static_cast<long long>(view_.index));
-        manifests_->csv->append(std::move(row));
-        nlohmann::json line = {{"frame", view_.firstFrame + i},
-                               {"input", view_.input},
-                               {"env", f.input->spec},
-                               {"env_sha256", hashOf(f.input)},
-                               {"yaw", f.rotation.yaw},
-                               {"pitch", f.rotation.pitch},
-                               {"roll", f.rotation.roll},
-                               {"exposure", f.exposure},
-                               {"lights", lightSpecs_[f.lights]},
-                               {"sh9", sh9},
-                               {"outputs", inDataset(paths)}};
-        if (view_.count > 1) line["view"] = view_.index;
-        if (f.sample >= 0) line["sample"] = f.sample;
-        if (labels_.any()) {
-          line["labels"] = inDataset(labelPaths_);
-          line["shading"] = inDataset(shading);
-        }
-        if (a_.lightingImages) line["lighting"] = inDataset(lightingPaths);
-        manifests_->jsonLines->append(line);
-      }
+      if (manifests_) addToManifests(i, written, lights);
       nlohmann::json output = {{"env", f.input->spec},
                                {"lights", lights},
                                {"yaw", f.rotation.yaw},
                                {"pitch", f.rotation.pitch},
                                {"roll", f.rotation.roll},
-                               {"paths", paths},
+                               {"paths", written.frames},
                                {"ms", ms},
                                {"negative_values", negatives.values},
                                {"most_negative", negatives.mostNegative}};
       if (negatives.values > 0) ++framesWithNegatives_, negatives_.add(negatives);
       if (view_.count > 1) output["view"] = view_.index;
-      if (labels_.shading()) output["shading"] = shading;
+      if (labels_.shading()) output["shading"] = written.shading;
       outputs_.push_back(std::move(output));
       if (a_.progress)
         a_.progress(static_cast<long long>(i + 1), static_cast<long long>(frames_.size()));
       addWriting(busy.seconds());
     };
+  }
+
+  /// Frame i's row of manifest.csv and line of manifest.jsonl, appended once
+  /// its files are in place; in a sharded batch its files and line go to
+  /// its shard.
+  void addToManifests(size_t i, const FrameFiles& written, const std::string& lights) {
+    const Frame& f = frames_[i];
+    const long long frame = static_cast<long long>(view_.firstFrame + i);
+    std::vector<Table::Cell> row{view_.input,     f.input->spec,
+                                 f.rotation.yaw,  f.rotation.pitch,
+                                 f.rotation.roll, f.exposure,
+                                 lights,          joinedBySemicolons(inDataset(written.frames))};
+    if (view_.count > 1) row.insert(row.begin(), static_cast<long long>(view_.index));
+    manifests_->csv->append(std::move(row));
+    nlohmann::json line = {{"frame", frame},
+                           {"input", view_.input},
+                           {"env", f.input->spec},
+                           {"env_sha256", hashOf(f.input)},
+                           {"yaw", f.rotation.yaw},
+                           {"pitch", f.rotation.pitch},
+                           {"roll", f.rotation.roll},
+                           {"exposure", f.exposure},
+                           {"lights", lightSpecs_[f.lights]},
+                           {"sh9", written.sh9},
+                           {"outputs", inDataset(written.frames)}};
+    if (view_.count > 1) line["view"] = view_.index;
+    if (f.sample >= 0) line["sample"] = f.sample;
+    if (labels_.any()) {
+      line["labels"] = inDataset(labelPaths_);
+      line["shading"] = inDataset(written.shading);
+    }
+    if (a_.lightingImages) line["lighting"] = inDataset(written.lighting);
+    if (shards_) line["shard"] = shards_->shardName(frame / a_.shardSize);
+    manifests_->jsonLines->append(line);
+    if (!shards_) return;
+    std::vector<std::string> members = written.frames;
+    members.insert(members.end(), written.shading.begin(), written.shading.end());
+    members.insert(members.end(), written.lighting.begin(), written.lighting.end());
+    shards_->committed(frame, members, labelPaths_, line);
+  }
+
+  /// Where frame i's file of `part` ("", "shading", "lighting") goes, less
+  /// its extension: in a batch's directory under its stem (STEM_shading), in
+  /// a sharded batch staged under its key (KEY.shading), else beside the
+  /// one image (OUT_shading).
+  std::string fileStem(size_t i, const std::string& part) const {
+    if (shards_)
+      return shards_->stagedPath(static_cast<long long>(view_.firstFrame + i),
+                                 part.empty() ? "" : "." + part);
+    if (!batch_) return stemBeside(part);
+    return (fs::path(a_.out) / frameStem(a_, frames_[i], view_, i)).string() +
+           (part.empty() ? "" : "_" + part);
   }
 
   void addWriting(double seconds) {
@@ -577,6 +621,7 @@ class FrameWriting {
   const DomainLighting& domain_;
   const BatchView view_;
   BatchManifests* const manifests_;
+  BatchShards* const shards_;      ///< a sharded batch's (null otherwise)
   std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
   const FrameLabels labels_;
   std::vector<std::string> labelPaths_;  ///< the view's labels
@@ -709,6 +754,9 @@ BatchPlan planBatchRelight(const BatchRelightOptions& a) {
     throw ParameterError("PNG level", a.pngLevel, "is not 0..9");
   if (a.colmap && !plan.batch)
     throw ParameterError("COLMAP", "", "is written beside a batch's frames: give a batch");
+  if (a.shardSize < 0) throw ParameterError("shard size", a.shardSize, "must be at least 1");
+  if (a.shardSize > 0 && !plan.batch)
+    throw ParameterError("shard size", a.shardSize, "shards a batch's frames: give a batch");
   plan.formats = imageFormatsFor(a.format, a.out, plan.batch);
   const std::vector<ImageFormat>& formats = plan.formats;
   // No frame may replace the model, the transport or a lighting it reads.
@@ -923,6 +971,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& options) {
 BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& plan) {
   const bool batch = plan.batch;
   if (batch) refuseAnotherDataset(a.out, datasetIdentity(a));
+  if (a.shardSize > 0) refuseUnclaimedShards(a.out);
   const Stopwatch wall;
   BatchRun run(a, plan);
   const std::vector<std::string> views = a.viewInputs();
@@ -946,7 +995,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
     createOutputDirectory(a.out);
     if (ranks::rank() == 0) writeDatasetIdentity(a.out, datasetIdentity(a));
   }
-  if (batch && ranks::rank() == 0) run.manifests.emplace(a, run.inputs, views.size());
+  if (batch && ranks::rank() == 0)
+    run.manifests.emplace(a, run.inputs, views.size(),
+                          static_cast<long long>(run.viewFrames.size() * views.size()),
+                          indexDigits);
   for (size_t k = 0; k < views.size(); ++k) {
     if (k > 0) {  // one view's model in memory at a time
       source.reset();
@@ -961,9 +1013,10 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
         relightView(run, *source, BatchView{k, views.size(), views[k], run.frames, indexDigits});
   }
   // The camera files read the finished manifest.jsonl: one pass, flat memory.
-  if (run.manifests && run.cameras.size() == views.size()) {
+  if (run.manifests) {
+    if (run.manifests->shards) run.manifests->shards->writeIndex();
     run.manifests.reset();
-    writeCameraFiles(a.out, run.cameras, a.colmap);
+    if (run.cameras.size() == views.size()) writeCameraFiles(a.out, run.cameras, a.colmap);
   }
   run.uncovered.report();
   BatchRelightResult result;

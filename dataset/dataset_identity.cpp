@@ -44,6 +44,7 @@ nlohmann::json datasetIdentity(const BatchRelightOptions& a) {
                              {"label_format", kLabelFormatNames.name(a.labelFormat)},
                              {"lighting_exr", a.lightingImages},
                              {"keep_negative", a.keepNegative}};
+  if (a.shardSize > 0) identity["shard_size"] = a.shardSize;
   if (a.sampling.count > 0)
     identity["sampling"] = {{"count", a.sampling.count},
                             {"seed", a.sampling.seed},

@@ -35,12 +35,10 @@ std::vector<std::string> FrameLabels::encodeShading(
                 std::vector<float>(frame.pixels.size() / frame.channels * 3)};
   frameShading(header_, frame.pixels.data(), background.data(), frame.channels,
                shading.pixels.data(), keepNegative_);
-  std::vector<std::string> paths;
   if (format_ != LabelFormat::Npy) {
     files.push_back(std::make_unique<AtomicOutput>(stem + ".exr"));
     encodeImage(shading, files.back()->tempPath(), stem + ".exr", ImageFormat::Exr, exposureEv,
                 encoding_);
-    paths.push_back(stem + ".exr");
   }
   if (format_ != LabelFormat::Exr) {
     // Scaled as the EXR is, so shading x albedo equals the frame's file.
@@ -50,8 +48,14 @@ std::vector<std::string> FrameLabels::encodeShading(
     writeNpy(files.back()->tempPath(), stem + ".npy",
              {static_cast<size_t>(frame.height), static_cast<size_t>(frame.width), 3},
              shading.pixels.data());
-    paths.push_back(stem + ".npy");
   }
+  return shadingPaths(stem);
+}
+
+std::vector<std::string> FrameLabels::shadingPaths(const std::string& stem) const {
+  std::vector<std::string> paths;
+  if (format_ != LabelFormat::Npy) paths.push_back(stem + ".exr");
+  if (format_ != LabelFormat::Exr) paths.push_back(stem + ".npy");
   return paths;
 }
 

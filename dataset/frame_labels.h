@@ -23,6 +23,8 @@ class FrameLabels {
   bool shading() const;
   /// Writes the view's labels at STEM.exr and/or STEM_AOV.npy; their paths.
   std::vector<std::string> writeView(const std::string& stem) const;
+  /// The shading files of a frame at STEM: STEM.exr and/or STEM.npy.
+  std::vector<std::string> shadingPaths(const std::string& stem) const;
   /// Frame's shading as STEM.exr and/or STEM.npy under temporary names (added
   /// to `files`, which the caller commits), scaled by 2^exposure as the frame
   /// is written; returns their final paths.

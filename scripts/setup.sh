@@ -11,7 +11,7 @@ packages=(
   build-essential cmake pkg-config ccache
   libembree-dev libtbb-dev libeigen3-dev
   libopenimageio-dev openimageio-tools libopencv-dev
-  libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev libssl-dev
+  libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev libssl-dev libarchive-dev
   libopenblas-dev liblapacke-dev
   openmpi-bin libopenmpi-dev
   libgtest-dev

@@ -51,6 +51,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
   sub.add_flag("--lighting-exr", o.lightingImages,
                "Write each frame's lattice lighting beside it, FRAME_lighting.exr (lat-long, "
                "8R x 4R, before exposure)");
+  shardSize = sub.add_option("--shard-size", o.shardSize,
+                             "Pack the frames N to a tar (NAME-000000.tar, ..., NAME-shards.json; "
+                             "WebDataset style: each frame's files under its index)");
   sub.add_flag("--colmap", o.colmap,
                "Write COLMAP's text model (sparse/0: cameras.txt, images.txt, points3D.txt) "
                "beside transforms.json");
@@ -65,6 +68,7 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                        {"--png-level", {"PNG level"}},
                        {"--aov", {"AOV"}},
                        {"--colmap", {"COLMAP"}},
+                       {"--shard-size", {"shard size"}},
                        {"--tone", {"tone curve"}},
                        {"--env-sample", {"environment samples"}},
                        {"--sample-rotation", {"sampled rotation"}},
@@ -81,6 +85,8 @@ BatchPlan BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath)
   if (!tone.empty()) o.tone = kToneCurveNames.parse(tone);
   if (!sampleRotation.empty()) o.sampling.rotation = kSampledRotationNames.parse(sampleRotation);
   if (envSample->count() > 0) validateLightingSampling(o.sampling);
+  if (shardSize->count() > 0 && o.shardSize < 1)
+    throw ParameterError("shard size", o.shardSize, "must be at least 1");
   if (!labelFormat.empty()) o.labelFormat = kLabelFormatNames.parse(labelFormat);
   BatchPlan plan = planBatchRelight(o);
   std::vector<std::string> inputs = joined(o.envs, o.viewInputs());

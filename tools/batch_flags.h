@@ -14,6 +14,7 @@ struct BatchFlags {
   std::vector<std::string> envs, rotations;
   std::string exrCompression, aovs, labelFormat, sampleRotation, tone;
   CLI::Option* envSample = nullptr;  ///< given at all: 0 is refused, not taken as none
+  CLI::Option* shardSize = nullptr;  ///< given at all: 0 is refused, not taken as none
 
   /// Declares the flags on `command`, bound to `options` (and this).
   void add(CLI::App& command, BatchRelightOptions& options, const std::string& outHelp);

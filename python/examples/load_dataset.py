@@ -1,5 +1,5 @@
-"""Reads a batch the CLI wrote (`adaptive-cpca relight ... --out DIR`) into
-numpy batches: images as (N, H, W, 3) float32, each frame's labels from
+"""Reads a batch the CLI wrote (`adaptive-cpca relight ... --out DIR`, its
+frames as files or packed in tars with --shard-size) into numpy batches: images as (N, H, W, 3) float32, each frame's labels from
 DIR/manifest.jsonl (docs/formats.md, "Batch manifest") and, for a batch made
 with --aov, its shading and the view's per-pixel labels (docs/datasets.md).
 numpy, json and the module only: no deep-learning framework.
@@ -8,8 +8,11 @@ numpy, json and the module only: no deep-learning framework.
 """
 
 import argparse
+import io
 import json
 import os
+import tarfile
+import tempfile
 
 import numpy as np
 
@@ -31,10 +34,57 @@ def resolved(path, directory):
     return joined if os.path.exists(joined) else os.path.join(directory, os.path.basename(path))
 
 
+_open_shards = {}
+
+
+def shard_member(directory, shard, name):
+    """A member's bytes from one of a sharded batch's tars (--shard-size)."""
+    path = os.path.join(directory, shard)
+    if path not in _open_shards:
+        _open_shards[path] = tarfile.open(path)
+    return _open_shards[path].extractfile(name).read()
+
+
+def decoded(name, data):
+    """An .npy or EXR file's bytes as an array (EXR through a file: the reader takes paths)."""
+    if name.endswith(".npy"):
+        return np.load(io.BytesIO(data))
+    with tempfile.NamedTemporaryFile(suffix=os.path.splitext(name)[1]) as f:
+        f.write(data)
+        f.flush()
+        return ac.read_image(f.name)
+
+
 def frame_image(frame, directory, key="outputs"):
-    """The frame's first EXR (or, for shading, .npy) as (H, W, 3) float32 linear RGB."""
-    path = resolved(next(p for p in frame[key] if p.endswith((".exr", ".npy"))), directory)
+    """The frame's first EXR (or, for shading, .npy) as (H, W, 3) float32 linear
+    RGB: from its file, or in a sharded batch from its shard's member."""
+    name = next(p for p in frame[key] if p.endswith((".exr", ".npy")))
+    if "shard" in frame:
+        return decoded(name, shard_member(directory, frame["shard"], name))[..., :3]
+    path = resolved(name, directory)
     return (np.load(path) if path.endswith(".npy") else ac.read_image(path))[..., :3]
+
+
+def shard_samples(directory):
+    """A sharded batch's samples as WebDataset reads them, shard after shard:
+    (key, {suffix: bytes}), each frame's files under its index (00123.exr,
+    00123.shading.exr, 00123.json: its manifest line) and each view's labels
+    once per shard under their own names (labels.exr, ...)."""
+    name = os.path.basename(os.path.normpath(os.path.abspath(directory)))
+    with open(os.path.join(directory, f"{name}-shards.json")) as f:
+        index = json.load(f)
+    for shard in index["shards"]:
+        with tarfile.open(os.path.join(directory, shard["name"])) as tar:
+            key, files = None, {}
+            for member in tar:
+                k, suffix = member.name.split(".", 1)
+                if k != key and files:
+                    yield key, files
+                    files = {}
+                key = k
+                files[suffix] = tar.extractfile(member).read()
+            if files:
+                yield key, files
 
 
 def view_labels(frame, directory):
