@@ -14,6 +14,7 @@
 #include "lighting/lighting_sampler.h"
 #include "lighting/local_light.h"
 #include "lighting/rotation.h"
+#include "relight/lamp_light.h"
 #include "relight/local_relight.h"
 
 namespace acpca {
@@ -42,6 +43,8 @@ struct BatchRelightOptions {
   /// Models: texels of direction within which a cluster's pixels share a
   /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
   double anchorSpread = kAnchorSpreadTexels;
+  /// Point and spot lamps: exact where the file allows (relight/lamp_light.h), or the lattice's.
+  LampMode lampMode = LampMode::Exact;
   /// A light path file (local_light.h, readLightPath): every map x rotation
   /// is relit under each line's lights (with `lights` added), line by line.
   std::string lightPath;

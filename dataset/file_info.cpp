@@ -26,6 +26,17 @@ std::string positionsInWords(const TransportHeader& h, const PixelDatasets& d,
                               " for local lights)\n");
 }
 
+/// How the file lights point and spot lamps (relight/lamp_light.h).
+std::string lampsInWords(const TransportHeader& h, const PixelDatasets& d,
+                         const std::string& remedy) {
+  if (h.isLightSet()) return "  lamps        none (captured images hold no geometry)\n";
+  if (!d.lamps)
+    return concat("  lamps        through the lattice (written before surfaces were stored; ",
+                  remedy, " for exact lamps)\n");
+  if (h.bounces > 0) return "  lamps        through the lattice (the rows hold bounced light)\n";
+  return "  lamps        point and spot lamps exact: a shadow ray per camera sample\n";
+}
+
 /// The AOVs the file can give, by name.
 nlohmann::json labelsJson(const TransportHeader& h, const PixelDatasets& d) {
   nlohmann::json names = nlohmann::json::array();
@@ -102,6 +113,7 @@ nlohmann::json describeModel(const ModelSummary& m) {
       {"transport_error", m.transportError},
       {"rank_histogram", rankHistogramJson(m.ranks)},
       {"positions", m.pixels.positions},
+      {"exact_lamps", m.pixels.lamps && m.geometry.bounces == 0},
       {"labels", labelsJson(m.geometry, m.pixels)},
       {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
@@ -132,6 +144,7 @@ nlohmann::json describeTransport(const TransportSummary& t) {
           {"indirect_cache_cell", h.bounces > 0 ? nlohmann::json(h.indirectCacheCell) : nullptr},
           {"stored_values", rows * static_cast<long long>(h.rowLength())},
           {"positions", t.pixels.positions},
+          {"exact_lamps", t.pixels.lamps && h.bounces == 0},
           {"labels", labelsJson(h, t.pixels)}};
 }
 
@@ -160,6 +173,7 @@ std::string describeInWords(const ModelSummary& m, const std::string& path) {
       << " read per frame, " << formatBytes(double(m.fileBytes)) << " on disk\n"
       << "  error        " << m.transportError << " relative to T (Frobenius)\n"
       << positionsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport")
+      << lampsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport")
       << labelsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport");
   return out.str();
 }
@@ -194,6 +208,7 @@ std::string describeInWords(const TransportSummary& t, const std::string& path) 
       << formatBytes(t.fileBytes) << " on disk\n"
       << "  relight cost " << h.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
       << positionsInWords(h, t.pixels, "precompute it again")
+      << lampsInWords(h, t.pixels, "precompute it again")
       << labelsInWords(h, t.pixels, "precompute it again");
   return out.str();
 }

@@ -16,7 +16,7 @@ inline constexpr const char* kModelFormat = "adaptive-cpca model";
 /// 5: each pixel's normal and object (per-pixel labels); 6: the light set of
 /// a captured transport. Versions 2 to 5 are read as well (without what came later; version 2's
 /// compress_seconds and peak_memory_bytes are ignored).
-inline constexpr int kModelVersion = 6;
+inline constexpr int kModelVersion = 7;
 inline constexpr int kOldestModelVersion = 2;
 
 /// What a file written by ModelFileWriter holds: a whole model, or only

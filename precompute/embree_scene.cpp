@@ -71,8 +71,13 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     }
     auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), kept.size()));
+    const auto firstVertex = static_cast<std::int32_t>(vertices_.size() / 3);
+    vertices_.insert(vertices_.end(), v, v + 3 * mesh.vertices.size());
     for (size_t i = 0; i < kept.size(); ++i)
-      for (int c = 0; c < 3; ++c) t[3 * i + c] = static_cast<unsigned>(kept[i][c]);
+      for (int c = 0; c < 3; ++c) {
+        t[3 * i + c] = static_cast<unsigned>(kept[i][c]);
+        triangles_.push_back(firstVertex + kept[i][c]);
+      }
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene_, g);
     rtcReleaseGeometry(g);
@@ -89,6 +94,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
                                                           RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
     v[0] = float(sphere.center.x()), v[1] = float(sphere.center.y());
     v[2] = float(sphere.center.z()), v[3] = float(sphere.radius);
+    spheres_.insert(spheres_.end(), v, v + 4);
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene_, g);
     rtcReleaseGeometry(g);
@@ -101,6 +107,14 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
   }
   rtcCommitScene(scene_);
   checkDevice(device_, "building the scene");
+}
+
+void EmbreeScene::describeSurfaces(LampGeometry& lamps) const {
+  lamps.vertices = vertices_;
+  lamps.triangles = triangles_;
+  lamps.spheres = spheres_;
+  lamps.materials = materials_;
+  lamps.rayEpsilon = epsilon_;
 }
 
 EmbreeScene::~EmbreeScene() {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "precompute/scene.h"
+#include "transport/lamp_geometry.h"
 
 namespace acpca {
 
@@ -29,6 +30,9 @@ class EmbreeScene {
   const std::vector<Material>& materials() const { return materials_; }
   /// Zero-area triangles left out of the scene.
   long long degenerateTriangles() const { return degenerateTriangles_; }
+  /// The surfaces as traced (kept triangles, spheres), the materials by
+  /// geometry id and the shadow rays' start, into a file's lamp geometry.
+  void describeSurfaces(LampGeometry& lamps) const;
 
   /// First hit of a ray; material < 0 when it leaves the scene.
   struct Hit {
@@ -45,7 +49,9 @@ class EmbreeScene {
   RTCScene scene_ = nullptr;
   float epsilon_ = 1e-4f;
   long long degenerateTriangles_ = 0;
-  std::vector<Material> materials_;              // per geometry ID
+  std::vector<Material> materials_;        // per geometry ID
+  std::vector<float> vertices_, spheres_;  // as describeSurfaces gives them
+  std::vector<std::int32_t> triangles_;
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
   /// Per geometry: three shading normals per kept triangle (empty: flat).
   std::vector<std::vector<Eigen::Vector3f>> cornerNormals_;

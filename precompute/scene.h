@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/enum_names.h"
-#include "precompute/material.h"
 #include "precompute/texture.h"
 #include "transport/camera.h"
+#include "transport/material.h"
 
 namespace acpca {
 

@@ -51,9 +51,36 @@ TransportPass::TransportPass(const Scene& scene, const PrecomputeOptions& option
                    : nullptr),
       renderer(gbuffer, shadows, lattice, options.antialiasing, indirect.get()) {}
 
+namespace {
+
+/// A row's traced samples (sampleWeights: those of weight > 0), appended to
+/// the lamp geometry: what the row's direct light came from.
+void appendLampSamples(const GBuffer& gbuffer, int x, int y, Antialiasing mode,
+                       LampGeometry& lamps) {
+  thread_local std::vector<float> weights;
+  sampleWeights(gbuffer, x, y, mode, weights);
+  for (int s = 0; s < gbuffer.samplesPerPixel; ++s) {
+    if (weights[s] <= 0) continue;
+    const PixelSample& ps = gbuffer.at(x, y, s);
+    lamps.origin.insert(lamps.origin.end(), ps.origin.data(), ps.origin.data() + 3);
+    lamps.normal.insert(lamps.normal.end(), ps.normal.data(), ps.normal.data() + 3);
+    lamps.geometricNormal.insert(lamps.geometricNormal.end(), ps.geometricNormal.data(),
+                                 ps.geometricNormal.data() + 3);
+    lamps.weight.push_back(weights[s]);
+    lamps.material.push_back(ps.material);
+  }
+  lamps.sampleStart.push_back(lamps.samples());
+}
+
+}  // namespace
+
 TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& options,
-                                const GBuffer& gbuffer, int channels) {
+                                const TransportPass& pass) {
+  const GBuffer& gbuffer = pass.gbuffer;
+  const int channels = pass.channels();
   TransportHeader header;
+  pass.embree.describeSurfaces(header.lamps);
+  header.lamps.sampleStart = {0};
   header.camera = scene.camera;
   header.cubemapResolution = options.cubemapResolution;
   header.samplesPerPixel = options.samplesPerPixel;
@@ -89,6 +116,7 @@ TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& opt
       header.positions.insert(header.positions.end(), firstHit.origin.data(),
                               firstHit.origin.data() + 3);
       header.objects.push_back(firstHit.material);  // the ray tracer's geometry id
+      appendLampSamples(gbuffer, x, y, options.antialiasing, header.lamps);
     }
   return header;
 }

@@ -33,10 +33,11 @@ struct TransportPass {
   const ImageRowRenderer renderer;
 };
 
-/// The header of the scene's transport: the image geometry, and per occupied
-/// pixel (row-major order) its albedo (mean over hit samples), coverage and
-/// normal.
+/// The header of the scene's transport: the image geometry, per occupied
+/// pixel (row-major order) its albedo (mean over hit samples), coverage,
+/// normal, position and object, and the lamp geometry: each traced sample
+/// with its weight in the row, and the surfaces.
 TransportHeader transportHeader(const Scene& scene, const PrecomputeOptions& options,
-                                const GBuffer& gbuffer, int channels);
+                                const TransportPass& pass);
 
 }  // namespace acpca

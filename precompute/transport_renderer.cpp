@@ -55,9 +55,8 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
   return arena.execute([&] {
     TransportPass pass(scene, options);
     const EmbreeScene& embree = pass.embree;
-    const GBuffer& gbuffer = pass.gbuffer;
 
-    const TransportHeader header = transportHeader(scene, options, gbuffer, pass.channels());
+    const TransportHeader header = transportHeader(scene, options, pass);
 
     // Only rank 0 of an MPI job writes; every rank builds the same header.
     std::optional<TransportWriter> writer;
@@ -98,8 +97,7 @@ PrecomputeStats precomputeTransport(const Scene& scene, const std::string& outPa
 
 struct RowSource::Impl {
   Impl(const Scene& scene, const PrecomputeOptions& options)
-      : pass(scene, options),
-        header(transportHeader(scene, options, pass.gbuffer, pass.channels())) {
+      : pass(scene, options), header(transportHeader(scene, options, pass)) {
     if (pass.indirect && options.indirectCacheCell > 0)
       buildIndirectCache(pass.renderer, *pass.indirect, tbb::this_task_arena::max_concurrency(),
                          stats, options);

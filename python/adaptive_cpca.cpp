@@ -361,7 +361,7 @@ class Relighter {
     if (lights.empty()) return {};
     if (!(anchorSpread >= 0 && anchorSpread <= 64))
       throw ParameterError("anchor spread", anchorSpread, "is not in 0..64 texels");
-    return source_.relightLocal(lights, anchorSpread);
+    return source_.relightLocal(lights, anchorSpread, LampMode::Exact);
   }
 
   void setRank(const RankLimit& maxRank) {

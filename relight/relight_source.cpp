@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/warning.h"
 #include "lighting/spec_parsing.h"
 #include "model/model_file.h"
 #include "relight/dense_relight.h"
@@ -31,6 +32,43 @@ void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
     relighter.setRankFraction(value);
   }
 }
+
+namespace {
+
+/// A file's exact lamps where it can light them (null otherwise), and the
+/// warning, given once, of why it cannot. `owner` keeps the header alive.
+class LampsOfFile {
+ public:
+  template <typename Owner>
+  LampsOfFile(const std::shared_ptr<Owner>& owner, const std::string& path, bool model)
+      : state_(std::make_shared<State>()) {
+    const TransportHeader& header = headerOf(*owner);
+    state_->owner = owner;
+    state_->why = exactLampsUnavailable(header, model);
+    state_->path = path;
+    if (state_->why.empty()) state_->exact = std::make_unique<ExactLamps>(header);
+  }
+  std::vector<float> relight(
+      const std::vector<LocalLight>& lights, LampMode mode,
+      const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice) const {
+    return relightLocalLights(lights, mode, state_->exact.get(), lattice, [&] {
+      std::call_once(state_->warned, [&] { warn(latticeLampsWarning(state_->path, state_->why)); });
+    });
+  }
+
+ private:
+  static const TransportHeader& headerOf(const ModelRelighter& m) { return m.geometry(); }
+  static const TransportHeader& headerOf(const TransportReader& t) { return t.header(); }
+  struct State {
+    std::shared_ptr<const void> owner;
+    std::string why, path;
+    std::unique_ptr<ExactLamps> exact;
+    std::once_flag warned;
+  };
+  std::shared_ptr<State> state_;
+};
+
+}  // namespace
 
 RelightSource openRelightSource(const std::string& path, const std::string& maxRank) {
   RelightSource s;
@@ -63,11 +101,14 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     // The columns local lights meet, kept from frame to frame (made at the
     // first local light: environment-only runs never need them).
     auto kept = std::make_shared<std::optional<LocalLightColumns>>();
-    s.relightLocal = [relighter = s.model, path, kept](const std::vector<LocalLight>& lights,
-                                                       double anchorSpread) {
+    s.relightLocal = [relighter = s.model, path, kept, lamps = LampsOfFile(s.model, path, true)](
+                         const std::vector<LocalLight>& lights, double anchorSpread,
+                         LampMode mode) {
       requireLocalLightsApply(relighter->geometry(), path, true, lights);
-      if (!*kept) kept->emplace(relighter->packed());
-      return modelLocalRelight(*relighter, lights, anchorSpread, &**kept);
+      return lamps.relight(lights, mode, [&](const std::vector<LocalLight>& some) {
+        if (!*kept) kept->emplace(relighter->packed());
+        return modelLocalRelight(*relighter, some, anchorSpread, &**kept);
+      });
     };
     return s;
   }
@@ -86,8 +127,12 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
     return out;
   };
-  s.relightLocal = [transport](const std::vector<LocalLight>& lights, double) {
-    return denseLocalRelight(*transport, lights);
+  s.relightLocal = [transport, path, lamps = LampsOfFile(transport, path, false)](
+                       const std::vector<LocalLight>& lights, double, LampMode mode) {
+    requireLocalLightsApply(transport->header(), path, false, lights);
+    return lamps.relight(lights, mode, [&](const std::vector<LocalLight>& some) {
+      return denseLocalRelight(*transport, some);
+    });
   };
   return s;
 }

@@ -9,6 +9,7 @@
 
 #include "lighting/environment.h"
 #include "lighting/local_light.h"
+#include "relight/lamp_light.h"
 #include "relight/model_relighter.h"
 #include "transport/transport_file.h"
 
@@ -35,11 +36,14 @@ struct RelightSource {
   std::function<std::vector<std::vector<float>>(const std::vector<LatticeLighting>&,
                                                 std::vector<double>& ms)>
       relight;
-  /// The local lights alone (3 floats per occupied row, albedo applied): the
-  /// model's reconstruction or T under them (relight/local_relight.h); refuses
-  /// a file without positions and lights that enclose a pixel's position.
+  /// The local lights alone (3 floats per occupied row, albedo applied):
+  /// point and spot lamps exactly where `mode` and the file allow
+  /// (relight/lamp_light.h; else with a warning, once), the rest from the
+  /// model's reconstruction or T (relight/local_relight.h); refuses a file
+  /// without positions and lights that enclose a pixel's position.
   /// anchorSpread: models only, as modelLocalRelight.
-  std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread)>
+  std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread,
+                                   LampMode mode)>
       relightLocal;
 };
 

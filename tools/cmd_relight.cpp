@@ -17,6 +17,7 @@ namespace {
 struct RelightArgs {
   CommonOptions common;
   std::string background;  ///< empty: env, or black for a captured light set
+  std::string lightMode;   ///< empty: exact
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -28,6 +29,7 @@ void run(RelightArgs& a) {
   o.input = a.views.front();
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
   o.background = backgroundFor(a.background, o.input);
+  if (!a.lightMode.empty()) o.lampMode = kLampModeNames.parse(a.lightMode);
   const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -70,12 +72,17 @@ void registerRelight(CLI::App& app) {
                   "Models, local lights: texels of direction within which a cluster's pixels "
                   "share a light's direction (0: each pixel its own)")
       ->capture_default_str();
+  sub->add_option("--light-mode", args->lightMode,
+                  "Point and spot lamps: exact (default; a shadow ray per camera sample where "
+                  "the file holds its surfaces) or lattice (through T's texels, as before)");
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
                 "Write even when the frames look too large for the disk");
   args->common.add(*sub);
-  nameParameters(*sub, {{"--frames", {"timing frames"}}, {"--max-rank", {"maximum rank"}}});
+  nameParameters(*sub, {{"--frames", {"timing frames"}},
+                        {"--max-rank", {"maximum rank"}},
+                        {"--light-mode", {"light mode"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -13,6 +13,7 @@ namespace acpca {
 struct PixelDatasets {
   long long rows = 0;
   bool normals = false, positions = false, objects = false;
+  bool lamps = false;  ///< the lamp samples and surfaces (transport/lamp_geometry.h)
   /// Those of a header whose arrays were read.
   static PixelDatasets of(const TransportHeader& header);
 };

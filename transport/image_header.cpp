@@ -7,6 +7,7 @@
 #include "core/text.h"
 #include "transport/cube_lattice.h"
 #include "transport/hdf5_handles.h"
+#include "transport/lamp_geometry.h"
 
 namespace acpca {
 
@@ -109,6 +110,13 @@ void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx)
   }
   // Written only for RGB rows, so files of scalar rows stay as they were.
   if (h.channels != 1) h5::writeAttribute(f, "channels", static_cast<long long>(h.channels), ctx);
+  // Written only with indirect light (a model holds them too from version 7:
+  // a lamp's exact path needs to know the rows hold bounced light).
+  if (h.bounces > 0) {
+    h5::writeAttribute(f, "bounces", static_cast<long long>(h.bounces), ctx);
+    h5::writeAttribute(f, "indirect_samples", static_cast<long long>(h.indirectSamples), ctx);
+    h5::writeAttribute(f, "indirect_cache_cell", h.indirectCacheCell, ctx);
+  }
   const hsize_t n = h.rows();
   h5::writeDataset(f, "pixels", {n}, h.pixels.data(), ctx);
   h5::writeDataset(f, "albedo", {n, 3}, h.albedo.data(), ctx);
@@ -119,6 +127,7 @@ void writeImageHeader(hid_t f, const TransportHeader& h, const std::string& ctx)
     h5::writeDataset(f, "object", {n}, h.objects.data(), ctx);
     h5::writeAttribute(f, "object_names", joinedNames(h.objectNames), ctx);
   }
+  writeLampGeometry(f, h.lamps, ctx);
 }
 
 bool fileHoldsLightSet(const std::string& path) {
@@ -161,6 +170,14 @@ TransportHeader readImageHeaderAttributes(hid_t f, bool requireNormals, const st
     h.channels = static_cast<int>(channels);
   }
 
+  if (h5::hasAttribute(f, "bounces")) {
+    h.bounces =
+        static_cast<int>(std::clamp(h5::readIntAttribute(f, "bounces", ctx), -1LL, 1LL << 20));
+    h.indirectSamples = static_cast<int>(
+        std::clamp(h5::readIntAttribute(f, "indirect_samples", ctx), -1LL, 1LL << 30));
+    h.indirectCacheCell = h5::readDoubleAttribute(f, "indirect_cache_cell", ctx);
+  }
+
   // Every shape is checked against the header before anything is allocated.
   const long long n = h5::readIntAttribute(f, "occupied_pixels", ctx);
   if (n < 0 || n > h.camera.size.pixels())
@@ -183,7 +200,8 @@ TransportHeader readImageHeaderAttributes(hid_t f, bool requireNormals, const st
     h.objectNames = splitNames(h5::readStringAttribute(f, "object_names", ctx));
   }
   // As TransportHeader's has*(): a file without rows gives every array.
-  datasets = {n, n == 0 || withNormals, n == 0 || withPositions, n == 0 || withObjects};
+  datasets = {n, n == 0 || withNormals, n == 0 || withPositions, n == 0 || withObjects,
+              hasLampGeometry(f)};
   return h;
 }
 
@@ -213,6 +231,7 @@ TransportHeader readImageHeader(hid_t f, bool requireNormals, const std::string&
     for (float x : h.positions)
       if (!std::isfinite(x)) throw UserError(concat(ctx, ": dataset 'position' is not finite"));
   }
+  h.lamps = readLampGeometry(f, n, ctx);
   return h;
 }
 

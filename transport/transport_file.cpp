@@ -65,6 +65,7 @@ void TransportHeader::validate(const std::string& context) const {
       throw UserError(concat(context, ": albedo must be finite, >= 0"));
   for (float c : coverage)
     if (!(c >= 0 && c <= 1)) throw UserError(concat(context, ": coverage must be in [0, 1]"));
+  lamps.validate(n, context);
 }
 
 ColumnGeometry columnGeometry(const TransportHeader& header) {
@@ -100,13 +101,6 @@ TransportWriter::TransportWriter(const std::string& path, const TransportHeader&
   h5::writeAttribute(f, "spp", static_cast<long long>(header.samplesPerPixel), ctx);
   h5::writeAttribute(f, "texel_rays", static_cast<long long>(header.texelRays), ctx);
   h5::writeAttribute(f, "precision", std::string(precisionName(header.precision)), ctx);
-  // Written only with indirect light, so a direct transport stays byte for byte
-  // what it was.
-  if (header.bounces > 0) {
-    h5::writeAttribute(f, "bounces", static_cast<long long>(header.bounces), ctx);
-    h5::writeAttribute(f, "indirect_samples", static_cast<long long>(header.indirectSamples), ctx);
-    h5::writeAttribute(f, "indirect_cache_cell", header.indirectCacheCell, ctx);
-  }
   writeImageHeader(f, header, ctx);
   const hsize_t n = header.rows();
 
@@ -204,13 +198,6 @@ void readTransportAttributes(hid_t f, const std::string& ctx, long long rows, Tr
   if (precision != "f16" && precision != "f32")
     throw UserError(concat(ctx, ": attribute 'precision' is '", precision, "', not f16 or f32"));
   h.precision = parsePrecision(precision);
-  if (h5::hasAttribute(f, "bounces")) {
-    h.bounces =
-        static_cast<int>(std::clamp(h5::readIntAttribute(f, "bounces", ctx), -1LL, 1LL << 20));
-    h.indirectSamples = static_cast<int>(
-        std::clamp(h5::readIntAttribute(f, "indirect_samples", ctx), -1LL, 1LL << 30));
-    h.indirectCacheCell = h5::readDoubleAttribute(f, "indirect_cache_cell", ctx);
-  }
   if (h5::datasetShape(f, kRowsDataset, ctx) !=
       std::vector<hsize_t>{hsize_t(rows), hsize_t(h.rowLength())})
     throw UserError(concat(ctx, ": dataset '", kRowsDataset, "' has the wrong shape"));
@@ -225,7 +212,7 @@ long long fileBytesOf(const std::string& path) {
 }  // namespace
 
 PixelDatasets PixelDatasets::of(const TransportHeader& h) {
-  return {h.rows(), h.hasNormals(), h.hasPositions(), h.hasObjects()};
+  return {h.rows(), h.hasNormals(), h.hasPositions(), h.hasObjects(), !h.lamps.empty()};
 }
 
 TransportSummary readTransportSummary(const std::string& path) {

@@ -11,6 +11,7 @@
 #include "core/enum_names.h"
 #include "transport/camera.h"
 #include "transport/hdf5_handles.h"
+#include "transport/lamp_geometry.h"
 #include "transport/light_set.h"
 
 namespace acpca {
@@ -24,8 +25,9 @@ const char* precisionName(Precision p);
 inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
 /// Version 2 added the per-pixel `position`, version 3 the per-pixel `object`
 /// and the scene's object names, version 4 the light set of captured
-/// transports (docs/formats.md); earlier files are read without them.
-inline constexpr int kTransportVersion = 4;
+/// transports, version 5 the lamp samples and surfaces (transport/
+/// lamp_geometry.h; docs/formats.md); earlier files are read without them.
+inline constexpr int kTransportVersion = 5;
 inline constexpr int kOldestTransportVersion = 1;
 
 /// Everything about a transport except its rows.
@@ -60,6 +62,9 @@ struct TransportHeader {
   /// files made before transport version 3 and model version 5.
   std::vector<std::int32_t> objects;
   std::vector<std::string> objectNames;  ///< the scene's objects, in id order
+  /// What a point or spot lamp's exact direct light needs (empty before
+  /// transport version 5 and model version 7, and for light sets).
+  LampGeometry lamps;
 
   bool hasPositions() const { return rows() == 0 || !positions.empty(); }
   /// Models made before version 5 hold no normals (transports always do).

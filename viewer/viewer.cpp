@@ -8,10 +8,12 @@
 
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/warning.h"
 #include "dataset/envmap_export.h"
 #include "model/model.h"
 #include "model/model_file.h"
 #include "pictures/pictures.h"
+#include "relight/lamp_light.h"
 #include "relight/local_relight.h"
 #include "viewer/window_system.h"
 
@@ -44,6 +46,8 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
     clusterOfPixel_ = clusterOfPixel(g, model.clusterOfRow());
     maxRank_ = model.ranks.empty() ? 0 : *std::max_element(model.ranks.begin(), model.ranks.end());
   }  // the relighter keeps its own packed copy of the model
+  latticeLamps_ = exactLampsUnavailable(relighter_->geometry(), true);
+  if (latticeLamps_.empty()) exactLamps_ = std::make_unique<ExactLamps>(relighter_->geometry());
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
   if (envs_.empty()) throw ParameterError("environment", "", "give at least one lighting");
   const TransportHeader& g = relighter_->geometry();
@@ -149,8 +153,17 @@ void Viewer::relightLocal(const ViewState& state) {
   const Stopwatch t;
   try {
     requireLocalLightsApply(relighter_->geometry(), options_.modelPath, true, state.lights);
-    if (!columns_) columns_ = std::make_unique<LocalLightColumns>(relighter_->packed());
-    localRows_ = modelLocalRelight(*relighter_, state.lights, kAnchorSpreadTexels, columns_.get());
+    // As a batch lights them (relight_source.h): the same image for the same lamps.
+    localRows_ = relightLocalLights(
+        state.lights, LampMode::Exact, exactLamps_.get(),
+        [&](const std::vector<LocalLight>& some) {
+          if (!columns_) columns_ = std::make_unique<LocalLightColumns>(relighter_->packed());
+          return modelLocalRelight(*relighter_, some, kAnchorSpreadTexels, columns_.get());
+        },
+        [&] {
+          if (!std::exchange(warnedLamps_, true))
+            warn(latticeLampsWarning(options_.modelPath, latticeLamps_));
+        });
   } catch (const UserError& error) {
     localProblem_ = error.what();  // shown in the status line; the map still shows
   }

@@ -16,6 +16,7 @@
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
+#include "relight/lamp_light.h"
 #include "relight/local_columns.h"
 #include "relight/model_relighter.h"
 #include "viewer/view_input.h"
@@ -106,7 +107,11 @@ class Viewer {
   Image mapPart_;
   std::vector<float> localRows_;
   std::unique_ptr<LocalLightColumns> columns_;  ///< kept while lamps move
-  std::string localProblem_;                    ///< why the lights are not shown, if they cannot be
+  /// Point and spot lamps lit exactly, where the model allows (null otherwise).
+  std::unique_ptr<ExactLamps> exactLamps_;
+  std::string latticeLamps_;  ///< why not, in words (empty: exact)
+  bool warnedLamps_ = false;
+  std::string localProblem_;  ///< why the lights are not shown, if they cannot be
   LatticeLighting lighting_;
   ViewState relitFor_, localFor_;
   bool localDone_ = false;

@@ -30,7 +30,7 @@ from .torch_model import DeviceModel
 __all__ = ["TorchRelighter", "Environment"]
 
 # model/model_file.h: kOldestModelVersion and kModelVersion.
-OLDEST_MODEL_VERSION, MODEL_VERSION = 2, 6
+OLDEST_MODEL_VERSION, MODEL_VERSION = 2, 7
 # The datasets held on the device.
 _HELD = ("global_basis", "pixels", "albedo", "coverage", "cluster_rows", "bases", "means",
          "coefficients", "coefficient_scale")

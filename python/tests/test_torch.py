@@ -398,8 +398,8 @@ def test_bad_input_is_refused_in_words(tmp_path_factory, tmp_path, monkeypatch):
     newer = str(tmp_path / "newer.h5")
     shutil.copy(path, newer)
     with h5py.File(newer, "r+") as f:
-        f.attrs["version"] = 7
-    with pytest.raises(ValueError, match="model format version 7; this reader reads 2 to 6: "
+        f.attrs["version"] = 8
+    with pytest.raises(ValueError, match="model format version 8; this reader reads 2 to 7: "
                                          "written by a newer adaptive-cpca"):
         TorchRelighter(newer)
     import adaptive_cpca.torch as acpca_torch

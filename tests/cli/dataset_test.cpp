@@ -147,13 +147,15 @@ std::pair<long long, float> negativesOf(const std::string& path) {
 }
 
 TEST_F(Dataset, FramesCarryNoNegativeLightUnlessAskedTo) {
-  // A lamp reads single entries of a model's reconstruction of T, which
-  // undershoots where the transport is zero or small.
+  // A lamp through the lattice reads single entries of a model's
+  // reconstruction of T, which undershoots where the transport is zero or
+  // small (a lamp lit exactly never goes below zero).
   const std::string model = dir_.file("m.h5");
   ASSERT_EQ(runCli("compress " + plant_ + " --method adaptive-quad --quiet --out " + model).status,
             0);
   const std::string lamp = "relight " + model +
-                           " --light point:0,3,2,40 --background black --aov shading "
+                           " --light point:0,3,2,40 --light-mode lattice --background black "
+                           "--aov shading "
                            "--exr-float --quiet --json ";
   ASSERT_EQ(runCli(lamp + dir_.file("raw.json") + " --keep-negative --out " + dir_.file("raw.exr"))
                 .status,

@@ -10,11 +10,11 @@
 
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
-#include "precompute/material.h"
 #include "precompute/sampling_advice.h"
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "tests/render_support.h"
+#include "transport/material.h"
 
 namespace acpca {
 namespace {

@@ -1,0 +1,66 @@
+#pragma once
+// Point and spot lamps lit exactly (docs/lighting.md, "Lamps"): at each
+// traced camera sample of a pixel, a shadow ray to the lamp through the
+// file's surfaces, the lamp's irradiance and the sample's BRDF, as the
+// precompute would have traced the lamp itself. The lattice path
+// (relight/local_relight.h) is what files without lamp geometry, files with
+// bounced light and sphere lamps still take.
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "lighting/local_light.h"
+#include "occlusion/scene_occluder.h"
+#include "transport/transport_file.h"
+
+namespace acpca {
+
+/// How point and spot lamps are lit: exactly where the file allows it (else
+/// through the lattice, with a warning), or through the lattice always.
+enum class LampMode { Exact, Lattice };
+inline constexpr EnumNames<LampMode, 2> kLampModeNames{
+    "light mode", {{{LampMode::Exact, "exact"}, {LampMode::Lattice, "lattice"}}}};
+
+/// Whether a lamp of this kind can be lit exactly: point and spot lamps.
+bool litExactly(const LocalLight& light);
+
+/// Why the file's lamps cannot be lit exactly, in words with what to run
+/// again (`model` picks the advice); empty when they can.
+std::string exactLampsUnavailable(const TransportHeader& header, bool model);
+
+/// The warning a file whose lamps go through the lattice gets, once: its
+/// path and `why` (exactLampsUnavailable's words).
+std::string latticeLampsWarning(const std::string& path, const std::string& why);
+
+/// The exact lamps of one file: its surfaces in a shadow-ray scene, built on
+/// first use and kept for the next frames.
+class ExactLamps {
+ public:
+  /// `header` must outlive this and hold lamp geometry.
+  explicit ExactLamps(const TransportHeader& header) : header_(header) {}
+  /// Per occupied row RGB (rows x 3, albedo applied) under the point and
+  /// spot lamps among `lights` (the others are left out): each traced sample
+  /// adds weight x I / d^2 (x a spot's falloff) x cos x f/albedo where its
+  /// shadow ray reaches the lamp. Parallel over rows; the same values for
+  /// any thread count.
+  std::vector<float> relight(const std::vector<LocalLight>& lights) const;
+
+ private:
+  const TransportHeader& header_;
+  mutable std::once_flag built_;
+  mutable std::unique_ptr<SceneOccluder> occluder_;
+};
+
+/// The rows (rows x 3) of all of `lights`: the point and spot lamps exactly
+/// when `mode` and the file allow (`exact` non-null), the rest (and those
+/// lamps otherwise) through `lattice`, summed. `warnOnce` is called once per
+/// file with why its lamps went through the lattice.
+std::vector<float> relightLocalLights(
+    const std::vector<LocalLight>& lights, LampMode mode, const ExactLamps* exact,
+    const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice,
+    const std::function<void()>& warnOnce);
+
+}  // namespace acpca
