@@ -361,9 +361,14 @@ class Relighter {
     if (lights.empty()) return {};
     if (!(anchorSpread >= 0 && anchorSpread <= 64))
       throw ParameterError("anchor spread", anchorSpread, "is not in 0..64 texels");
-    return source_.relightLocal(lights, anchorSpread, LampMode::Exact);
+    return source_.relightLocal(lights, anchorSpread, lampMode_);
   }
 
+ public:
+  std::string lightMode() const { return kLampModeNames.name(lampMode_); }
+  void setLightMode(const std::string& mode) { lampMode_ = kLampModeNames.parse(mode); }
+
+ private:
   void setRank(const RankLimit& maxRank) {
     if (!source_.model) {
       if (maxRank)
@@ -450,6 +455,7 @@ class Relighter {
 
   std::string path_;
   RelightSource source_;
+  LampMode lampMode_ = LampMode::Exact;
   std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
   std::unique_ptr<ImageComposer> composer_;
 };
@@ -656,6 +662,10 @@ PYBIND11_MODULE(_core, m) {
            "The view's per-pixel labels, by name (albedo, normal, depth, position, mask, "
            "object): H x W (x C) arrays, as `relight --aov ... --label-format npy` writes them "
            "(docs/datasets.md).")
+      .def_property("light_mode", &Relighter::lightMode, &Relighter::setLightMode,
+                    "How point and spot lamps are lit: 'exact' (default; a shadow ray per "
+                    "camera sample where the file holds its surfaces, else the lattice with a "
+                    "warning) or 'lattice' (through T's texels), as relight --light-mode")
       .def_property_readonly("object_names", &Relighter::objectNames,
                              "Each object's name, by the id the object label holds")
       .def("shading", &Relighter::shading, py::arg("frame"), py::kw_only(),

@@ -602,9 +602,18 @@ def test_a_scene_of_several_views_is_precomputed_one_view_per_call(tmp_path):
 
 def test_frames_carry_no_negative_light_unless_asked_as_the_cli_writes_them(tmp_path, model):
     r = ac.Relighter(model)
-    # A sphere lamp goes through the lattice (a point lamp lit exactly never
-    # goes below zero): it reads few entries of the model's reconstruction of
-    # T, which undershoots where the transport is zero or small.
+    # A point lamp lit exactly never goes below zero; through the lattice it
+    # reads single entries of the model's reconstruction of T, which
+    # undershoots where the transport is zero or small.
+    point = ac.Light("point:0,3,2,40")
+    assert r.light_mode == "exact"
+    assert r.relight(None, lights=[point], background="black", keep_negative=True).min() >= 0
+    r.light_mode = "lattice"
+    assert (r.relight(None, lights=[point], background="black", keep_negative=True) < 0).any()
+    with pytest.raises(ac.Error, match="light mode 'sharp'"):
+        r.light_mode = "sharp"
+    r.light_mode = "exact"
+    # A sphere lamp goes through the lattice either way.
     lamp = ac.Light("sphere:0,3,2,0.05,1600")
     raw = r.relight(None, lights=[lamp], background="black", keep_negative=True)
     assert (raw < 0).sum() > 0, "this lamp no longer shows the model's undershoot"
