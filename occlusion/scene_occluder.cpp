@@ -81,4 +81,24 @@ bool SceneOccluder::blocked(const Eigen::Vector3f& origin, const Eigen::Vector3f
   return ray.tfar < 0;  // Embree marks a blocked ray with tfar = -inf
 }
 
+void SceneOccluder::trace(Packet& p) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRay16 rays;
+  alignas(64) int valid[kPacket];
+  for (int i = 0; i < kPacket; ++i) {
+    const bool live = i < p.count;
+    valid[i] = live ? -1 : 0;
+    rays.org_x[i] = live ? p.ox[i] : 0, rays.org_y[i] = live ? p.oy[i] : 0;
+    rays.org_z[i] = live ? p.oz[i] : 0;
+    rays.dir_x[i] = live ? p.dx[i] : 0, rays.dir_y[i] = live ? p.dy[i] : 1;
+    rays.dir_z[i] = live ? p.dz[i] : 0;
+    rays.tnear[i] = live ? p.nearest[i] : 0, rays.tfar[i] = live ? p.farthest[i] : 0;
+    rays.time[i] = 0, rays.mask[i] = ~0u, rays.id[i] = static_cast<unsigned>(i), rays.flags[i] = 0;
+  }
+  rtcOccluded16(valid, embree_->scene, &context, &rays);
+  for (int i = 0; i < p.count; ++i) p.blocked[i] = rays.tfar[i] < 0;
+}
+
 }  // namespace acpca

@@ -24,6 +24,18 @@ class SceneOccluder {
   bool blocked(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float nearest,
                float farthest) const;
 
+  /// Up to kPacket rays at once (structure of arrays), traced as one packet:
+  /// neighbouring pixels' rays to one lamp run close together, and a packet
+  /// shares their walk through the scene. Thread safe.
+  static constexpr int kPacket = 16;
+  struct Packet {
+    int count = 0;
+    float ox[kPacket], oy[kPacket], oz[kPacket], dx[kPacket], dy[kPacket], dz[kPacket];
+    float nearest[kPacket], farthest[kPacket];
+    bool blocked[kPacket];  ///< set by trace
+  };
+  void trace(Packet& packet) const;
+
  private:
   struct Embree;
   std::unique_ptr<Embree> embree_;

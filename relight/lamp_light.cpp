@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <utility>
 
 #include "core/error.h"
 
@@ -15,32 +17,63 @@ Vec3 vec3At(const std::vector<float>& values, long long i) {
   return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
 }
 
-/// One traced sample's light from the lamps, per channel: weight x E x cos x
-/// f/albedo where the sample sees the lamp.
-Rgb sampleLight(const TransportHeader& h, const SceneOccluder& occluder,
-                const std::vector<const LocalLight*>& lamps, long long s) {
+/// Where one sample's shadow ray to a lamp runs and what it brings if the
+/// lamp is seen: weight x E x cos x f/albedo (0: below a horizon, or no light).
+struct LampRay {
+  Eigen::Vector3f origin, direction;
+  float distance = 0;
+  double light = 0;
+};
+
+LampRay lampRay(const TransportHeader& h, const LocalLight& lamp, long long s) {
   const LampGeometry& g = h.lamps;
   const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s),
              ng = vec3At(g.geometricNormal, s);
+  const Vec3 toLamp = lamp.position - origin;
+  const double distance = toLamp.norm();
+  const Vec3 direction = toLamp / distance;
+  LampRay ray;
+  // Above both horizons, as the precompute's shadow rays (precompute/shadow_rays.h).
+  const double cosine = n.dot(direction);
+  if (!(cosine > 0 && ng.dot(direction) > 0)) return ray;
+  const double irradiance = lightIrradiance(lamp, origin);
+  if (irradiance <= 0) return ray;
   const Vec3 toViewer = (h.camera.eye - origin).normalized();
-  const Material& material = g.materials[g.material[s]];
-  Rgb light = Rgb::Zero();
-  for (const LocalLight* lamp : lamps) {
-    const Vec3 toLamp = lamp->position - origin;
-    const double distance = toLamp.norm();
-    const Vec3 direction = toLamp / distance;
-    // Above both horizons, as the precompute's shadow rays (precompute/shadow_rays.h).
-    const double cosine = n.dot(direction);
-    if (!(cosine > 0 && ng.dot(direction) > 0)) continue;
-    const double irradiance = lightIrradiance(*lamp, origin);
-    if (irradiance <= 0) continue;
-    // Stopped short of the lamp: what lies beyond it casts no shadow.
-    if (occluder.blocked(origin.cast<float>(), direction.cast<float>(), g.rayEpsilon,
-                         static_cast<float>(distance * (1 - 1e-6))))
-      continue;
-    light += (irradiance * cosine * brdfShape(material, n, toViewer, direction)) * lamp->emission;
-  }
-  return g.weight[s] * light;
+  ray.light = g.weight[s] * irradiance * cosine *
+              brdfShape(g.materials[g.material[s]], n, toViewer, direction);
+  ray.origin = origin.cast<float>();
+  ray.direction = direction.cast<float>();
+  // Stopped short of the lamp: what lies beyond it casts no shadow.
+  ray.distance = static_cast<float>(distance * (1 - 1e-6));
+  return ray;
+}
+
+/// One lamp's light on rows [first, end), added to acc[row - first]: the
+/// samples' shadow rays in packets, neighbouring pixels' rays together.
+void addLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
+             long long first, long long end, std::vector<Rgb>& acc) {
+  const LampGeometry& g = h.lamps;
+  SceneOccluder::Packet packet;
+  std::array<std::pair<long long, double>, SceneOccluder::kPacket> pending;  // row, light
+  const auto flush = [&] {
+    occluder.trace(packet);
+    for (int i = 0; i < packet.count; ++i)
+      if (!packet.blocked[i]) acc[pending[i].first - first] += pending[i].second * lamp.emission;
+    packet.count = 0;
+  };
+  for (long long r = first; r < end; ++r)
+    for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+      const LampRay ray = lampRay(h, lamp, s);
+      if (ray.light <= 0) continue;
+      const int i = packet.count++;
+      packet.ox[i] = ray.origin.x(), packet.oy[i] = ray.origin.y(), packet.oz[i] = ray.origin.z();
+      packet.dx[i] = ray.direction.x(), packet.dy[i] = ray.direction.y();
+      packet.dz[i] = ray.direction.z();
+      packet.nearest[i] = g.rayEpsilon, packet.farthest[i] = ray.distance;
+      pending[i] = {r, ray.light};
+      if (packet.count == SceneOccluder::kPacket) flush();
+    }
+  if (packet.count > 0) flush();
 }
 
 }  // namespace
@@ -76,15 +109,15 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights) co
   const long long rows = header_.rows();
   std::vector<float> out(3 * static_cast<size_t>(rows), 0.0f);
   if (lamps.empty()) return out;
-  const LampGeometry& g = header_.lamps;
-  tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 64), [&](const auto& range) {
-    for (long long r = range.begin(); r < range.end(); ++r) {
-      Rgb light = Rgb::Zero();
-      for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s)
-        light += sampleLight(header_, *occluder_, lamps, s);
+  // Each row sums its lamps in order, then its samples in order, whatever
+  // the blocks: the same values for any thread count.
+  tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 256), [&](const auto& range) {
+    std::vector<Rgb> acc(static_cast<size_t>(range.size()), Rgb::Zero());
+    for (const LocalLight* lamp : lamps)
+      addLamp(header_, *occluder_, *lamp, range.begin(), range.end(), acc);
+    for (long long r = range.begin(); r < range.end(); ++r)
       for (int c = 0; c < 3; ++c)
-        out[3 * r + c] = static_cast<float>(header_.albedo[3 * r + c] * light[c]);
-    }
+        out[3 * r + c] = static_cast<float>(header_.albedo[3 * r + c] * acc[r - range.begin()][c]);
   });
   return out;
 }
