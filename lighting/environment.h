@@ -20,9 +20,22 @@ using Rgb = Eigen::Vector3d;
 /// solid angle (radiance x dOmega), laid out [texel * 3 + channel].
 using LatticeLighting = std::vector<double>;
 
+/// A lat-long map's pixels, looked up by (u, v) = (0.5 + atan2(x, -z) / 2 pi,
+/// acos(y) / pi) (docs/lighting.md, "Conventions").
+struct LatLongPixels {
+  int width = 0, height = 0;
+  const float* rgb = nullptr;  ///< width x height x 3, row 0 at +Y
+  /// Bilinear between pixel centres, wrapping in u (any real u) and clamping
+  /// in v: what the map's radiance() gives.
+  Rgb at(double u, double v) const;
+};
+
 class Environment {
  public:
   virtual ~Environment() = default;
+  /// A lat-long map's pixels (null for any other environment): a camera's
+  /// background turned by a yaw is a shift in u (relight/image_composer.h).
+  virtual const LatLongPixels* latLong() const { return nullptr; }
   /// Short name for output files and manifests ("sky", "sun_50_30_4_1000", file stem).
   virtual std::string name() const = 0;
   /// Radiance arriving from unit direction d, of the unrotated map.

@@ -46,33 +46,22 @@ void addRow(const float* pixels, int sub, int cells, const int* texel, double om
 class LatLongEnvironment : public Environment {
  public:
   LatLongEnvironment(std::string name, int width, int height, std::vector<float> rgb)
-      : name_(std::move(name)), width_(width), height_(height), rgb_(std::move(rgb)) {
+      : name_(std::move(name)),
+        width_(width),
+        height_(height),
+        rgb_(std::move(rgb)),
+        pixels_{width_, height_, rgb_.data()} {
     ACPCA_CHECK(rgb_.size() == 3ull * width * height, "lat-long buffer ", rgb_.size());
   }
   std::string name() const override { return name_; }
+  const LatLongPixels* latLong() const override { return &pixels_; }
 
   Rgb radiance(const Vec3& dir) const override {
     const Vec3 d = dir.normalized();
     // docs/design.md section 3: u = 0.5 + atan2(x, -z) / 2 pi, v = acos(y) / pi.
     const double u = 0.5 + std::atan2(d.x(), -d.z()) / (2 * kPi);
     const double v = std::acos(std::clamp(d.y(), -1.0, 1.0)) / kPi;
-    // Bilinear between pixel centres, wrapping in u and clamping in v.
-    const double x = u * width_ - 0.5, y = std::clamp(v * height_ - 0.5, 0.0, height_ - 1.0);
-    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-    const double fx = x - x0, fy = y - y0;
-    Rgb sum = Rgb::Zero();
-    for (int dy = 0; dy <= 1; ++dy)
-      for (int dx = 0; dx <= 1; ++dx) {
-        // Wrap in u; x0 + dx lies in [-1, width] but at the seam, so the
-        // divisions of the general wrap are rarely needed (every background
-        // pixel of every frame comes through here).
-        int px = x0 + dx;
-        if (px < 0 || px >= width_) px = (px % width_ + width_) % width_;
-        const int py = std::min(y0 + dy, height_ - 1);
-        const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
-        sum += w * pixel(px, py);
-      }
-    return sum;
+    return pixels_.at(u, v);
   }
 
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
@@ -119,16 +108,33 @@ class LatLongEnvironment : public Environment {
   }
 
  private:
-  Rgb pixel(int x, int y) const {
-    const float* p = &rgb_[3 * (static_cast<size_t>(y) * width_ + x)];
-    return {p[0], p[1], p[2]};
-  }
   std::string name_;
   int width_, height_;
   std::vector<float> rgb_;
+  LatLongPixels pixels_;  ///< a view of rgb_
 };
 
 }  // namespace
+
+Rgb LatLongPixels::at(double u, double v) const {
+  // Bilinear between pixel centres, wrapping in u and clamping in v.
+  const double x = u * width - 0.5, y = std::clamp(v * height - 0.5, 0.0, height - 1.0);
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  Rgb sum = Rgb::Zero();
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      // Wrap in u; x0 + dx lies in [-1, width] but at the seam (or past it for
+      // a shifted u), so the divisions of the general wrap are rarely needed.
+      int px = x0 + dx;
+      if (px < 0 || px >= width) px = (px % width + width) % width;
+      const int py = std::min(y0 + dy, height - 1);
+      const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+      const float* p = rgb + 3 * (static_cast<size_t>(py) * width + px);
+      sum += w * Rgb(p[0], p[1], p[2]);
+    }
+  return sum;
+}
 
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb) {

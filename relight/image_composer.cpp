@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/error.h"
 
@@ -67,6 +68,10 @@ ImageComposer::ImageComposer(const TransportHeader& header)
       if (coverage_[pixel] >= 1) continue;
       backgroundPixel_.push_back(pixel);
       backgroundRay_.push_back(camera_.rayDirection(x + 0.5, y + 0.5));
+      // As LatLongEnvironment::radiance finds them.
+      const Vec3 d = backgroundRay_.back().normalized();
+      backgroundU_.push_back(0.5 + std::atan2(d.x(), -d.z()) / (2 * std::numbers::pi));
+      backgroundV_.push_back(std::acos(std::clamp(d.y(), -1.0, 1.0)) / std::numbers::pi);
     }
     backgroundRowStart_.push_back(backgroundPixel_.size());
   }
@@ -79,6 +84,13 @@ void ImageComposer::background(Background background, const Environment& env,
   const int width = camera.size.width, height = camera.size.height;
   const int channels = ImageComposer::channels(background);
   const Eigen::Matrix3d inverse = rotation.transpose();
+  // A lat-long map turned by a yaw alone (R = Ry(yaw), as --rotate YAW and
+  // yaw sweeps make it): the map slides along u, so each pixel's (u, v) is
+  // found once per view. R^T d has atan2(x, -z) larger by the yaw.
+  const LatLongPixels* map = env.latLong();
+  const bool yawOnly = map && rotation(1, 1) == 1 && rotation(0, 1) == 0 && rotation(1, 0) == 0 &&
+                       rotation(1, 2) == 0 && rotation(2, 1) == 0;
+  const double shift = std::atan2(rotation(0, 2), rotation(0, 0)) / (2 * std::numbers::pi);
   // Background pixels evaluate the environment, the costly part: rows in
   // parallel, each through the camera ray worked out once (backgroundRay_).
   tbb::parallel_for(0, height, [&](int y) {
@@ -94,7 +106,8 @@ void ImageComposer::background(Background background, const Environment& env,
       const size_t pixel = backgroundPixel_[i];
       const float cov = coverage_[pixel];
       if (silhouettesOnly && cov == 0) continue;
-      const Rgb bg = env.radiance(inverse * backgroundRay_[i]);
+      const Rgb bg = yawOnly ? map->at(backgroundU_[i] + shift, backgroundV_[i])
+                             : env.radiance(inverse * backgroundRay_[i]);
       float* out = pixels + pixel * channels;
       for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
     }

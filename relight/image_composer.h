@@ -82,6 +82,10 @@ class ImageComposer {
   /// Pixels with coverage below 1 (row by row), and the camera ray through each.
   std::vector<size_t> backgroundPixel_, backgroundRowStart_;
   std::vector<Vec3> backgroundRay_;
+  /// Each background ray's lat-long (u, v) (docs/lighting.md): under a yaw
+  /// alone a lat-long map is looked up at (u + yaw / 2 pi, v), no atan2 or
+  /// acos per pixel and frame.
+  std::vector<double> backgroundU_, backgroundV_;
 };
 
 }  // namespace acpca

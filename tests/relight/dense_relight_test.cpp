@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include "lighting/lighting.h"
+#include "lighting/rotation.h"
 #include "relight/image_composer.h"
 #include "tests/test_support.h"
 
@@ -74,6 +75,37 @@ TEST_F(DenseRelight, ComposedImagesShowBackgroundAsAsked) {
     }
   EXPECT_GT(background, 0) << "the test scene should show some sky";
   for (const float v : withEnv.pixels) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(DenseRelight, AMapTurnedByAYawAloneShowsWhatItsRadianceSays) {
+  // The background of a lat-long map under a yaw alone slides along u from a
+  // table made once (relight/image_composer.h); under any rotation it must
+  // show env.radiance(R^T ray) for each background pixel's camera ray.
+  const TransportReader t(path_);
+  const TransportHeader& h = t.header();
+  const int w = 64, height = 32;
+  std::vector<float> rgb(3 * w * height);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<float>((i * 7919 % 1000) / 250.0);
+  const auto env = makeLatLongEnvironment("noise", w, height, rgb);
+  const std::vector<float> rows(3 * static_cast<size_t>(t.rows()), 0.0f);
+  int background = 0;
+  for (const EnvRotation& r :
+       {EnvRotation{0, 0, 0}, EnvRotation{37.5, 0, 0}, EnvRotation{-170, 0, 0},
+        EnvRotation{200, 0, 0}, EnvRotation{30, 10, 0}, EnvRotation{30, 0, 5}}) {
+    const Eigen::Matrix3d rotation = rotationMatrix(r);
+    const Image image = composeImage(h, rows, Background::Env, *env, rotation);
+    for (int y = 0; y < h.camera.size.height; ++y)
+      for (int x = 0; x < h.camera.size.width; ++x) {
+        if (test::rowOfPixel(h, x, y) >= 0) continue;
+        ++background;
+        const Rgb expected =
+            env->radiance(rotation.transpose() * h.camera.rayDirection(x + 0.5, y + 0.5));
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(image.at(x, y)[c], expected[c], 1e-6 * (1 + expected[c]))
+              << "yaw " << r.yaw << " pixel " << x << "," << y;
+      }
+  }
+  EXPECT_GT(background, 6 * 10);
 }
 
 }  // namespace
