@@ -1,7 +1,15 @@
 #include "imageio/image_file.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+
 #include "core/error.h"
 #include "imageio/codecs_library.h"
+#include "imageio/exr_encoder.h"
+#include "imageio/png_encoder.h"
 
 namespace acpca {
 
@@ -23,9 +31,87 @@ std::unique_ptr<ImageReader> openImage(const std::string& path, std::string& err
   return imageCodecs().open(path, options, error);
 }
 
+namespace {
+
+bool hasExtension(const std::string& file, const char* extension) {
+  const size_t n = std::strlen(extension);
+  if (file.size() < n) return false;
+  return std::equal(file.end() - static_cast<long>(n), file.end(), extension,
+                    [](char a, char b) { return std::tolower(a) == b; });
+}
+
+/// OpenImageIO's default names of 1 to 4 channels (empty for more).
+std::vector<std::string> channelNamesOf(const ImageWriteSpec& s) {
+  if (!s.channelNames.empty()) return s.channelNames;
+  switch (s.channels) {
+    case 1:
+      return {"Y"};
+    case 2:
+      return {"R", "G"};
+    case 3:
+      return {"R", "G", "B"};
+    case 4:
+      return {"R", "G", "B", "A"};
+  }
+  return {};
+}
+
+/// Writes `file` with the encoders of this library when they cover its
+/// type and settings: PNG of 8 or 16 bits, EXR of half or float values
+/// without PIZ. Nullopt when they do not (OpenImageIO writes it then).
+std::optional<bool> writeDirectly(const std::string& file, const ImageWriteSpec& s,
+                                  const void* pixels, std::string& error) {
+  if (hasExtension(file, ".png") && (s.type == PixelType::UInt8 || s.type == PixelType::UInt16) &&
+      s.channels >= 1 && s.channels <= 4 && s.textAttributes.empty()) {
+    int level = 6;  // zlib's default, as OpenImageIO's
+    for (const auto& [name, value] : s.integerAttributes) {
+      if (name != "png:compressionLevel") return std::nullopt;
+      level = value;
+    }
+    const std::vector<unsigned char> bytes = encodePng(
+        {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels}, level);
+    std::FILE* out = std::fopen(file.c_str(), "wb");
+    if (!out) return error = std::strerror(errno), false;
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
+    const int writeErrno = errno;
+    if (std::fclose(out) != 0 || !written)
+      return error = std::strerror(written ? errno : writeErrno), false;
+    return true;
+  }
+  if (!hasExtension(file, ".exr") || (s.type != PixelType::Half && s.type != PixelType::Float) ||
+      !s.integerAttributes.empty())
+    return std::nullopt;
+  ExrPixels p{s.width, s.height, channelNamesOf(s), s.type == PixelType::Float, pixels};
+  if (p.channelNames.size() != static_cast<size_t>(s.channels)) return std::nullopt;
+  ExrCodec codec = ExrCodec::Zip;  // OpenImageIO's default
+  std::vector<std::pair<std::string, std::string>> attributes;
+  for (const auto& [name, value] : s.textAttributes) {
+    if (name == "DateTime" && value.empty()) continue;  // none is written
+    if (name != "compression") {
+      attributes.emplace_back(name, value);
+      continue;
+    }
+    if (value == "none")
+      codec = ExrCodec::None;
+    else if (value == "rle")
+      codec = ExrCodec::Rle;
+    else if (value == "zips")
+      codec = ExrCodec::Zips;
+    else if (value != "zip")
+      return std::nullopt;
+  }
+  return writeExr(file, p, codec, attributes, error);
+}
+
+}  // namespace
+
 void writeImageFile(const std::string& file, const ImageWriteSpec& spec, const void* pixels,
                     const std::string& path, const std::string& what) {
   std::string error;
+  if (const std::optional<bool> written = writeDirectly(file, spec, pixels, error)) {
+    if (*written) return;
+    throw UserError(concat(path, ": cannot write ", what, ": ", error));
+  }
   switch (imageCodecs().write(file, spec, pixels, error)) {
     case ImageCodecs::WriteResult::Written:
       return;

@@ -12,6 +12,7 @@ packages=(
   libembree-dev libtbb-dev libeigen3-dev
   libopenimageio-dev openimageio-tools libopencv-dev
   libhdf5-dev libcli11-dev nlohmann-json3-dev libassimp-dev libssl-dev libarchive-dev
+  libopenexr-dev libdeflate-dev libisal-dev
   libopenblas-dev liblapacke-dev
   openmpi-bin libopenmpi-dev
   libgtest-dev
