@@ -1,18 +1,18 @@
 // Lat-long (equirectangular) environment images. Each source pixel is treated
 // as constant radiance over its exact solid angle and split into sub-cells
 // small against a texel; every sub-cell adds radiance x solid angle to the
-// texel that holds its (rotated) centre. Energy is conserved to rounding at any
-// rotation, and a small sun keeps its energy.
-#include <tbb/parallel_for.h>
-
+// texel that holds its (rotated) centre (latlong_integration.h). Energy is
+// conserved to rounding at any rotation, and a small sun keeps its energy.
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 #include <numbers>
 
 #include "core/error.h"
 #include "core/warning.h"
 #include "imageio/image_file.h"
 #include "lighting/environment.h"
+#include "lighting/latlong_integration.h"
 
 namespace acpca {
 
@@ -20,28 +20,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr long long kMaxPixels = 1LL << 28;  // 16k x 16k
-
-/// acc[3 j + c] += omega * p[c] for each cell of a row in turn (j its texel, p
-/// its map pixel). Neighbouring cells mostly share a texel: its sums stay in
-/// registers over the run, the same additions in the same order.
-void addRow(const float* pixels, int sub, int cells, const int* texel, double omega,
-            std::vector<double>& acc) {
-  int current = -1;
-  double sum[3] = {0, 0, 0};
-  for (int i = 0; i < cells; ++i) {
-    const float* p = pixels + 3 * (i / sub);
-    if (p[0] == 0 && p[1] == 0 && p[2] == 0) continue;
-    if (texel[i] != current) {
-      if (current >= 0)
-        for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
-      current = texel[i];
-      for (int c = 0; c < 3; ++c) sum[c] = acc[3 * current + c];
-    }
-    for (int c = 0; c < 3; ++c) sum[c] += omega * p[c];
-  }
-  if (current >= 0)
-    for (int c = 0; c < 3; ++c) acc[3 * current + c] = sum[c];
-}
 
 class LatLongEnvironment : public Environment {
  public:
@@ -66,45 +44,10 @@ class LatLongEnvironment : public Environment {
 
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                  LatticeLighting& lighting) const override {
-    ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
-    // Sub-cells at most 1/8 of a texel's angular size.
-    const double texelAngle = 0.5 * kPi / lattice.resolution();
-    const int sub = std::max(1, static_cast<int>(std::ceil(8 * (kPi / height_) / texelAngle)));
-    const int subW = width_ * sub, subH = height_ * sub;
-    std::vector<double> sinPhi(subW), cosPhi(subW);
-    for (int i = 0; i < subW; ++i) {
-      const double phi = 2 * kPi * ((i + 0.5) / subW - 0.5);  // u = 0.5 + phi / 2 pi
-      sinPhi[i] = std::sin(phi), cosPhi[i] = std::cos(phi);
-    }
-    const double dPhi = 2 * kPi / subW;
-    // Fixed chunks of source rows, each with its own partial sums, added in
-    // order: the result does not depend on the thread count.
-    constexpr int kChunks = 16;
-    const int chunkRows = (subH + kChunks - 1) / kChunks;
-    const int chunks = (subH + chunkRows - 1) / chunkRows;
-    std::vector<std::vector<double>> partial(chunks);
-    tbb::parallel_for(0, chunks, [&](int chunk) {
-      auto& acc = partial[chunk];
-      acc.assign(lighting.size(), 0.0);
-      std::vector<double> x(subW), y(subW), z(subW);
-      std::vector<int> texel(subW);
-      for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
-        const double theta0 = kPi * r / subH, theta1 = kPi * (r + 1) / subH;
-        const double omega = (std::cos(theta0) - std::cos(theta1)) * dPhi;
-        const double theta = 0.5 * (theta0 + theta1);
-        const double sinT = std::sin(theta), cosT = std::cos(theta);
-        const int py = r / sub;
-        // The row's cells under the rotation, then their texels in SIMD lanes.
-        for (int i = 0; i < subW; ++i) {
-          const Vec3 d = rotation * Vec3(sinT * sinPhi[i], cosT, -sinT * cosPhi[i]);
-          x[i] = d.x(), y[i] = d.y(), z[i] = d.z();
-        }
-        lattice.texelsOf(x.data(), y.data(), z.data(), subW, texel.data());
-        addRow(&rgb_[3 * static_cast<size_t>(py) * width_], sub, subW, texel.data(), omega, acc);
-      }
-    });
-    for (const auto& acc : partial)
-      for (size_t k = 0; k < lighting.size(); ++k) lighting[k] += acc[k];
+    if (!isYawOnly(rotation)) return integrateLatLongCells(pixels_, lattice, rotation, lighting);
+    // The row sums, made on the first yaw and kept: a sweep turns one map many times.
+    std::call_once(rowSumsMade_, [&] { rowSums_ = std::make_unique<LatLongRowSums>(pixels_); });
+    integrateLatLongYawed(pixels_, *rowSums_, lattice, rotation, lighting);
   }
 
  private:
@@ -112,6 +55,8 @@ class LatLongEnvironment : public Environment {
   int width_, height_;
   std::vector<float> rgb_;
   LatLongPixels pixels_;  ///< a view of rgb_
+  mutable std::once_flag rowSumsMade_;
+  mutable std::unique_ptr<LatLongRowSums> rowSums_;
 };
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "lighting/environment.h"
+#include "lighting/latlong_integration.h"
 
 #include <gtest/gtest.h>
 
@@ -122,7 +123,9 @@ TEST(Environment, LatLongTexelsHoldExactlyTheCellsTheRotationSendsThem) {
   for (int r : {8, 32}) {
     const CubeLattice lattice(r);
     const int sub = r == 8 ? 1 : 4;  // sub-cells at most 1/8 of a texel across
-    for (const EnvRotation& rot : {EnvRotation{}, EnvRotation{15, 0, 0}, EnvRotation{37, 11, -5}}) {
+    // Yaws alone go row by row (latlong_integration.h); the last cell by cell.
+    for (const EnvRotation& rot : {EnvRotation{}, EnvRotation{15, 0, 0}, EnvRotation{-170.3, 0, 0},
+                                   EnvRotation{90, 0, 0}, EnvRotation{37, 11, -5}}) {
       const Eigen::Matrix3d m = rotationMatrix(rot);
       std::vector<double> expected(3 * lattice.size(), 0.0);
       for (int row = 0; row < h * sub; ++row) {
@@ -143,6 +146,36 @@ TEST(Environment, LatLongTexelsHoldExactlyTheCellsTheRotationSendsThem) {
             << "R " << r << " yaw " << rot.yaw << " value " << k;
     }
   }
+}
+
+TEST(Environment, AYawedMapRowByRowEqualsItCellByCellWithASunInIt) {
+  // A map of 1024x512 with a sun 1e5 times the sky, as Blender's world maps
+  // are sized, on the 6x32x32 lattice (one sub-cell a pixel) and 6x64x64 (2).
+  const int w = 1024, h = 512;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> value(0.1f, 1);
+  std::vector<float> rgb(3 * w * h);
+  for (float& v : rgb) v = value(rng);
+  for (int y = 100; y < 104; ++y)
+    for (int x = 300; x < 305; ++x)
+      for (int c = 0; c < 3; ++c) rgb[3 * (y * w + x) + c] = 1e5f;
+  const auto map = makeLatLongEnvironment("m", w, h, rgb);
+  const LatLongPixels& pixels = *map->latLong();
+  for (int r : {32, 64}) {
+    const CubeLattice lattice(r);
+    EXPECT_EQ(latLongSubCells(pixels, lattice), r / 32);
+    const LatLongRowSums sums(pixels);
+    for (double yaw = -180; yaw <= 180; yaw += 22.5 + 0.01) {
+      const Eigen::Matrix3d m = rotationMatrix({yaw, 0, 0});
+      ASSERT_TRUE(isYawOnly(m)) << yaw;
+      LatticeLighting cells(3 * lattice.size(), 0.0), rows(cells.size(), 0.0);
+      integrateLatLongCells(pixels, lattice, m, cells);
+      integrateLatLongYawed(pixels, sums, lattice, m, rows);
+      for (size_t k = 0; k < cells.size(); ++k)
+        ASSERT_NEAR(rows[k], cells[k], 1e-9 * cells[k] + 1e-12) << "R " << r << " yaw " << yaw;
+    }
+  }
+  EXPECT_FALSE(isYawOnly(rotationMatrix({10, 1e-9, 0})));
 }
 
 TEST(Environment, LatLongIsReadWithTheDesignOrientation) {
