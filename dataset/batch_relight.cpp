@@ -235,6 +235,32 @@ std::vector<std::vector<float>> relightTimed(const RelightSource& source,
 /// memory a batch holds beyond the group it relights.
 constexpr size_t kFramesInFlight = 8;
 
+/// Frames' pixel buffers, handed back by the writing threads once a frame is
+/// encoded and taken again for the next: a fresh 1024x1024 frame is 12 MB of
+/// pages the kernel zeroes and the vector zeroes again (a third of the
+/// background stage). Nothing is read before the background writes it.
+class FrameBuffers {
+ public:
+  std::vector<float> take(size_t values) {
+    std::vector<float> buffer;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) buffer = std::move(free_.back()), free_.pop_back();
+    }
+    buffer.resize(values);  // the same size as before: nothing to fill
+    return buffer;
+  }
+  void giveBack(std::vector<float>&& buffer) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    // As many as can be in flight at once, and the group relighting.
+    if (free_.size() < 2 * kFramesInFlight) free_.push_back(std::move(buffer));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::vector<float>> free_;
+};
+
 /// Writing threads beside the relighter's, as many as it may use: the system shares the
 /// cores, and writing fills what the relighter leaves (138-141 frames/s at
 /// 256x256 on 2 cores, against 124 with one writing thread).
@@ -257,9 +283,9 @@ ImageEncoding encodingFor(const BatchRelightOptions& a, bool batch) {
 /// their images after one projection of the group; a transport's rows (and
 /// timing mode's) are added onto the background.
 void relightGroupImages(const RelightSource& source, const ImageComposer& composer,
-                        const std::vector<LatticeLighting>& lightings, int channels,
-                        const std::function<void(size_t, float*)>& backgroundOf, int timingRepeats,
-                        std::vector<double>& msPerFrame, BatchStages& stages,
+                        FrameBuffers& buffers, const std::vector<LatticeLighting>& lightings,
+                        int channels, const std::function<void(size_t, float*)>& backgroundOf,
+                        int timingRepeats, std::vector<double>& msPerFrame, BatchStages& stages,
                         const std::function<void(size_t, std::vector<float>&, double)>& done) {
   const size_t values = static_cast<size_t>(source.header.camera.size.pixels()) * channels;
   // Lightings that give no light (local lights alone): rows of zeros, which
@@ -271,7 +297,7 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
   if (timingRepeats == 0 && std::all_of(lightings.begin(), lightings.end(), dark)) {
     for (size_t k = 0; k < lightings.size(); ++k) {
       const Stopwatch background;
-      std::vector<float> pixels(values);
+      std::vector<float> pixels = buffers.take(values);
       backgroundOf(k, pixels.data());
       stages.background += background.seconds();
       if (ranks::rank() == 0) msPerFrame.push_back(0);
@@ -286,7 +312,7 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
     const double shared = group.milliseconds() / static_cast<double>(lightings.size());
     for (size_t k = 0; k < lightings.size(); ++k) {
       const Stopwatch background;
-      std::vector<float> pixels(values);
+      std::vector<float> pixels = buffers.take(values);
       backgroundOf(k, pixels.data());
       stages.background += background.seconds();
       const Stopwatch watch;
@@ -305,7 +331,7 @@ void relightGroupImages(const RelightSource& source, const ImageComposer& compos
   stages.shading += relit.seconds();
   for (size_t k = 0; k < lightings.size(); ++k) {
     const Stopwatch background;
-    std::vector<float> pixels(values);
+    std::vector<float> pixels = buffers.take(values);
     backgroundOf(k, pixels.data());
     composer.addRows(rows[k].data(), pixels.data(), channels);
     stages.background += background.seconds();
@@ -399,7 +425,7 @@ class FrameWriting {
                const std::vector<ImageFormat>& formats, bool batch,
                const std::vector<std::vector<std::string>>& lightSpecs,
                const DomainLighting& domain, const TransportHeader& header, BatchView view,
-               BatchManifests* manifests)
+               BatchManifests* manifests, FrameBuffers& buffers)
       : a_(a),
         frames_(frames),
         formats_(formats),
@@ -411,6 +437,7 @@ class FrameWriting {
         manifests_(manifests),
         shards_(manifests && manifests->shards ? &*manifests->shards : nullptr),
         labels_(header, a.aovs, a.labelFormat, a.background, encoding_, a.keepNegative),
+        buffers_(buffers),
         writer_(writingThreads(), kFramesInFlight) {
     labelPaths_ =
         labels_.writeView(stemBeside(view_.count > 1 ? "labels_" + view_.label() : "labels"));
@@ -434,6 +461,7 @@ class FrameWriting {
       const NegativeClamp negatives =
           clampNegative(image.pixels.data(), image.pixels.size(), image.channels, a_.keepNegative);
       OrderedWriter::Commit commit = encode(i, image, ms, negatives);
+      buffers_.giveBack(std::move(image.pixels));
       addWriting(busy.seconds());
       return commit;
     });
@@ -631,6 +659,7 @@ class FrameWriting {
   nlohmann::json outputs_ = nlohmann::json::array();
   long long framesWithNegatives_ = 0;  ///< counted as frames commit, one at a time
   NegativeClamp negatives_;
+  FrameBuffers& buffers_;
   std::atomic<double> writing_{0};
   double waiting_ = 0;
   OrderedWriter writer_;  ///< last: its threads stop before what they use goes
@@ -881,10 +910,11 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<Frame>& frames = run.viewFrames;
   const int rank = ranks::rank();
+  FrameBuffers buffers;  // before the writing threads that hand buffers back
   std::optional<FrameWriting> writing;
   if (rank == 0)
     writing.emplace(a, frames, run.formats, run.batch, run.setSpecs, domain, source.header,
-                    std::move(view), run.manifests ? &*run.manifests : nullptr);
+                    std::move(view), run.manifests ? &*run.manifests : nullptr, buffers);
   // Under mpirun -np K frame i goes to rank i mod K; rank 0 takes each
   // composed image (and its time) in frame order (a sender waits its turn, so
   // memory stays bounded): the same files for any K.
@@ -925,8 +955,8 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
           composer.background(a.background, *f.input->env, rotationMatrix(f.rotation), pixels);
         };
         relightGroupImages(
-            source, composer, lightings, channels, backgroundOf, a.timingRepeats, msPerFrame,
-            stages, [&](size_t k, std::vector<float>& pixels, double ms) {
+            source, composer, buffers, lightings, channels, backgroundOf, a.timingRepeats,
+            msPerFrame, stages, [&](size_t k, std::vector<float>& pixels, double ms) {
               const std::vector<float>& local = localRows.of(frames[mine[g + k]].lights);
               if (!local.empty()) composer.addRows(local.data(), pixels.data(), channels);
               if (rank == 0)

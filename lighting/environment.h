@@ -3,7 +3,9 @@
 // integrated onto the cube lattice by area, never point-sampled, so that a small
 // sun keeps its energy at every resolution and rotation (docs/design.md section 3).
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -26,9 +28,33 @@ struct LatLongPixels {
   int width = 0, height = 0;
   const float* rgb = nullptr;  ///< width x height x 3, row 0 at +Y
   /// Bilinear between pixel centres, wrapping in u (any real u) and clamping
-  /// in v: what the map's radiance() gives.
+  /// in v: what the map's radiance() gives. Inline: a frame's background
+  /// looks up every pixel that shows the map.
   Rgb at(double u, double v) const;
 };
+
+inline Rgb LatLongPixels::at(double u, double v) const {
+  // Bilinear between pixel centres, wrapping in u and clamping in v; the
+  // four taps summed in this order, in doubles, component by component.
+  const double x = u * width - 0.5, y = std::clamp(v * height - 0.5, 0.0, height - 1.0);
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  // Wrap in u; x0 and x0 + 1 lie in [-1, width] but at the seam (or past it
+  // for a shifted u), so the divisions of the general wrap are rarely needed.
+  const auto wrap = [&](int px) {
+    return px >= 0 && px < width ? px : (px % width + width) % width;
+  };
+  const int px[2] = {wrap(x0), wrap(x0 + 1)};
+  const int py[2] = {y0, std::min(y0 + 1, height - 1)};
+  double sum[3] = {0, 0, 0};
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+      const float* p = rgb + 3 * (static_cast<size_t>(py[dy]) * width + px[dx]);
+      for (int c = 0; c < 3; ++c) sum[c] += w * p[c];
+    }
+  return {sum[0], sum[1], sum[2]};
+}
 
 class Environment {
  public:

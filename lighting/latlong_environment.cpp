@@ -61,26 +61,6 @@ class LatLongEnvironment : public Environment {
 
 }  // namespace
 
-Rgb LatLongPixels::at(double u, double v) const {
-  // Bilinear between pixel centres, wrapping in u and clamping in v.
-  const double x = u * width - 0.5, y = std::clamp(v * height - 0.5, 0.0, height - 1.0);
-  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  const double fx = x - x0, fy = y - y0;
-  Rgb sum = Rgb::Zero();
-  for (int dy = 0; dy <= 1; ++dy)
-    for (int dx = 0; dx <= 1; ++dx) {
-      // Wrap in u; x0 + dx lies in [-1, width] but at the seam (or past it for
-      // a shifted u), so the divisions of the general wrap are rarely needed.
-      int px = x0 + dx;
-      if (px < 0 || px >= width) px = (px % width + width) % width;
-      const int py = std::min(y0 + dy, height - 1);
-      const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
-      const float* p = rgb + 3 * (static_cast<size_t>(py) * width + px);
-      sum += w * Rgb(p[0], p[1], p[2]);
-    }
-  return sum;
-}
-
 std::unique_ptr<Environment> makeLatLongEnvironment(std::string name, int width, int height,
                                                     std::vector<float> rgb) {
   return std::make_unique<LatLongEnvironment>(std::move(name), width, height, std::move(rgb));

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "lighting/latlong_integration.h"
 
 namespace acpca {
 
@@ -26,12 +27,15 @@ void requireBackgroundShown(const TransportHeader& header, Background background
 
 NegativeClamp clampNegative(float* pixels, size_t values, int channels, bool keep) {
   NegativeClamp clamp;
-  for (size_t i = 0; i < values; ++i) {
-    if (pixels[i] >= 0 || (channels == 4 && i % 4 == 3)) continue;
-    ++clamp.values;
-    clamp.mostNegative = std::min(clamp.mostNegative, pixels[i]);
-    if (!keep) pixels[i] = 0;
-  }
+  // Alpha (the fourth of four channels) is coverage: never negative, skipped.
+  const size_t stride = channels == 4 ? 4 : 1, colours = channels == 4 ? 3 : 1;
+  for (size_t p = 0; p < values; p += stride)
+    for (size_t i = p; i < std::min(values, p + colours); ++i) {
+      if (pixels[i] >= 0) continue;
+      ++clamp.values;
+      clamp.mostNegative = std::min(clamp.mostNegative, pixels[i]);
+      if (!keep) pixels[i] = 0;
+    }
   return clamp;
 }
 
@@ -88,28 +92,31 @@ void ImageComposer::background(Background background, const Environment& env,
   // yaw sweeps make it): the map slides along u, so each pixel's (u, v) is
   // found once per view. R^T d has atan2(x, -z) larger by the yaw.
   const LatLongPixels* map = env.latLong();
-  const bool yawOnly = map && rotation(1, 1) == 1 && rotation(0, 1) == 0 && rotation(1, 0) == 0 &&
-                       rotation(1, 2) == 0 && rotation(2, 1) == 0;
+  const bool yawOnly = map && isYawOnly(rotation);
   const double shift = std::atan2(rotation(0, 2), rotation(0, 0)) / (2 * std::numbers::pi);
-  // Background pixels evaluate the environment, the costly part: rows in
-  // parallel, each through the camera ray worked out once (backgroundRay_).
+  // Rows in parallel, each pixel written once: 0 (and alpha) where the
+  // environment does not show, else the environment through the camera ray
+  // worked out once (backgroundRay_), the costly part. A frame's buffer may
+  // hold the last frame's values: nothing is read before it is written.
+  const bool shown = background == Background::Env, alpha = background == Background::Alpha;
   tbb::parallel_for(0, height, [&](int y) {
+    size_t next = backgroundRowStart_[y];
+    const size_t end = backgroundRowStart_[y + 1];
     for (int x = 0; x < width; ++x) {
       const size_t pixel = static_cast<size_t>(y) * width + x;
       float* out = pixels + pixel * channels;
       const float cov = coverage_[pixel];
-      for (int c = 0; c < 3; ++c) out[c] = 0;
-      if (background == Background::Alpha) out[3] = cov;
-    }
-    if (background != Background::Env) return;
-    for (size_t i = backgroundRowStart_[y]; i < backgroundRowStart_[y + 1]; ++i) {
-      const size_t pixel = backgroundPixel_[i];
-      const float cov = coverage_[pixel];
-      if (silhouettesOnly && cov == 0) continue;
-      const Rgb bg = yawOnly ? map->at(backgroundU_[i] + shift, backgroundV_[i])
-                             : env.radiance(inverse * backgroundRay_[i]);
-      float* out = pixels + pixel * channels;
+      if (alpha) out[3] = cov;
+      const bool shows = next < end && backgroundPixel_[next] == pixel;
+      if (!shows || !shown || (silhouettesOnly && cov == 0)) {
+        out[0] = out[1] = out[2] = 0;
+        next += shows;
+        continue;
+      }
+      const Rgb bg = yawOnly ? map->at(backgroundU_[next] + shift, backgroundV_[next])
+                             : env.radiance(inverse * backgroundRay_[next]);
       for (int c = 0; c < 3; ++c) out[c] = float((1 - cov) * bg[c]);
+      ++next;
     }
   });
 }
