@@ -59,8 +59,11 @@ double cellAzimuth(long long i, int subW) {
 /// [start_k, start_k+1) (azimuths in [0, 2 pi), the last wrapping to the
 /// first) and the texel each lies in.
 struct RowArcs {
-  std::vector<std::vector<double>> start;
   std::vector<std::vector<int>> texel;
+  /// Each arc's start in sub-cell units, (start + pi) x cells per radian -
+  /// 1/2: under a turn t the arc's first sub-cell is ceil(that - t x cells
+  /// per radian).
+  std::vector<std::vector<double>> firstCell;
 };
 
 /// The azimuths in [0, 2 pi) where the circle (rho sin a, y, -rho cos a)
@@ -92,8 +95,8 @@ RowArcs rowArcsOf(const CubeLattice& lattice, int subW, int subH) {
           planes.push_back(normal);
         }
   RowArcs arcs;
-  arcs.start.resize(subH);
   arcs.texel.resize(subH);
+  arcs.firstCell.resize(subH);
   tbb::parallel_for(0, subH, [&](int r) {
     const SubRow row = subRow(r, subH, subW);
     std::vector<double> cuts{0.0};
@@ -112,8 +115,8 @@ RowArcs rowArcsOf(const CubeLattice& lattice, int subW, int subH) {
     lattice.texelsOf(x.data(), y.data(), z.data(), static_cast<int>(k), texel.data());
     for (size_t i = 0; i < k; ++i)
       if (i == 0 || texel[i] != arcs.texel[r].back()) {
-        arcs.start[r].push_back(cuts[i]);
         arcs.texel[r].push_back(texel[i]);
+        arcs.firstCell[r].push_back((cuts[i] + kPi) * (subW / (2 * kPi)) - 0.5);
       }
   });
   return arcs;
@@ -216,34 +219,52 @@ void integrateLatLongYawed(const LatLongPixels& map, const LatLongRowSums& sums,
   const int subW = map.width * sub, subH = map.height * sub;
   const std::shared_ptr<const RowArcs> arcs = rowArcs(lattice, subW, subH);
   // R turns every azimuth by the same angle: that of R (0, 0, -1).
-  const double turn = std::atan2(-rotation(0, 2), rotation(2, 2));
-  const double cellsPerRadian = subW / (2 * kPi);
-  for (int r = 0; r < subH; ++r) {
-    const SubRow row = subRow(r, subH, subW);
-    const int pixelRow = r / sub;
-    const std::vector<double>& start = arcs->start[r];
-    const std::vector<int>& texel = arcs->texel[r];
-    // Cell i lies in arc k when start_k <= azimuth_i + turn < start_k+1:
-    // the arc's first cell is the first whose turned azimuth reaches start_k.
-    const auto firstCell = [&](double azimuth) {
-      return static_cast<long long>(std::ceil((azimuth - turn + kPi) * cellsPerRadian - 0.5));
-    };
-    const long long first = firstCell(start[0]);
-    long long begin = first;
-    double below[3], upToEnd[3];
-    sums.upTo(pixelRow, begin, sub, below);
-    for (size_t k = 0; k < start.size(); ++k) {
-      const long long end = k + 1 < start.size() ? firstCell(start[k + 1]) : first + subW;
-      if (end <= begin) continue;
-      sums.upTo(pixelRow, end, sub, upToEnd);
-      double* out = &lighting[3 * static_cast<size_t>(texel[k])];
-      for (int c = 0; c < 3; ++c) {
-        out[c] += row.omega * (upToEnd[c] - below[c]);
-        below[c] = upToEnd[c];
+  const double turnCells = std::atan2(-rotation(0, 2), rotation(2, 2)) * (subW / (2 * kPi));
+  // Fixed chunks of rows, each with its own sums, added in order: the same
+  // result for any thread count.
+  constexpr int kChunks = 4;
+  const int chunkRows = (subH + kChunks - 1) / kChunks;
+  std::vector<LatticeLighting> partial(kChunks);
+  tbb::parallel_for(0, kChunks, [&](int chunk) {
+    LatticeLighting& acc = partial[chunk];
+    acc.assign(lighting.size(), 0.0);
+    for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
+      const double omega = subRow(r, subH, subW).omega;
+      const int pixelRow = r / sub;
+      const std::vector<double>& firstCell = arcs->firstCell[r];
+      const std::vector<int>& texel = arcs->texel[r];
+      // Cell i lies in arc k when start_k <= azimuth_i + turn < start_k+1.
+      const auto cellOf = [&](size_t k) {
+        return static_cast<long long>(std::ceil(firstCell[k] - turnCells));
+      };
+      const long long first = cellOf(0);
+      long long begin = first;
+      double below[3], upToEnd[3];
+      sums.upTo(pixelRow, begin, sub, below);
+      // The sums an arc reads are a cache miss apart: fetched a few arcs ahead.
+      constexpr size_t kAhead = 6;
+      const long long cells = subW;
+      const auto prefetch = [&](size_t k) {
+        long long i = cellOf(k) % cells;
+        sums.prefetch(pixelRow, i < 0 ? i + cells : i, sub);
+      };
+      for (size_t k = 1; k < std::min(texel.size(), kAhead); ++k) prefetch(k);
+      for (size_t k = 0; k < texel.size(); ++k) {
+        if (k + kAhead < texel.size()) prefetch(k + kAhead);
+        const long long end = k + 1 < texel.size() ? cellOf(k + 1) : first + subW;
+        if (end <= begin) continue;
+        sums.upTo(pixelRow, end, sub, upToEnd);
+        double* out = &acc[3 * static_cast<size_t>(texel[k])];
+        for (int c = 0; c < 3; ++c) {
+          out[c] += omega * (upToEnd[c] - below[c]);
+          below[c] = upToEnd[c];
+        }
+        begin = end;
       }
-      begin = end;
     }
-  }
+  });
+  for (const LatticeLighting& acc : partial)
+    for (size_t k = 0; k < lighting.size(); ++k) lighting[k] += acc[k];
 }
 
 }  // namespace acpca

@@ -39,6 +39,10 @@ class LatLongRowSums {
   /// RGB sums over sub-cells [0, i) of row `row` (`sub` sub-cells a pixel
   /// side), the row repeating around the circle: any i.
   void upTo(int row, long long i, int sub, double out[3]) const;
+  /// Asks the CPU to fetch what upTo(row, i, ...) reads (0 <= i < width x sub).
+  void prefetch(int row, long long i, int sub) const {
+    __builtin_prefetch(&sums_[(static_cast<size_t>(row) * (width_ + 1) + i / sub) * 3]);
+  }
 
  private:
   int width_;
