@@ -53,6 +53,7 @@ void registerBench(CLI::App& app) {
   registerBenchMethods(*bench);
   registerBenchRelight(*bench);
   registerBenchBatch(*bench);
+  registerBenchCodecs(*bench);
   registerBenchScaling(*bench);
   registerBenchQuantization(*bench);
 }

@@ -20,6 +20,7 @@ void registerAnalyze(CLI::App& app);
 void registerBenchMethods(CLI::App& bench);
 void registerBenchRelight(CLI::App& bench);
 void registerBenchBatch(CLI::App& bench);
+void registerBenchCodecs(CLI::App& bench);
 void registerBenchScaling(CLI::App& bench);
 void registerBenchQuantization(CLI::App& bench);
 

@@ -496,8 +496,9 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
 }
 
 TEST_F(Cli, EveryCommandHasHelp) {
-  for (const char* cmd : {"precompute", "compress", "relight", "envmap", "info", "scenes",
-                          "bench rays", "bench methods", "bench relight", "bench batch"}) {
+  for (const char* cmd :
+       {"precompute", "compress", "relight", "envmap", "info", "scenes", "bench rays",
+        "bench methods", "bench relight", "bench batch", "bench codecs"}) {
     const RunResult r = runCli(std::string(cmd) + " --help");
     EXPECT_EQ(r.status, 0) << cmd;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << cmd;

@@ -224,6 +224,31 @@ TEST_F(Reports, BatchBenchSaysWhereABatchsTimeWent) {
   EXPECT_TRUE(fs::exists(out.file("frames") + "/manifest.csv"));
 }
 
+TEST_F(Reports, CodecBenchTimesEveryBatchFormatAgainstOpenImageIO) {
+  TempDir out;
+  const std::string frame = out.file("frame.exr");
+  ASSERT_EQ(runCli("relight " + transport() + " --env sky --quiet --out " + frame).status, 0);
+  const RunResult r = runCli("bench codecs " + frame + " --repeats 2 --stream-gib 0.05 --dir " +
+                             out.path().string() + " --json " + out.file("codecs.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("streaming read"), std::string::npos) << r.output;
+  const auto json = nlohmann::json::parse(std::ifstream(out.file("codecs.json")));
+  ASSERT_EQ(json["codecs"].size(), 8u);
+  for (const auto& row : json["codecs"]) {
+    EXPECT_GT(row["imageio_ms"].get<double>(), 0) << row;
+    EXPECT_GT(row["openimageio_ms"].get<double>(), 0) << row;
+    // Lossless both: within a tenth of each other's size.
+    EXPECT_NEAR(row["bytes"].get<double>(), row["openimageio_bytes"].get<double>(),
+                0.1 * row["openimageio_bytes"].get<double>())
+        << row;
+  }
+  // Nothing left behind in the directory but the frame and the report.
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(out.path())) ++files;
+  EXPECT_EQ(files, 2);
+  EXPECT_NE(runCli("bench codecs " + out.file("none.exr")).status, 0);
+}
+
 TEST_F(Reports, RelightBenchRefusesFilesOfAnotherImageByName) {
   TempDir out;
   const std::string model = out.file("m.h5"), other = out.file("other.h5");
