@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "imageio/codecs_library.h"
 #include "imageio/exr_encoder.h"
+#include "imageio/exr_reader.h"
 #include "imageio/png_encoder.h"
 
 namespace acpca {
@@ -26,11 +27,6 @@ size_t pixelTypeBytes(PixelType type) {
   return 4;
 }
 
-std::unique_ptr<ImageReader> openImage(const std::string& path, std::string& error,
-                                       const ImageReadOptions& options) {
-  return imageCodecs().open(path, options, error);
-}
-
 namespace {
 
 bool hasExtension(const std::string& file, const char* extension) {
@@ -39,6 +35,18 @@ bool hasExtension(const std::string& file, const char* extension) {
   return std::equal(file.end() - static_cast<long>(n), file.end(), extension,
                     [](char a, char b) { return std::tolower(a) == b; });
 }
+
+}  // namespace
+
+std::unique_ptr<ImageReader> openImage(const std::string& path, std::string& error,
+                                       const ImageReadOptions& options) {
+  // Common EXRs without OpenImageIO (exr_reader.h); the rest through it.
+  if (hasExtension(path, ".exr"))
+    if (auto reader = openExrDirectly(path)) return reader;
+  return imageCodecs().open(path, options, error);
+}
+
+namespace {
 
 /// OpenImageIO's default names of 1 to 4 channels (empty for more).
 std::vector<std::string> channelNamesOf(const ImageWriteSpec& s) {

@@ -55,10 +55,11 @@ TEST(Startup, AMissingOrBrokenPluginIsNamedAtTheFirstImageAndNothingIsWritten) {
   TempDir dir;
   const std::string notALibrary = dir.file("libacpca_image_codecs.so");
   test::writeFile(notALibrary, "not a shared object");
-  // A map to read: images are read through the plugin (frames are written
-  // without it, by imageio's own encoders).
-  const std::string map = dir.file("map.exr");
+  // A map to read through the plugin: Radiance HDR (EXR maps are read, and
+  // EXR and PNG frames written, without it, by imageio's own code).
+  const std::string map = dir.file("map.hdr"), exrMap = dir.file("map.exr");
   ASSERT_EQ(runCli("envmap sky --size 32x16 --quiet --out " + map).status, 0);
+  ASSERT_EQ(runCli("envmap sky --size 32x16 --quiet --out " + exrMap).status, 0);
   const struct {
     std::string plugin, says;
   } cases[] = {
@@ -78,12 +79,11 @@ TEST(Startup, AMissingOrBrokenPluginIsNamedAtTheFirstImageAndNothingIsWritten) {
     for (const auto& e : fs::directory_iterator(dir.path()))
       EXPECT_EQ(e.path().filename().string().find(".frame"), std::string::npos)
           << e.path() << " left behind";
-    // A built-in lighting reads no image: its EXR and PNG frames are written
-    // without the plugin.
-    for (const char* name : {"sky.exr", "sky.png"}) {
-      const RunResult sky = runCli(
-          "relight " + test::fixture("small-plant") + " --env sky --quiet --out " + dir.file(name),
-          "ACPCA_IMAGE_CODECS=" + c.plugin);
+    // An EXR map needs no plugin, nor do EXR and PNG frames.
+    for (const char* name : {"lit.exr", "lit.png"}) {
+      const RunResult sky = runCli("relight " + test::fixture("small-plant") + " --env " + exrMap +
+                                       " --quiet --out " + dir.file(name),
+                                   "ACPCA_IMAGE_CODECS=" + c.plugin);
       EXPECT_EQ(sky.status, 0) << sky.output;
       EXPECT_GT(fs::file_size(dir.file(name)), 100u);
     }
