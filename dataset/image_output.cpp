@@ -23,6 +23,26 @@ double toneMapped(double v, ToneCurve tone) {
 }
 
 namespace {
+/// A writing thread's scratch for one frame's values, kept from frame to
+/// frame: a fresh 1024x1024 frame's worth is megabytes of pages the kernel
+/// zeroes first, as long as encoding it.
+template <typename T>
+std::vector<T>& frameScratch(size_t values) {
+  thread_local std::vector<T> scratch;
+  scratch.resize(values);
+  return scratch;
+}
+
+/// The image's values times `scale` but alpha (coverage): the pixels
+/// themselves when the scale is 1.
+const float* scaledPixels(const Image& image, float scale) {
+  if (scale == 1) return image.pixels.data();
+  std::vector<float>& scaled = frameScratch<float>(image.pixels.size());
+  for (size_t i = 0; i < scaled.size(); ++i)
+    scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
+  return scaled.data();
+}
+
 /// The 8-bit code of a scaled linear value, by the formula itself.
 unsigned char srgbCode(float scaled) {
   return static_cast<unsigned char>(std::lround(linearToSrgb(scaled) * 255));
@@ -73,7 +93,13 @@ unsigned char SrgbEncoder::operator()(float linear) const {
 }
 
 std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
-  std::vector<unsigned char> bytes(image.pixels.size());
+  std::vector<unsigned char> bytes;
+  encodeInto(image, bytes);
+  return bytes;
+}
+
+void SrgbEncoder::encodeInto(const Image& image, std::vector<unsigned char>& bytes) const {
+  bytes.resize(image.pixels.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), 1 << 16),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -83,7 +109,6 @@ std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
                                          : (*this)(image.pixels[i]);
                       }
                     });
-  return bytes;
 }
 
 void encodePng8(int width, int height, int channels, const unsigned char* values,
@@ -100,7 +125,7 @@ namespace {
 void encodePng16(const Image& image, const std::string& file, const std::string& path,
                  double exposureEv, const ImageEncoding& encoding) {
   const double scale = std::exp2(exposureEv);
-  std::vector<std::uint16_t> values(image.pixels.size());
+  std::vector<std::uint16_t>& values = frameScratch<std::uint16_t>(image.pixels.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, values.size(), 1 << 14),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -120,14 +145,10 @@ void encodePng16(const Image& image, const std::string& file, const std::string&
 /// float32 H x W x C, linear, times 2^exposure (alpha as coverage).
 void encodeNpy(const Image& image, const std::string& file, const std::string& path,
                double exposureEv) {
-  const float scale = static_cast<float>(std::exp2(exposureEv));
-  std::vector<float> values(image.pixels);
-  for (size_t i = 0; i < values.size(); ++i)
-    if (!(image.channels == 4 && i % 4 == 3)) values[i] *= scale;
   writeNpy(file, path,
            {static_cast<size_t>(image.height), static_cast<size_t>(image.width),
             static_cast<size_t>(image.channels)},
-           values.data());
+           scaledPixels(image, static_cast<float>(std::exp2(exposureEv))));
 }
 
 }  // namespace
@@ -135,13 +156,13 @@ void encodeNpy(const Image& image, const std::string& file, const std::string& p
 void encodeImage(const Image& image, const std::string& file, const std::string& path,
                  ImageFormat format, double exposureEv, const ImageEncoding& encoding) {
   if (format == ImageFormat::Png) {
-    const std::vector<unsigned char> bytes = SrgbEncoder(exposureEv, encoding.tone).encode(image);
+    std::vector<unsigned char>& bytes = frameScratch<unsigned char>(0);
+    SrgbEncoder(exposureEv, encoding.tone).encodeInto(image, bytes);
     return encodePng8(image.width, image.height, image.channels, bytes.data(), file, path,
                       encoding.pngLevel);
   }
   if (format == ImageFormat::Png16) return encodePng16(image, file, path, exposureEv, encoding);
   if (format == ImageFormat::Npy) return encodeNpy(image, file, path, exposureEv);
-  const float scale = static_cast<float>(std::exp2(exposureEv));
   const size_t values = image.pixels.size();
   ImageWriteSpec spec{image.width, image.height, image.channels,
                       encoding.exrFloat ? PixelType::Float : PixelType::Half};
@@ -149,19 +170,11 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
   // the same inputs must give the same bytes (datasets are compared by hash).
   spec.textAttributes = {{"compression", kExrCompressionNames.name(encoding.exrCompression)},
                          {"DateTime", ""}};
-  std::vector<float> scaled;
-  const float* pixels = image.pixels.data();
-  if (scale != 1) {
-    scaled.resize(values);
-    for (size_t i = 0; i < values; ++i)
-      scaled[i] = (image.channels == 4 && i % 4 == 3) ? image.pixels[i] : image.pixels[i] * scale;
-    pixels = scaled.data();
-  }
+  const float* pixels = scaledPixels(image, static_cast<float>(std::exp2(exposureEv)));
   if (encoding.exrFloat) return writeImageFile(file, spec, pixels, path);
-  // Halves made by the CPU's instruction: OpenImageIO converts value by
-  // value in software, a third of a 1024x1024 frame's writing. The same
-  // IEEE rounding, so the same file.
-  std::vector<std::uint16_t> halves(values);
+  // Halves made by the CPU's instruction, the same IEEE rounding as
+  // OpenEXR's, so the same file.
+  std::vector<std::uint16_t>& halves = frameScratch<std::uint16_t>(values);
   floatToHalfIeee(pixels, halves.data(), values);
   writeImageFile(file, spec, halves.data(), path);
 }

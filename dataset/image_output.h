@@ -80,6 +80,8 @@ class SrgbEncoder {
   unsigned char operator()(float linear) const;
   /// Every channel of the image (alpha, if any, is coverage in [0, 1], not tone mapped).
   std::vector<unsigned char> encode(const Image& image) const;
+  /// The same into `bytes` (resized), whose storage a caller may keep.
+  void encodeInto(const Image& image, std::vector<unsigned char>& bytes) const;
 
  private:
   static constexpr int kBucketExponents = 16, kBucketBits = 7;

@@ -63,7 +63,7 @@ std::vector<unsigned char> encodePng(const PngPixels& p, int level) {
   const int bpp = p.channels * p.bitDepth / 8;
   const size_t rowBytes = static_cast<size_t>(p.width) * bpp;
   // Big-endian samples, rows in turn; 8-bit rows are read in place.
-  std::vector<unsigned char> swapped;
+  thread_local std::vector<unsigned char> swapped;
   const auto* source = static_cast<const unsigned char*>(p.values);
   if (p.bitDepth == 16) {
     swapped.resize(rowBytes * p.height);
@@ -75,14 +75,16 @@ std::vector<unsigned char> encodePng(const PngPixels& p, int level) {
     source = swapped.data();
   }
   const Filter filter = level <= 3 ? kSub : kPaeth;
-  std::vector<unsigned char> filtered((rowBytes + 1) * p.height);
+  // Kept per thread from image to image: fresh pages cost the kernel's zeroing.
+  thread_local std::vector<unsigned char> filtered, idat;
+  filtered.resize((rowBytes + 1) * p.height);
   for (int y = 0; y < p.height; ++y) {
     unsigned char* out = &filtered[(rowBytes + 1) * y];
     const unsigned char* row = source + rowBytes * y;
     out[0] = filter;
     filterRow(filter, row, y > 0 ? row - rowBytes : nullptr, rowBytes, bpp, out + 1);
   }
-  std::vector<unsigned char> idat;
+  idat.clear();
   appendZlibStream(filtered.data(), filtered.size(), level, idat);
 
   // Colour types (PNG 11.2.2): grey 0, grey + alpha 4, RGB 2, RGBA 6.
