@@ -184,14 +184,19 @@ void integrateLatLongCells(const LatLongPixels& map, const CubeLattice& lattice,
 
 LatLongRowSums::LatLongRowSums(const LatLongPixels& map)
     : width_(map.width),
+      entries_(map.width / kBlock + 2),
       rgb_(map.rgb),
-      sums_(static_cast<size_t>(map.height) * (map.width + 1) * 3) {
+      sums_(static_cast<size_t>(map.height) * entries_ * 3) {
   tbb::parallel_for(0, map.height, [&](int row) {
-    double* s = &sums_[static_cast<size_t>(row) * (width_ + 1) * 3];
+    double* s = &sums_[static_cast<size_t>(row) * entries_ * 3];
     const float* p = rgb_ + static_cast<size_t>(row) * width_ * 3;
-    s[0] = s[1] = s[2] = 0;
-    for (int x = 0; x < width_; ++x)
-      for (int c = 0; c < 3; ++c) s[3 * (x + 1) + c] = s[3 * x + c] + p[3 * x + c];
+    double sum[3] = {0, 0, 0};
+    for (int x = 0; x < width_; ++x) {
+      if (x % kBlock == 0)
+        for (int c = 0; c < 3; ++c) s[3 * (x / kBlock) + c] = sum[c];
+      for (int c = 0; c < 3; ++c) sum[c] += p[3 * x + c];
+    }
+    for (int c = 0; c < 3; ++c) s[3 * (entries_ - 1) + c] = sum[c];
   });
 }
 
@@ -202,12 +207,17 @@ void LatLongRowSums::upTo(int row, long long i, int sub, double out[3]) const {
   if (i < 0 || i >= cells)
     laps = i >= 0 ? i / cells : -((-i + cells - 1) / cells), i -= laps * cells;
   const long long pixel = sub == 1 ? i : i / sub, part = sub == 1 ? 0 : i % sub;
-  const size_t rowStart = static_cast<size_t>(row) * (width_ + 1);
-  const double* total = &sums_[(rowStart + width_) * 3];
-  const double* before = &sums_[(rowStart + pixel) * 3];
-  const float* p = rgb_ + (static_cast<size_t>(row) * width_ + pixel) * 3;
+  const double* rowSums = &sums_[static_cast<size_t>(row) * entries_ * 3];
+  const double* total = rowSums + 3 * (entries_ - 1);
+  const long long block = pixel / kBlock;
+  const float* p = rgb_ + static_cast<size_t>(row) * width_ * 3;
+  // The pixels from the block's start, added in the order the sum ran.
+  double before[3] = {rowSums[3 * block], rowSums[3 * block + 1], rowSums[3 * block + 2]};
+  for (long long x = block * kBlock; x < pixel; ++x)
+    for (int c = 0; c < 3; ++c) before[c] += p[3 * x + c];
   for (int c = 0; c < 3; ++c)
-    out[c] = sub * (laps * total[c] + before[c]) + (part ? part * static_cast<double>(p[c]) : 0.0);
+    out[c] = sub * (laps * total[c] + before[c]) +
+             (part ? part * static_cast<double>(p[3 * pixel + c]) : 0.0);
 }
 
 void integrateLatLongYawed(const LatLongPixels& map, const LatLongRowSums& sums,

@@ -32,7 +32,9 @@ void integrateLatLongCells(const LatLongPixels& map, const CubeLattice& lattice,
 /// Whether `rotation` turns about +Y alone (R(1,1) = 1, exactly).
 bool isYawOnly(const Eigen::Matrix3d& rotation);
 
-/// Each row of a map's pixels as prefix sums (double), made once per map.
+/// Each row of a map's pixels as prefix sums (double) at every 16th pixel,
+/// made once per map: an eighth of the map's own size (a full table was
+/// twice it), the pixels between added as the full table would have them.
 class LatLongRowSums {
  public:
   explicit LatLongRowSums(const LatLongPixels& map);
@@ -41,13 +43,16 @@ class LatLongRowSums {
   void upTo(int row, long long i, int sub, double out[3]) const;
   /// Asks the CPU to fetch what upTo(row, i, ...) reads (0 <= i < width x sub).
   void prefetch(int row, long long i, int sub) const {
-    __builtin_prefetch(&sums_[(static_cast<size_t>(row) * (width_ + 1) + i / sub) * 3]);
+    const long long block = i / sub / kBlock;
+    __builtin_prefetch(&sums_[(static_cast<size_t>(row) * entries_ + block) * 3]);
+    __builtin_prefetch(rgb_ + (static_cast<size_t>(row) * width_ + block * kBlock) * 3);
   }
 
  private:
-  int width_;
+  static constexpr int kBlock = 16;
+  int width_, entries_;  ///< entries a row: the sums before pixels 0, 16, ..., and the total
   const float* rgb_;
-  std::vector<double> sums_;  ///< per row, (width + 1) x 3
+  std::vector<double> sums_;
 };
 
 /// Under a yaw alone (isYawOnly), row by row: adds onto `lighting`.
