@@ -64,31 +64,29 @@ std::vector<std::string> channelNamesOf(const ImageWriteSpec& s) {
   return {};
 }
 
-/// Writes `file` with the encoders of this library when they cover its
-/// type and settings: PNG of 8 or 16 bits, EXR of half or float values
-/// without PIZ. Nullopt when they do not (OpenImageIO writes it then).
-std::optional<bool> writeDirectly(const std::string& file, const ImageWriteSpec& s,
-                                  const void* pixels, std::string& error) {
-  if (hasExtension(file, ".png") && (s.type == PixelType::UInt8 || s.type == PixelType::UInt16) &&
-      s.channels >= 1 && s.channels <= 4 && s.textAttributes.empty()) {
-    int level = 6;  // zlib's default, as OpenImageIO's
-    for (const auto& [name, value] : s.integerAttributes) {
-      if (name != "png:compressionLevel") return std::nullopt;
-      level = value;
-    }
-    const std::vector<unsigned char> bytes = encodePng(
-        {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels}, level);
-    std::FILE* out = std::fopen(file.c_str(), "wb");
-    if (!out) return error = std::strerror(errno), false;
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
-    const int writeErrno = errno;
-    if (std::fclose(out) != 0 || !written)
-      return error = std::strerror(written ? errno : writeErrno), false;
-    return true;
+/// A PNG of 8 or 16 bits by png_encoder.h; nullopt for settings it does not know.
+std::optional<bool> writePngDirectly(const std::string& file, const ImageWriteSpec& s,
+                                     const void* pixels, std::string& error) {
+  int level = 6;  // zlib's default, as OpenImageIO's
+  for (const auto& [name, value] : s.integerAttributes) {
+    if (name != "png:compressionLevel") return std::nullopt;
+    level = value;
   }
-  if (!hasExtension(file, ".exr") || (s.type != PixelType::Half && s.type != PixelType::Float) ||
-      !s.integerAttributes.empty())
-    return std::nullopt;
+  const std::vector<unsigned char> bytes = encodePng(
+      {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels}, level);
+  std::FILE* out = std::fopen(file.c_str(), "wb");
+  if (!out) return error = std::strerror(errno), false;
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
+  const int writeErrno = errno;
+  if (std::fclose(out) != 0 || !written)
+    return error = std::strerror(written ? errno : writeErrno), false;
+  return true;
+}
+
+/// An EXR of half or float values by exr_encoder.h; nullopt for PIZ, other
+/// settings, or more than 4 unnamed channels.
+std::optional<bool> writeExrDirectly(const std::string& file, const ImageWriteSpec& s,
+                                     const void* pixels, std::string& error) {
   ExrPixels p{s.width, s.height, channelNamesOf(s), s.type == PixelType::Float, pixels};
   if (p.channelNames.size() != static_cast<size_t>(s.channels)) return std::nullopt;
   ExrCodec codec = ExrCodec::Zip;  // OpenImageIO's default
@@ -109,6 +107,19 @@ std::optional<bool> writeDirectly(const std::string& file, const ImageWriteSpec&
       return std::nullopt;
   }
   return writeExr(file, p, codec, attributes, error);
+}
+
+/// Writes `file` with the encoders of this library when they cover its
+/// type and settings; nullopt when they do not (OpenImageIO writes it then).
+std::optional<bool> writeDirectly(const std::string& file, const ImageWriteSpec& s,
+                                  const void* pixels, std::string& error) {
+  if (hasExtension(file, ".png") && (s.type == PixelType::UInt8 || s.type == PixelType::UInt16) &&
+      s.channels >= 1 && s.channels <= 4 && s.textAttributes.empty())
+    return writePngDirectly(file, s, pixels, error);
+  if (hasExtension(file, ".exr") && (s.type == PixelType::Half || s.type == PixelType::Float) &&
+      s.integerAttributes.empty())
+    return writeExrDirectly(file, s, pixels, error);
+  return std::nullopt;
 }
 
 }  // namespace
