@@ -43,7 +43,7 @@ struct BatchRelightOptions {
   /// Models: texels of direction within which a cluster's pixels share a
   /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
   double anchorSpread = kAnchorSpreadTexels;
-  /// Point and spot lamps: exact where the file allows (relight/lamp_light.h), or the lattice's.
+  /// Lamps: exact where the file allows (relight/lamp_light.h), or the lattice's.
   LampMode lampMode = LampMode::Exact;
   /// A light path file (local_light.h, readLightPath): every map x rotation
   /// is relit under each line's lights (with `lights` added), line by line.

@@ -26,7 +26,7 @@ std::string positionsInWords(const TransportHeader& h, const PixelDatasets& d,
                               " for local lights)\n");
 }
 
-/// How the file lights point and spot lamps (relight/lamp_light.h).
+/// How the file lights lamps (relight/lamp_light.h).
 std::string lampsInWords(const TransportHeader& h, const PixelDatasets& d,
                          const std::string& remedy) {
   if (h.isLightSet()) return "  lamps        none (captured images hold no geometry)\n";
@@ -34,7 +34,7 @@ std::string lampsInWords(const TransportHeader& h, const PixelDatasets& d,
     return concat("  lamps        through the lattice (written before surfaces were stored; ",
                   remedy, " for exact lamps)\n");
   if (h.bounces > 0) return "  lamps        through the lattice (the rows hold bounced light)\n";
-  return "  lamps        point and spot lamps exact: a shadow ray per camera sample\n";
+  return "  lamps        exact: shadow rays from each camera sample\n";
 }
 
 /// The AOVs the file can give, by name.

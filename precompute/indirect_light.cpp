@@ -9,23 +9,13 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/random_bits.h"
 
 namespace acpca {
 
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
-
-std::uint64_t splitMix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-double unitFromBits(std::uint64_t x) {
-  return double(x >> 11) * 0x1.0p-53;
-}
 
 /// Path i's point of the R2 sequence in the unit square, shifted by a random
 /// offset per camera sample and bounce (Cranley-Patterson), so that the paths

@@ -663,9 +663,9 @@ PYBIND11_MODULE(_core, m) {
            "object): H x W (x C) arrays, as `relight --aov ... --label-format npy` writes them "
            "(docs/datasets.md).")
       .def_property("light_mode", &Relighter::lightMode, &Relighter::setLightMode,
-                    "How point and spot lamps are lit: 'exact' (default; a shadow ray per "
-                    "camera sample where the file holds its surfaces, else the lattice with a "
-                    "warning) or 'lattice' (through T's texels), as relight --light-mode")
+                    "How lamps are lit: 'exact' (default; shadow rays from each camera sample "
+                    "where the file holds its surfaces, else the lattice with a warning) or "
+                    "'lattice' (through T's texels), as relight --light-mode")
       .def_property_readonly("object_names", &Relighter::objectNames,
                              "Each object's name, by the id the object label holds")
       .def("shading", &Relighter::shading, py::arg("frame"), py::kw_only(),

@@ -3,11 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
-#include <array>
-#include <utility>
-
 #include "core/error.h"
+#include "relight/shadow_ray_batch.h"
+#include "relight/sphere_lamp.h"
 
 namespace acpca {
 
@@ -48,39 +46,24 @@ LampRay lampRay(const TransportHeader& h, const LocalLight& lamp, long long s) {
   return ray;
 }
 
-/// One lamp's light on rows [first, end), added to acc[row - first]: the
-/// samples' shadow rays in packets, neighbouring pixels' rays together.
-void addLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
-             long long first, long long end, std::vector<Rgb>& acc) {
+/// A point or spot lamp's light on rows [first, end), added to
+/// acc[row - first]: a shadow ray per sample.
+void addPointLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
+                  long long first, long long end, std::vector<Rgb>& acc) {
   const LampGeometry& g = h.lamps;
-  SceneOccluder::Packet packet;
-  std::array<std::pair<long long, double>, SceneOccluder::kPacket> pending;  // row, light
-  const auto flush = [&] {
-    occluder.trace(packet);
-    for (int i = 0; i < packet.count; ++i)
-      if (!packet.blocked[i]) acc[pending[i].first - first] += pending[i].second * lamp.emission;
-    packet.count = 0;
-  };
+  std::vector<double> rowLight(static_cast<size_t>(end - first), 0.0);
+  ShadowRayBatch batch(occluder, g.rayEpsilon,
+                       [&](std::int64_t r, double light) { rowLight[r - first] += light; });
   for (long long r = first; r < end; ++r)
     for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
       const LampRay ray = lampRay(h, lamp, s);
-      if (ray.light <= 0) continue;
-      const int i = packet.count++;
-      packet.ox[i] = ray.origin.x(), packet.oy[i] = ray.origin.y(), packet.oz[i] = ray.origin.z();
-      packet.dx[i] = ray.direction.x(), packet.dy[i] = ray.direction.y();
-      packet.dz[i] = ray.direction.z();
-      packet.nearest[i] = g.rayEpsilon, packet.farthest[i] = ray.distance;
-      pending[i] = {r, ray.light};
-      if (packet.count == SceneOccluder::kPacket) flush();
+      if (ray.light > 0) batch.add(ray.origin, ray.direction, ray.distance, r, ray.light);
     }
-  if (packet.count > 0) flush();
+  batch.flush();
+  for (long long r = first; r < end; ++r) acc[r - first] += rowLight[r - first] * lamp.emission;
 }
 
 }  // namespace
-
-bool litExactly(const LocalLight& light) {
-  return !light.sphere();
-}
 
 std::string exactLampsUnavailable(const TransportHeader& h, bool model) {
   const std::string again =
@@ -96,25 +79,31 @@ std::string exactLampsUnavailable(const TransportHeader& h, bool model) {
 }
 
 std::string latticeLampsWarning(const std::string& path, const std::string& why) {
-  return concat(path, ": point and spot lamps are lit through the lattice (their shadow edges ",
-                "come out stepped): ", why,
-                "; --light-mode lattice asks for it without this warning");
+  return concat(path, ": lamps are lit through the lattice (their shadow edges come out ",
+                "stepped): ", why, "; --light-mode lattice asks for it without this warning");
 }
 
 std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights) const {
-  std::call_once(built_, [&] { occluder_ = std::make_unique<SceneOccluder>(header_.lamps); });
-  std::vector<const LocalLight*> lamps;
-  for (const LocalLight& light : lights)
-    if (litExactly(light)) lamps.push_back(&light);
+  std::call_once(built_, [&] {
+    occluder_ = std::make_unique<SceneOccluder>(header_.lamps);
+    rowOfPixel_ = rowsOfPixels(header_);
+  });
   const long long rows = header_.rows();
   std::vector<float> out(3 * static_cast<size_t>(rows), 0.0f);
-  if (lamps.empty()) return out;
+  if (lights.empty()) return out;
+  // Sphere lamps probe first: a row's rays depend on its neighbours' probes.
+  std::vector<std::vector<LampSight>> sight(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (lights[i].sphere()) sight[i] = sphereLampSight(header_, *occluder_, lights[i], rowOfPixel_);
   // Each row sums its lamps in order, then its samples in order, whatever
   // the blocks: the same values for any thread count.
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 256), [&](const auto& range) {
     std::vector<Rgb> acc(static_cast<size_t>(range.size()), Rgb::Zero());
-    for (const LocalLight* lamp : lamps)
-      addLamp(header_, *occluder_, *lamp, range.begin(), range.end(), acc);
+    for (size_t i = 0; i < lights.size(); ++i)
+      if (lights[i].sphere())
+        addSphereLamp(header_, *occluder_, lights[i], sight[i], range.begin(), range.end(), acc);
+      else
+        addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
     for (long long r = range.begin(); r < range.end(); ++r)
       for (int c = 0; c < 3; ++c)
         out[3 * r + c] = static_cast<float>(header_.albedo[3 * r + c] * acc[r - range.begin()][c]);
@@ -126,21 +115,12 @@ std::vector<float> relightLocalLights(
     const std::vector<LocalLight>& lights, LampMode mode, const ExactLamps* exact,
     const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice,
     const std::function<void()>& warnOnce) {
-  const bool anyLamp = std::any_of(lights.begin(), lights.end(), litExactly);
-  if (mode == LampMode::Lattice || !anyLamp) return lattice(lights);
+  if (mode == LampMode::Lattice || lights.empty()) return lattice(lights);
   if (!exact) {
     warnOnce();
     return lattice(lights);
   }
-  std::vector<LocalLight> rest;
-  std::copy_if(lights.begin(), lights.end(), std::back_inserter(rest),
-               [](const LocalLight& l) { return !litExactly(l); });
-  std::vector<float> rows = exact->relight(lights);
-  if (!rest.empty()) {
-    const std::vector<float> more = lattice(rest);
-    for (size_t i = 0; i < rows.size(); ++i) rows[i] += more[i];
-  }
-  return rows;
+  return exact->relight(lights);
 }
 
 }  // namespace acpca

@@ -1,10 +1,12 @@
 #pragma once
-// Point and spot lamps lit exactly (docs/lighting.md, "Lamps"): at each
-// traced camera sample of a pixel, a shadow ray to the lamp through the
-// file's surfaces, the lamp's irradiance and the sample's BRDF, as the
-// precompute would have traced the lamp itself. The lattice path
-// (relight/local_relight.h) is what files without lamp geometry, files with
-// bounced light and sphere lamps still take.
+// Lamps lit exactly (docs/lighting.md, "Lamps"): at each traced camera
+// sample of a pixel, shadow rays to the lamp through the file's surfaces
+// (one to a point or spot lamp, over the cap of a sphere lamp where a
+// penumbra may fall: relight/sphere_lamp.h), the lamp's irradiance and the
+// sample's BRDF, as the precompute would have traced the lamp itself. The
+// lattice path (relight/local_relight.h) is what files without lamp
+// geometry and files with bounced light still take.
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -18,14 +20,11 @@
 
 namespace acpca {
 
-/// How point and spot lamps are lit: exactly where the file allows it (else
-/// through the lattice, with a warning), or through the lattice always.
+/// How lamps are lit: exactly where the file allows it (else through the
+/// lattice, with a warning), or through the lattice always.
 enum class LampMode { Exact, Lattice };
 inline constexpr EnumNames<LampMode, 2> kLampModeNames{
     "light mode", {{{LampMode::Exact, "exact"}, {LampMode::Lattice, "lattice"}}}};
-
-/// Whether a lamp of this kind can be lit exactly: point and spot lamps.
-bool litExactly(const LocalLight& light);
 
 /// Why the file's lamps cannot be lit exactly, in words with what to run
 /// again (`model` picks the advice); empty when they can.
@@ -41,22 +40,22 @@ class ExactLamps {
  public:
   /// `header` must outlive this and hold lamp geometry.
   explicit ExactLamps(const TransportHeader& header) : header_(header) {}
-  /// Per occupied row RGB (rows x 3, albedo applied) under the point and
-  /// spot lamps among `lights` (the others are left out): each traced sample
-  /// adds weight x I / d^2 (x a spot's falloff) x cos x f/albedo where its
-  /// shadow ray reaches the lamp. Parallel over rows; the same values for
-  /// any thread count.
+  /// Per occupied row RGB (rows x 3, albedo applied) under `lights`: each
+  /// traced sample adds weight x I / d^2 (x a spot's falloff) x cos x
+  /// f/albedo where its shadow ray reaches a point or spot lamp, and a
+  /// sphere lamp's L x f/albedo x cos over the part of its cap the sample's
+  /// rays reach. Parallel over rows; the same values for any thread count.
   std::vector<float> relight(const std::vector<LocalLight>& lights) const;
 
  private:
   const TransportHeader& header_;
   mutable std::once_flag built_;
   mutable std::unique_ptr<SceneOccluder> occluder_;
+  mutable std::vector<std::int32_t> rowOfPixel_;  ///< sphere lamps' pixel neighbourhoods
 };
 
-/// The rows (rows x 3) of all of `lights`: the point and spot lamps exactly
-/// when `mode` and the file allow (`exact` non-null), the rest (and those
-/// lamps otherwise) through `lattice`, summed. `warnOnce` is called once per
+/// The rows (rows x 3) of all of `lights`: exactly when `mode` and the
+/// file allow (`exact` non-null), else through `lattice`. `warnOnce` is called once per
 /// file with why its lamps went through the lattice.
 std::vector<float> relightLocalLights(
     const std::vector<LocalLight>& lights, LampMode mode, const ExactLamps* exact,

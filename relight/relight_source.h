@@ -37,9 +37,9 @@ struct RelightSource {
                                                 std::vector<double>& ms)>
       relight;
   /// The local lights alone (3 floats per occupied row, albedo applied):
-  /// point and spot lamps exactly where `mode` and the file allow
-  /// (relight/lamp_light.h; else with a warning, once), the rest from the
-  /// model's reconstruction or T (relight/local_relight.h); refuses a file
+  /// exactly where `mode` and the file allow (relight/lamp_light.h), else
+  /// from the model's reconstruction or T (relight/local_relight.h; with a
+  /// warning, once, where the file cannot light them exactly); refuses a file
   /// without positions and lights that enclose a pixel's position.
   /// anchorSpread: models only, as modelLocalRelight.
   std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread,

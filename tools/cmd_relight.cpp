@@ -73,8 +73,9 @@ void registerRelight(CLI::App& app) {
                   "share a light's direction (0: each pixel its own)")
       ->capture_default_str();
   sub->add_option("--light-mode", args->lightMode,
-                  "Point and spot lamps: exact (default; a shadow ray per camera sample where "
-                  "the file holds its surfaces) or lattice (through T's texels, as before)");
+                  "Lamps: exact (default; shadow rays from each camera sample where the file "
+                  "holds its surfaces: one to a point or spot lamp, over a sphere lamp's disc "
+                  "where a penumbra may fall) or lattice (through T's texels, as before)");
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,

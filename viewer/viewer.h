@@ -107,7 +107,7 @@ class Viewer {
   Image mapPart_;
   std::vector<float> localRows_;
   std::unique_ptr<LocalLightColumns> columns_;  ///< kept while lamps move
-  /// Point and spot lamps lit exactly, where the model allows (null otherwise).
+  /// Lamps lit exactly, where the model allows (null otherwise).
   std::unique_ptr<ExactLamps> exactLamps_;
   std::string latticeLamps_;  ///< why not, in words (empty: exact)
   bool warnedLamps_ = false;

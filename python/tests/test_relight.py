@@ -615,8 +615,11 @@ def test_frames_carry_no_negative_light_unless_asked_as_the_cli_writes_them(tmp_
     with pytest.raises(ac.Error, match="light mode 'sharp'"):
         r.light_mode = "sharp"
     r.light_mode = "exact"
-    # A sphere lamp goes through the lattice either way.
+    # So does a sphere lamp: exact, never below zero; through the lattice,
+    # the model's undershoot, clamped unless asked.
     lamp = ac.Light("sphere:0,3,2,0.05,1600")
+    assert r.relight(None, lights=[lamp], background="black", keep_negative=True).min() >= 0
+    r.light_mode = "lattice"
     raw = r.relight(None, lights=[lamp], background="black", keep_negative=True)
     assert (raw < 0).sum() > 0, "this lamp no longer shows the model's undershoot"
     clamped = r.relight(None, lights=[lamp], background="black")
@@ -626,8 +629,8 @@ def test_frames_carry_no_negative_light_unless_asked_as_the_cli_writes_them(tmp_
     assert (r.shading(raw, keep_negative=True) < 0).any() and r.shading(raw).min() >= 0
     # The CLI's frame, exposure and all: the same values.
     out = tmp_path / "lamp.exr"
-    cli("relight", model, "--light", "sphere:0,3,2,0.05,1600", "--background", "black", "--exposure",
-        "1", "--exr-float", "--out", str(out))
+    cli("relight", model, "--light", "sphere:0,3,2,0.05,1600", "--light-mode", "lattice",
+        "--background", "black", "--exposure", "1", "--exr-float", "--out", str(out))
     assert np.array_equal(ac.read_image(str(out)),
                           r.relight(None, lights=[lamp], background="black", exposure=1))
 

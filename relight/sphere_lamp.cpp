@@ -1,0 +1,247 @@
+#include "relight/sphere_lamp.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "core/random_bits.h"
+#include "relight/shadow_ray_batch.h"
+
+namespace acpca {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kTile = 3;                // probes interleave over 3x3 pixels
+constexpr int kProbes = kTile * kTile;  // so a neighbourhood's cover the disc
+constexpr int kStrataSide = 8;          // kSphereLampStrata = 8 x 8
+constexpr std::int8_t kNoProbe = -1, kProbeBlocked = 0, kProbeReached = 1;
+static_assert(kStrataSide * kStrataSide == kSphereLampStrata);
+
+/// The concentric map of the unit square onto the unit disc [Shirley97]:
+/// area-preserving, and square cells stay compact on the disc.
+Eigen::Vector2d concentricDisc(double a, double b) {
+  const double x = 2 * a - 1, y = 2 * b - 1;
+  if (x == 0 && y == 0) return {0, 0};
+  const bool wide = std::abs(x) > std::abs(y);
+  const double r = wide ? x : y, phi = wide ? kPi / 4 * (y / x) : kPi / 2 - kPi / 4 * (x / y);
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+/// The probes' disc points: the centre and eight on the rim (just inside,
+/// off the tangent), so that an edge across the disc leaves out at most the
+/// sliver between two rim points (1.2% of the disc).
+const std::array<Eigen::Vector2d, kProbes>& probePoints() {
+  static const auto points = [] {
+    std::array<Eigen::Vector2d, kProbes> p;
+    p[0] = {0, 0};
+    for (int k = 1; k < kProbes; ++k)
+      p[k] = 0.98 * Eigen::Vector2d(std::cos(k * kPi / 4), std::sin(k * kPi / 4));
+    return p;
+  }();
+  return points;
+}
+
+/// The strata's disc points: one in each cell of an 8 x 8 grid of the
+/// square, jittered once by a fixed seed, mapped onto the disc.
+const std::array<Eigen::Vector2d, kSphereLampStrata>& strataPoints() {
+  static const auto points = [] {
+    std::array<Eigen::Vector2d, kSphereLampStrata> p;
+    for (int i = 0; i < kSphereLampStrata; ++i) {
+      const std::uint64_t h = splitMix(0x5eed0000ull + static_cast<std::uint64_t>(i));
+      p[i] = concentricDisc((i % kStrataSide + unitFromBits(h)) / kStrataSide,
+                            (i / kStrataSide + unitFromBits(splitMix(h))) / kStrataSide);
+    }
+    return p;
+  }();
+  return points;
+}
+
+/// A sphere seen from a point: the cap of directions to it.
+struct SphereCap {
+  Vec3 axis, u, v;  ///< towards the centre; two unit vectors across
+  double distance = 0, radius = 0, sinAlpha = 0;
+  double oneMinusCos = 0;  ///< 1 - cos(alpha), kept exact for small caps
+
+  double solidAngle() const { return 2 * kPi * oneMinusCos; }
+  /// Whether the whole cap lies above the plane of unit normal n.
+  bool above(const Vec3& n) const { return n.dot(axis) >= sinAlpha; }
+  /// The direction to disc point p (|p| <= 1), uniform in solid angle over
+  /// the cap: 1 - cos(theta) = |p|^2 (1 - cos(alpha)).
+  Vec3 direction(const Eigen::Vector2d& p) const {
+    const double rho2 = p.squaredNorm();
+    if (rho2 == 0) return axis;
+    const double k = rho2 * oneMinusCos;
+    const double across = std::sqrt(std::max(0.0, k * (2 - k)) / rho2);
+    return (1 - k) * axis + across * (p.x() * u + p.y() * v);
+  }
+  /// Where a ray along w (a direction of the cap) meets the near surface.
+  double reach(const Vec3& w) const {
+    const double along = w.dot(axis) * distance;
+    return along - std::sqrt(std::max(0.0, along * along - distance * distance + radius * radius));
+  }
+};
+
+/// False when the point lies inside or on the sphere.
+bool capOf(const LocalLight& lamp, const Vec3& point, SphereCap& cap) {
+  const Vec3 toCentre = lamp.position - point;
+  cap.radius = lamp.sphere()->radius;
+  cap.distance = toCentre.norm();
+  if (!(cap.distance > cap.radius)) return false;
+  cap.axis = toCentre / cap.distance;
+  cap.sinAlpha = cap.radius / cap.distance;
+  const double sin2 = cap.sinAlpha * cap.sinAlpha;
+  cap.oneMinusCos = sin2 / (1 + std::sqrt(1 - sin2));
+  const Vec3 helper = std::abs(cap.axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  cap.u = cap.axis.cross(helper).normalized();
+  cap.v = cap.axis.cross(cap.u);
+  return true;
+}
+
+Vec3 vec3At(const std::vector<float>& values, long long i) {
+  return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
+}
+
+/// A ray's far end: just short of the lamp, so what lies beyond it casts no shadow.
+float stopBefore(double reach) {
+  return static_cast<float>(reach * (1 - 1e-6));
+}
+
+/// One sample's light from the cap, and what its rays found.
+struct CapLight {
+  double unoccluded = 0;  ///< weight x integral of f/albedo x cos over the cap
+  double strataSum = 0;   ///< over the strata above both horizons: f/albedo x cos
+  double seen = 0;        ///< the same over the strata whose rays reached the lamp
+};
+
+/// The strata of one sample: returns the sum over those above both
+/// horizons of f/albedo x cos and, where `trace`, queues their rays with
+/// that as their light.
+template <typename Batch>
+double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, Batch* trace) {
+  const LampGeometry& g = h.lamps;
+  const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s),
+             ng = vec3At(g.geometricNormal, s);
+  const Vec3 toViewer = (h.camera.eye - origin).normalized();
+  const Material& material = g.materials[g.material[s]];
+  // The pattern turned by an angle seeded by the sample: neighbouring
+  // samples' strata differ, and a lamp that moves keeps each sample's.
+  const double turn = 2 * kPi * unitFromBits(splitMix(static_cast<std::uint64_t>(s)));
+  const double c = std::cos(turn), sn = std::sin(turn);
+  double sum = 0;
+  for (int i = 0; i < kSphereLampStrata; ++i) {
+    const Eigen::Vector2d& p = strataPoints()[i];
+    const Vec3 w = cap.direction({c * p.x() - sn * p.y(), sn * p.x() + c * p.y()});
+    const double cosine = n.dot(w);
+    if (!(cosine > 0 && ng.dot(w) > 0)) continue;  // both horizons, as the precompute's rays
+    const double value = brdfShape(material, n, toViewer, w) * cosine;
+    sum += value;
+    if (trace)
+      trace->add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, value);
+  }
+  return sum;
+}
+
+}  // namespace
+
+std::vector<std::int32_t> rowsOfPixels(const TransportHeader& h) {
+  std::vector<std::int32_t> rows(static_cast<size_t>(h.camera.size.pixels()), -1);
+  for (long long r = 0; r < h.rows(); ++r) rows[h.pixels[r]] = static_cast<std::int32_t>(r);
+  return rows;
+}
+
+std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccluder& occluder,
+                                       const LocalLight& lamp,
+                                       const std::vector<std::int32_t>& rowOfPixel) {
+  const LampGeometry& g = h.lamps;
+  const int width = h.camera.size.width, height = h.camera.size.height;
+  std::vector<std::int8_t> probe(static_cast<size_t>(g.samples()), kNoProbe);
+  tbb::parallel_for(tbb::blocked_range<long long>(0, h.rows(), 256), [&](const auto& range) {
+    ShadowRayBatch batch(occluder, g.rayEpsilon,
+                         [&](std::int64_t s, double) { probe[s] = kProbeReached; });
+    for (long long r = range.begin(); r < range.end(); ++r) {
+      const int x = h.pixels[r] % width, y = h.pixels[r] / width;
+      for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+        SphereCap cap;
+        const Vec3 origin = vec3At(g.origin, s);
+        if (!capOf(lamp, origin, cap)) continue;
+        const int k = static_cast<int>((x % kTile + kTile * (y % kTile) + s) % kProbes);
+        const Vec3 w = cap.direction(probePoints()[k]);
+        if (!(vec3At(g.normal, s).dot(w) > 0 && vec3At(g.geometricNormal, s).dot(w) > 0)) continue;
+        probe[s] = kProbeBlocked;  // until the ray says otherwise
+        batch.add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, 0);
+      }
+    }
+    batch.flush();
+  });
+  std::vector<LampSight> sight(static_cast<size_t>(h.rows()));
+  tbb::parallel_for(tbb::blocked_range<long long>(0, h.rows(), 1024), [&](const auto& range) {
+    for (long long r = range.begin(); r < range.end(); ++r) {
+      const int x = h.pixels[r] % width, y = h.pixels[r] / width;
+      bool reached = false, blocked = false;
+      for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx) {
+          const std::int32_t n = rowOfPixel[static_cast<size_t>(ny) * width + nx];
+          if (n < 0) continue;
+          for (long long s = g.sampleStart[n]; s < g.sampleStart[n + 1]; ++s)
+            reached |= probe[s] == kProbeReached, blocked |= probe[s] == kProbeBlocked;
+        }
+      // No probe above the horizons (a cap across them): the strata decide.
+      sight[r] = reached == blocked ? LampSight::Partly
+                 : reached          ? LampSight::Whole
+                                    : LampSight::Hidden;
+    }
+  });
+  return sight;
+}
+
+void addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
+                   const std::vector<LampSight>& sight, long long first, long long end,
+                   std::vector<Rgb>& acc) {
+  const LampGeometry& g = h.lamps;
+  const long long firstSample = g.sampleStart[first];
+  std::vector<CapLight> light(static_cast<size_t>(g.sampleStart[end] - firstSample));
+  ShadowRayBatch batch(occluder, g.rayEpsilon, [&](std::int64_t s, double value) {
+    CapLight& l = light[s - firstSample];
+    l.seen += value;
+  });
+  for (long long r = first; r < end; ++r) {
+    if (sight[r] == LampSight::Hidden) continue;
+    for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+      SphereCap cap;
+      if (!capOf(lamp, vec3At(g.origin, s), cap)) continue;
+      const Vec3 n = vec3At(g.normal, s);
+      CapLight& l = light[s - firstSample];
+      // A diffuse sample seeing the whole cap above its horizons: the
+      // integral of cos / pi over it is sin^2(alpha) cos(beta), exactly.
+      const bool closedForm = g.materials[g.material[s]].type == Material::Type::Diffuse &&
+                              cap.above(n) && cap.above(vec3At(g.geometricNormal, s));
+      const bool traced = sight[r] == LampSight::Partly;
+      if (!closedForm || traced) l.strataSum = sumStrata(h, cap, s, traced ? &batch : nullptr);
+      l.unoccluded =
+          g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
+                                    : l.strataSum * cap.solidAngle() / kSphereLampStrata);
+    }
+  }
+  batch.flush();
+  for (long long r = first; r < end; ++r) {
+    if (sight[r] == LampSight::Hidden) continue;
+    double sum = 0;
+    for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+      const CapLight& l = light[s - firstSample];
+      // Seen partly: the unoccluded light times the share of the strata's
+      // f/albedo x cos that reached the lamp, so a penumbra meets the whole
+      // cap's light seamlessly.
+      if (sight[r] == LampSight::Whole)
+        sum += l.unoccluded;
+      else if (l.strataSum > 0)
+        sum += l.unoccluded * (l.seen / l.strataSum);
+    }
+    acc[r - first] += sum * lamp.emission;
+  }
+}
+
+}  // namespace acpca

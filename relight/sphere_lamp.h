@@ -1,0 +1,45 @@
+#pragma once
+// Sphere lamps lit exactly (docs/lighting.md, "Lamps"): each traced camera
+// sample sees the lamp as a cap of directions, and its light is the BRDF
+// times the cosine over the part of the cap its shadow rays reach. Rays go
+// where the penumbra is: one probe per sample first, interleaved over 3x3
+// pixels so that a neighbourhood's nine probes cover the disc; a pixel
+// whose neighbourhood saw all of its probes reach the lamp (or none) is
+// lit whole (or not at all) without more rays, and the rest trace a
+// stratified set over the cap.
+#include <cstdint>
+#include <vector>
+
+#include "lighting/local_light.h"
+#include "occlusion/scene_occluder.h"
+#include "transport/transport_file.h"
+
+namespace acpca {
+
+/// Rays a sample in a penumbra traces: an 8 x 8 grid of strata over the
+/// cap, jittered, turned by an angle seeded by the sample's index.
+inline constexpr int kSphereLampStrata = 64;
+
+/// What a row's 3x3 pixel neighbourhood saw of a lamp by its probes.
+enum class LampSight : std::uint8_t { Hidden, Whole, Partly };
+
+/// The row of each pixel of the image (y * W + x), -1 where none.
+std::vector<std::int32_t> rowsOfPixels(const TransportHeader& header);
+
+/// One probe per sample (the cap's point its pixel's place in a 3x3 tile
+/// picks) and, per row, what its neighbourhood's probes saw. Parallel; the
+/// same for any thread count.
+std::vector<LampSight> sphereLampSight(const TransportHeader& header, const SceneOccluder& occluder,
+                                       const LocalLight& lamp,
+                                       const std::vector<std::int32_t>& rowOfPixel);
+
+/// One sphere lamp's light on rows [first, end), added to acc[row - first]
+/// (albedo not applied): per sample L x the integral of f/albedo x cos over
+/// the cap, in closed form for a diffuse sample seeing the whole cap above
+/// its horizons, else over kSphereLampStrata strata, each traced where the
+/// row's sight is Partly.
+void addSphereLamp(const TransportHeader& header, const SceneOccluder& occluder,
+                   const LocalLight& lamp, const std::vector<LampSight>& sight, long long first,
+                   long long end, std::vector<Rgb>& acc);
+
+}  // namespace acpca
