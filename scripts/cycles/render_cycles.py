@@ -63,6 +63,8 @@ def parse_args():
                    help="also compare Cycles with the closed form of a sphere light over "
                         "the scene's one plane (diffuse, the light above its horizon)")
     p.add_argument("--ours", help="our dense relight, black background, EXR")
+    p.add_argument("--also", action="append", default=[], metavar="NAME=EXR",
+                   help="another image of ours (a model's relight) against the same render")
     p.add_argument("--out", required=True)
     p.add_argument("--samples", type=int, default=512)
     p.add_argument("--seed", type=int, default=1)
@@ -553,6 +555,10 @@ def main():
     bpy.ops.render.render(write_still=True)
     result = compare(os.path.abspath(a.ours), os.path.abspath(a.out), a.width, a.height)
     result.update({"scene": a.scene, "samples": a.samples, "seed": a.seed, "lights": a.light})
+    for also in a.also:
+        name, path = also.split("=", 1)
+        result.setdefault("also", {})[name] = compare(os.path.abspath(path), os.path.abspath(a.out),
+                                                      a.width, a.height)
     if a.closed_form:
         if len(lights) != 1 or a.env != "none":
             raise SystemExit("--closed-form needs one light and --env none")
