@@ -74,15 +74,17 @@ void PackedModel::packClusterBases(const Model& m) {
   // lanes. W_i (column-major N x n_i) read as n_i rows of N values packs like
   // a cluster's coefficients, 16 bases to a chunk.
   const int n = globalBases;
-  HugePageVector<float> packed;
+  // One allocation, sized first, and the clusters packed in parallel: grown
+  // cluster by cluster it was copied again at each doubling, onto fresh pages.
+  long long total = 0;
   for (int c = 0; c < m.clusters(); ++c) {
-    basisOffset.push_back(static_cast<long long>(packed.size()));
-    const size_t start = packed.size();
-    packed.resize(
-        start + (m.ranks[c] + kChunkRows - 1) / kChunkRows * kChunkRows * static_cast<size_t>(n),
-        0.0f);
-    packCluster(m.bases.data() + m.basisOffsets[c], m.ranks[c], n, packed.data() + start);
+    basisOffset.push_back(total);
+    total += (m.ranks[c] + kChunkRows - 1) / kChunkRows * kChunkRows * static_cast<long long>(n);
   }
+  HugePageVector<float> packed(static_cast<size_t>(total), 0.0f);
+  tbb::parallel_for(0, m.clusters(), [&](int c) {
+    packCluster(m.bases.data() + m.basisOffsets[c], m.ranks[c], n, packed.data() + basisOffset[c]);
+  });
   if (basisPrecision == CoeffPrecision::F16) {
     basesF16.resize(packed.size());
     floatToHalf(packed.data(), basesF16.data(), packed.size());  // exact: half values
