@@ -46,11 +46,27 @@ LocalLight keyLightFor(const TransportHeader& g) {
   return light;
 }
 
+std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights) {
+  std::vector<LocalLight> lit = lights;
+  for (LocalLight& light : lit)
+    if (const SphereLight* sphere = light.sphere()) {
+      light.emission *= std::numbers::pi * sphere->radius * sphere->radius;
+      light.shape = PointLight{};
+      light.spec = light.canonicalSpec();
+    }
+  return lit;
+}
+
+std::vector<LocalLight> litLights(const ViewState& state) {
+  return state.lampHeld ? previewLights(state.lights) : state.lights;
+}
+
 bool operator==(const ViewState& a, const ViewState& b) {
   return a.env == b.env && a.yaw == b.yaw && a.pitch == b.pitch && a.exposure == b.exposure &&
          a.rankPercent == b.rankPercent && a.clusterOverlay == b.clusterOverlay &&
          a.rankHeatMap == b.rankHeatMap && a.lightingInset == b.lightingInset &&
-         a.selectedLight == b.selectedLight && sameLights(a.lights, b.lights);
+         a.selectedLight == b.selectedLight && a.lampHeld == b.lampHeld &&
+         sameLights(a.lights, b.lights);
 }
 
 ViewUpdate applyKey(const ViewState& state, int key, const ViewContext& context) {

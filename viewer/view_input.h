@@ -21,6 +21,9 @@ struct ViewState {
   bool clusterOverlay = false, rankHeatMap = false, lightingInset = false;
   std::vector<LocalLight> lights;  ///< local lights, summed with the map
   int selectedLight = -1;          ///< the light keys and the wheel move; -1: none
+  /// A lamp held by the mouse: sphere lamps are lit as previewLights says
+  /// until it is let go.
+  bool lampHeld = false;
 };
 
 /// What inputs need to know about the view besides its state: the number of
@@ -40,6 +43,15 @@ bool sameLights(const std::vector<LocalLight>& a, const std::vector<LocalLight>&
 /// the pixels' median depth, as bright as a white sky of radiance 1 is from
 /// above: irradiance pi at the median depth on the view axis. Needs positions.
 LocalLight keyLightFor(const TransportHeader& geometry);
+
+/// The lights as the viewer lights them while a lamp is held: each sphere
+/// lamp as the point lamp of the same power at its centre (intensity L pi
+/// r^2, what the sphere gives from afar), lit exactly with hard shadows at a
+/// point lamp's cost; the rest as they are.
+std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights);
+/// The lights a frame of `state` is lit by: previewLights while a lamp is
+/// held, else its lights.
+std::vector<LocalLight> litLights(const ViewState& state);
 
 /// What an input asks for beyond the new state.
 enum class ViewAction { None, Save, Quit };

@@ -116,7 +116,7 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
     relitFor_ = state;
   }
   // The lights' part depends on the lights and the ranks in use only.
-  const bool lightsChanged = !localDone_ || !sameLights(state.lights, localFor_.lights) ||
+  const bool lightsChanged = !localDone_ || !sameLights(litLights(state), litLights(localFor_)) ||
                              state.rankPercent != localFor_.rankPercent;
   if (lightsChanged) relightLocal(state);
   if (mapChanged || lightsChanged) {
@@ -153,9 +153,10 @@ void Viewer::relightLocal(const ViewState& state) {
   const Stopwatch t;
   try {
     requireLocalLightsApply(relighter_->geometry(), options_.modelPath, true, state.lights);
-    // As a batch lights them (relight_source.h): the same image for the same lamps.
+    // As a batch lights them (relight_source.h): the same image for the same
+    // lamps; while a lamp is held, sphere lamps as points (previewLights).
     localRows_ = relightLocalLights(
-        state.lights, LampMode::Exact, exactLamps_.get(),
+        litLights(state), LampMode::Exact, exactLamps_.get(),
         [&](const std::vector<LocalLight>& some) {
           if (!columns_) columns_ = std::make_unique<LocalLightColumns>(relighter_->packed());
           return modelLocalRelight(*relighter_, some, kAnchorSpreadTexels, columns_.get());
@@ -223,7 +224,11 @@ void Viewer::drawStatus(const ViewState& state, cv::Mat& canvas) const {
                     state.selectedLight >= 0 ? concat(" (", state.selectedLight + 1, ": ",
                                                       state.lights[state.selectedLight].spec, ")")
                                              : std::string(),
-                    localProblem_.empty() ? "" : concat(" not shown: ", localProblem_));
+                    localProblem_.empty() ? "" : concat(" not shown: ", localProblem_),
+                    state.lampHeld && std::any_of(state.lights.begin(), state.lights.end(),
+                                                  [](const LocalLight& l) { return l.sphere(); })
+                        ? " (held: sphere lamps lit as points)"
+                        : "");
   char text[1024];
   std::snprintf(
       text, sizeof text,
@@ -301,6 +306,12 @@ void Viewer::applyLightDrag(int light, int dx, int dy) {
   request();
 }
 
+void Viewer::holdLamp(bool held) {
+  if (ui_.lampHeld == held) return;
+  ui_.lampHeld = held;
+  request();  // let go: the frame at full quality
+}
+
 void Viewer::applyWheel(double notches) {
   const ViewState next = moveLightInDepth(ui_, notches, context_.camera);
   if (next == ui_) return;
@@ -332,7 +343,18 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       applyKey(static_cast<int>(e.a));
       break;
     case Kind::Drag:
-      applyDrag(static_cast<int>(e.a), static_cast<int>(e.b));
+      if (heldLight_ >= 0)
+        applyLightDrag(heldLight_, static_cast<int>(e.a), static_cast<int>(e.b));
+      else
+        applyDrag(static_cast<int>(e.a), static_cast<int>(e.b));
+      break;
+    case Kind::Press:
+      heldLight_ = lightUnder(ui_, e.a, e.b, context_.camera);
+      holdLamp(heldLight_ >= 0);
+      break;
+    case Kind::Release:
+      heldLight_ = -1;
+      holdLamp(false);
       break;
     case Kind::DragFrom:
       if (const int light = lightUnder(ui_, e.a, e.b, context_.camera); light >= 0)
@@ -467,9 +489,12 @@ void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
   auto* v = static_cast<Viewer*>(self);
   int dx = 0, dy = 0;
   if (event == cv::EVENT_LBUTTONDOWN) {
-    v->drag_.press(x, y, v->height_, lightUnder(v->ui_, x, y, v->context_.camera));
+    const int light = lightUnder(v->ui_, x, y, v->context_.camera);
+    v->drag_.press(x, y, v->height_, light);
+    v->holdLamp(light >= 0);
   } else if (event == cv::EVENT_LBUTTONUP) {
     v->drag_.release();
+    v->holdLamp(false);
   } else if (event == cv::EVENT_MOUSEWHEEL) {
     // One notch is 120; forward (away from the user) brings the light nearer.
     v->applyWheel(windowSystem().wheelDelta(flags) / 120.0);

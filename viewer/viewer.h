@@ -78,6 +78,8 @@ class Viewer {
   bool applyKey(int key);  ///< false: quit
   void applyDrag(int dx, int dy);
   void applyLightDrag(int light, int dx, int dy);
+  /// A lamp taken (true) or let go by the mouse or a script's press/release.
+  void holdLamp(bool held);
   void applyWheel(double notches);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
@@ -134,6 +136,7 @@ class Viewer {
   Frame onScreen_;
   ViewState ui_;
   DragTracker drag_;
+  int heldLight_ = -1;  ///< the lamp a script's press holds, -1: none
   bool syncing_ = false;
 };
 

@@ -49,6 +49,12 @@ std::vector<ScriptEvent> readViewerScript(const std::string& path) {
       need(4);
       e = {ScriptEvent::Kind::DragFrom, numberAt(0), numberAt(1)};
       e.c = numberAt(2), e.d = numberAt(3);
+    } else if (verb == "press") {
+      need(2);
+      e = {ScriptEvent::Kind::Press, numberAt(0), numberAt(1)};
+    } else if (verb == "release") {
+      need(0);
+      e = {ScriptEvent::Kind::Release};
     } else if (verb == "wheel") {
       need(1);
       e = {ScriptEvent::Kind::Wheel, numberAt(0)};
@@ -86,7 +92,8 @@ std::vector<ScriptEvent> readViewerScript(const std::string& path) {
       if (e.a < 0) throw UserError(concat(where, ": wait takes milliseconds >= 0"));
     } else {
       throw UserError(concat(where, ": unknown event '", verb,
-                             "' (key, drag, dragfrom, wheel, light, rotate, exposure, rank, env, "
+                             "' (key, drag, dragfrom, press, release, wheel, light, rotate, "
+                             "exposure, rank, env, "
                              "save, screenshot, wait)"));
     }
     events.push_back(e);

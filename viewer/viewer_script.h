@@ -5,6 +5,10 @@
 //   drag DX DY       a left-button drag by DX, DY pixels (of the lighting)
 //   dragfrom X Y DX DY   a drag that starts at pixel X, Y: of the light drawn
 //                    there, if any, else of the lighting
+//   press X Y        the left button pressed at pixel X, Y: on a drawn light it
+//                    is held (sphere lamps lit as points, viewer/view_input.h
+//                    previewLights) and each drag moves it, until
+//   release          the button let go: the frame at full quality
 //   wheel N          N notches of the wheel (> 0 moves the selected light nearer)
 //   light SPEC       add a local light (relight's --light grammar), selected
 //   rotate YAW[,PITCH]   set the lighting's rotation in degrees
@@ -27,6 +31,8 @@ struct ScriptEvent {
     Key,
     Drag,
     DragFrom,
+    Press,
+    Release,
     Wheel,
     Light,
     Rotate,

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "lighting/local_light.h"
 #include "model/model_file.h"
@@ -199,6 +200,50 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
       runCli("relight " + model() + " --env sky --quiet --out " + out.file("sky.png"));
   ASSERT_EQ(sky.status, 0) << sky.output;
   EXPECT_GT(differingPixels(saved, readPicture(out.file("sky.png"))), 100);
+}
+
+// A sphere lamp held by a script's press and dragged: lit as its point of the
+// same power while held (the batch image of that point), at full quality once
+// let go (the batch image of the sphere where it went).
+TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
+  TempDir out;
+  const Camera camera = readModel(model()).geometry.camera;
+  const Vec3 start = camera.eye + 0.4 * (camera.target - camera.eye) +
+                     0.1 * (camera.target - camera.eye).norm() * camera.imageUp();
+  Eigen::Vector2d drawn;
+  double depth = 0;
+  ASSERT_TRUE(camera.project(start, drawn, depth));
+  const std::string script = out.file("events.txt");
+  std::ofstream(script) << "light sphere:" << start.x() << "," << start.y() << "," << start.z()
+                        << ",0.05,400\n"
+                        << "press " << std::floor(drawn.x()) << " " << std::floor(drawn.y())
+                        << "\ndrag 6 -3\nsave " << out.file("held") << "\nrelease\nsave "
+                        << out.file("let-go") << "\n";
+  const RunResult r = view("--env sky --script " + script);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const size_t at = r.output.rfind(" under --light ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const LocalLight moved =
+      parseLocalLight(r.output.substr(at + 15, r.output.find('\n', at) - at - 15));
+  ASSERT_TRUE(moved.sphere()) << r.output;
+  Eigen::Vector2d now;
+  ASSERT_TRUE(camera.project(moved.position, now, depth));
+  EXPECT_NEAR(now.x() - drawn.x(), 6, 1e-6);
+  LocalLight asPoint = moved;  // the point of the same power: L pi r^2
+  asPoint.shape = PointLight{};
+  asPoint.emission = moved.emission * (std::numbers::pi * 0.05 * 0.05);
+  const std::string point = asPoint.canonicalSpec();
+  for (const auto& [saved, spec] : {std::pair{std::string("held"), point},
+                                    std::pair{std::string("let-go"), moved.canonicalSpec()}}) {
+    const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
+                               " --quiet --out " + out.file(saved + "-batch.png"));
+    ASSERT_EQ(b.status, 0) << b.output;
+    EXPECT_EQ(readPicture(out.file(saved + ".png")).bytes,
+              readPicture(out.file(saved + "-batch.png")).bytes)
+        << saved;
+  }
+  EXPECT_GT(differingPixels(readPicture(out.file("held.png")), readPicture(out.file("let-go.png"))),
+            0);
 }
 
 TEST_F(Viewer, RefusesCleanlyWithoutADisplayOrAModel) {

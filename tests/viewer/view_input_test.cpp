@@ -218,5 +218,29 @@ TEST(ViewInput, TheAddedLightIsAKeyLightDrawnHighInTheView) {
   EXPECT_NEAR(light.emission[0] * lightIrradiance(light, Vec3(0, 0, 2)), std::numbers::pi, 1e-12);
 }
 
+TEST(ViewInput, AHeldLampLightsSpheresAsPointsOfTheSamePower) {
+  // A sphere of radiance L and radius r gives what a point of intensity
+  // L pi r^2 gives, from afar; points and spots are lit as they are.
+  ViewState s;
+  s.lights = {parseLocalLight("sphere:0.5,2,1,0.1,30,20,10"), parseLocalLight("point:0,1,0,3"),
+              parseLocalLight("spot:0,1,0,0,-1,0,30,2")};
+  EXPECT_EQ(litLights(s)[0].canonicalSpec(), s.lights[0].canonicalSpec());
+  const ViewState released = s;
+  s.lampHeld = true;
+  EXPECT_FALSE(s == released);
+  const std::vector<LocalLight> lit = litLights(s);
+  ASSERT_EQ(lit.size(), 3u);
+  ASSERT_EQ(lit[0].kind(), LocalLightKind::Point);
+  EXPECT_EQ(lit[0].position, s.lights[0].position);
+  EXPECT_EQ(parseLocalLight(lit[0].spec).canonicalSpec(), lit[0].canonicalSpec());
+  const Vec3 far = s.lights[0].position + Vec3(0, -1000, 0);  // 10^4 radii below
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(lit[0].emission[c] * lightIrradiance(lit[0], far) /
+                    (s.lights[0].emission[c] * lightIrradiance(s.lights[0], far)),
+                1, 1e-8);
+  EXPECT_EQ(lit[1].canonicalSpec(), s.lights[1].canonicalSpec());
+  EXPECT_EQ(lit[2].canonicalSpec(), s.lights[2].canonicalSpec());
+}
+
 }  // namespace
 }  // namespace acpca
