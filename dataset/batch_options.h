@@ -43,8 +43,9 @@ struct BatchRelightOptions {
   /// Models: texels of direction within which a cluster's pixels share a
   /// light's direction taps (relight/local_relight.h; 0: every pixel its own).
   double anchorSpread = kAnchorSpreadTexels;
-  /// Lamps: exact where the file allows (relight/lamp_light.h), or the lattice's.
-  LampMode lampMode = LampMode::Exact;
+  /// Lamps: exact where the file allows (relight/lamp_light.h), or the
+  /// lattice's; a sphere lamp's rays per camera sample in a penumbra.
+  LampSettings lamps;
   /// A light path file (local_light.h, readLightPath): every map x rotation
   /// is relit under each line's lights (with `lights` added), line by line.
   std::string lightPath;

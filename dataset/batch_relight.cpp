@@ -132,14 +132,18 @@ std::string joinedBySemicolons(const std::vector<std::string>& texts) {
 class LocalLightRows {
  public:
   LocalLightRows(const RelightSource& source, const std::vector<std::vector<LocalLight>>& sets,
-                 double anchorSpread, LampMode mode, double& seconds)
-      : source_(source), sets_(sets), anchorSpread_(anchorSpread), mode_(mode), seconds_(seconds) {}
+                 double anchorSpread, const LampSettings& lamps, double& seconds)
+      : source_(source),
+        sets_(sets),
+        anchorSpread_(anchorSpread),
+        lamps_(lamps),
+        seconds_(seconds) {}
   /// Empty when the set has no lights.
   const std::vector<float>& of(size_t set) {
     if (set != current_) {
       const Stopwatch watch;
       rows_ = sets_[set].empty() ? std::vector<float>()
-                                 : source_.relightLocal(sets_[set], anchorSpread_, mode_);
+                                 : source_.relightLocal(sets_[set], anchorSpread_, lamps_);
       current_ = set;
       seconds_ += watch.seconds();
     }
@@ -150,7 +154,7 @@ class LocalLightRows {
   const RelightSource& source_;
   const std::vector<std::vector<LocalLight>>& sets_;
   double anchorSpread_;
-  LampMode mode_;
+  LampSettings lamps_;
   double& seconds_;
   size_t current_ = static_cast<size_t>(-1);
   std::vector<float> rows_;
@@ -906,7 +910,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   BatchStages& stages = run.stages;
   std::vector<double>& msPerFrame = run.msPerFrame;
   const DomainLighting domain(source.header);
-  LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lampMode, stages.localLights);
+  LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<Frame>& frames = run.viewFrames;
   const int rank = ranks::rank();

@@ -361,12 +361,14 @@ class Relighter {
     if (lights.empty()) return {};
     if (!(anchorSpread >= 0 && anchorSpread <= 64))
       throw ParameterError("anchor spread", anchorSpread, "is not in 0..64 texels");
-    return source_.relightLocal(lights, anchorSpread, lampMode_);
+    return source_.relightLocal(lights, anchorSpread, lamps_);
   }
 
  public:
-  std::string lightMode() const { return kLampModeNames.name(lampMode_); }
-  void setLightMode(const std::string& mode) { lampMode_ = kLampModeNames.parse(mode); }
+  std::string lightMode() const { return kLampModeNames.name(lamps_.mode); }
+  void setLightMode(const std::string& mode) { lamps_.mode = kLampModeNames.parse(mode); }
+  int lampRays() const { return lamps_.sphereRays; }
+  void setLampRays(int rays) { lamps_.sphereRays = parseSphereLampRays(std::to_string(rays)); }
 
  private:
   void setRank(const RankLimit& maxRank) {
@@ -455,7 +457,7 @@ class Relighter {
 
   std::string path_;
   RelightSource source_;
-  LampMode lampMode_ = LampMode::Exact;
+  LampSettings lamps_;
   std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
   std::unique_ptr<ImageComposer> composer_;
 };
@@ -666,6 +668,9 @@ PYBIND11_MODULE(_core, m) {
                     "How lamps are lit: 'exact' (default; shadow rays from each camera sample "
                     "where the file holds its surfaces, else the lattice with a warning) or "
                     "'lattice' (through T's texels), as relight --light-mode")
+      .def_property("lamp_rays", &Relighter::lampRays, &Relighter::setLampRays,
+                    "Sphere lamps, exact: shadow rays per camera sample where a penumbra may "
+                    "fall, a square from 4 to 256 (default 64), as relight --lamp-rays")
       .def_property_readonly("object_names", &Relighter::objectNames,
                              "Each object's name, by the id the object label holds")
       .def("shading", &Relighter::shading, py::arg("frame"), py::kw_only(),

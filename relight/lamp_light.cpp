@@ -83,7 +83,23 @@ std::string latticeLampsWarning(const std::string& path, const std::string& why)
                 "stepped): ", why, "; --light-mode lattice asks for it without this warning");
 }
 
-std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights) const {
+int parseSphereLampRays(const std::string& text) {
+  const ParameterError refused("lamp rays", text, "is not a square from 4 to 256 (4, 9, 16, ...)");
+  size_t used = 0;
+  int rays = 0;
+  try {
+    rays = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    throw refused;
+  }
+  const int side = static_cast<int>(std::lround(std::sqrt(double(rays))));
+  if (used != text.size() || side < 2 || side * side != rays || rays > kMaxSphereLampRays)
+    throw refused;
+  return rays;
+}
+
+std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights,
+                                       int sphereRays) const {
   std::call_once(built_, [&] {
     occluder_ = std::make_unique<SceneOccluder>(header_.lamps);
     rowOfPixel_ = rowsOfPixels(header_);
@@ -101,7 +117,8 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights) co
     std::vector<Rgb> acc(static_cast<size_t>(range.size()), Rgb::Zero());
     for (size_t i = 0; i < lights.size(); ++i)
       if (lights[i].sphere())
-        addSphereLamp(header_, *occluder_, lights[i], sight[i], range.begin(), range.end(), acc);
+        addSphereLamp(header_, *occluder_, lights[i], sight[i], sphereRays, range.begin(),
+                      range.end(), acc);
       else
         addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
     for (long long r = range.begin(); r < range.end(); ++r)
@@ -112,15 +129,15 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights) co
 }
 
 std::vector<float> relightLocalLights(
-    const std::vector<LocalLight>& lights, LampMode mode, const ExactLamps* exact,
+    const std::vector<LocalLight>& lights, const LampSettings& settings, const ExactLamps* exact,
     const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice,
     const std::function<void()>& warnOnce) {
-  if (mode == LampMode::Lattice || lights.empty()) return lattice(lights);
+  if (settings.mode == LampMode::Lattice || lights.empty()) return lattice(lights);
   if (!exact) {
     warnOnce();
     return lattice(lights);
   }
-  return exact->relight(lights);
+  return exact->relight(lights, settings.sphereRays);
 }
 
 }  // namespace acpca

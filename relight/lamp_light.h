@@ -26,6 +26,23 @@ enum class LampMode { Exact, Lattice };
 inline constexpr EnumNames<LampMode, 2> kLampModeNames{
     "light mode", {{{LampMode::Exact, "exact"}, {LampMode::Lattice, "lattice"}}}};
 
+/// A sphere lamp's shadow rays per camera sample in a penumbra: by default,
+/// and the squares it may be (n x n strata, n from 2 to 16).
+inline constexpr int kDefaultSphereLampRays = 64;
+inline constexpr int kMaxSphereLampRays = 256;
+
+/// How lamps are lit: the mode, and a sphere lamp's rays in a penumbra.
+struct LampSettings {
+  LampSettings(LampMode mode = LampMode::Exact, int sphereRays = kDefaultSphereLampRays)
+      : mode(mode), sphereRays(sphereRays) {}
+  LampMode mode;
+  int sphereRays;
+};
+
+/// Reads --lamp-rays: a square from 4 to 256. Throws ParameterError ("lamp
+/// rays") naming the text otherwise.
+int parseSphereLampRays(const std::string& text);
+
 /// Why the file's lamps cannot be lit exactly, in words with what to run
 /// again (`model` picks the advice); empty when they can.
 std::string exactLampsUnavailable(const TransportHeader& header, bool model);
@@ -45,7 +62,9 @@ class ExactLamps {
   /// f/albedo where its shadow ray reaches a point or spot lamp, and a
   /// sphere lamp's L x f/albedo x cos over the part of its cap the sample's
   /// rays reach. Parallel over rows; the same values for any thread count.
-  std::vector<float> relight(const std::vector<LocalLight>& lights) const;
+  /// `sphereRays`: a sphere lamp's rays per sample in a penumbra (a square).
+  std::vector<float> relight(const std::vector<LocalLight>& lights,
+                             int sphereRays = kDefaultSphereLampRays) const;
 
  private:
   const TransportHeader& header_;
@@ -54,11 +73,11 @@ class ExactLamps {
   mutable std::vector<std::int32_t> rowOfPixel_;  ///< sphere lamps' pixel neighbourhoods
 };
 
-/// The rows (rows x 3) of all of `lights`: exactly when `mode` and the
-/// file allow (`exact` non-null), else through `lattice`. `warnOnce` is called once per
+/// The rows (rows x 3) of all of `lights`: exactly when the settings' mode
+/// and the file allow (`exact` non-null), else through `lattice`. `warnOnce` is called once per
 /// file with why its lamps went through the lattice.
 std::vector<float> relightLocalLights(
-    const std::vector<LocalLight>& lights, LampMode mode, const ExactLamps* exact,
+    const std::vector<LocalLight>& lights, const LampSettings& settings, const ExactLamps* exact,
     const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice,
     const std::function<void()>& warnOnce);
 

@@ -49,9 +49,9 @@ class LampsOfFile {
     if (state_->why.empty()) state_->exact = std::make_unique<ExactLamps>(header);
   }
   std::vector<float> relight(
-      const std::vector<LocalLight>& lights, LampMode mode,
+      const std::vector<LocalLight>& lights, const LampSettings& settings,
       const std::function<std::vector<float>(const std::vector<LocalLight>&)>& lattice) const {
-    return relightLocalLights(lights, mode, state_->exact.get(), lattice, [&] {
+    return relightLocalLights(lights, settings, state_->exact.get(), lattice, [&] {
       std::call_once(state_->warned, [&] { warn(latticeLampsWarning(state_->path, state_->why)); });
     });
   }
@@ -103,9 +103,9 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     auto kept = std::make_shared<std::optional<LocalLightColumns>>();
     s.relightLocal = [relighter = s.model, path, kept, lamps = LampsOfFile(s.model, path, true)](
                          const std::vector<LocalLight>& lights, double anchorSpread,
-                         LampMode mode) {
+                         const LampSettings& settings) {
       requireLocalLightsApply(relighter->geometry(), path, true, lights);
-      return lamps.relight(lights, mode, [&](const std::vector<LocalLight>& some) {
+      return lamps.relight(lights, settings, [&](const std::vector<LocalLight>& some) {
         if (!*kept) kept->emplace(relighter->packed());
         return modelLocalRelight(*relighter, some, anchorSpread, &**kept);
       });
@@ -128,9 +128,10 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     return out;
   };
   s.relightLocal = [transport, path, lamps = LampsOfFile(transport, path, false)](
-                       const std::vector<LocalLight>& lights, double, LampMode mode) {
+                       const std::vector<LocalLight>& lights, double,
+                       const LampSettings& settings) {
     requireLocalLightsApply(transport->header(), path, false, lights);
-    return lamps.relight(lights, mode, [&](const std::vector<LocalLight>& some) {
+    return lamps.relight(lights, settings, [&](const std::vector<LocalLight>& some) {
       return denseLocalRelight(*transport, some);
     });
   };

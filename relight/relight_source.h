@@ -43,7 +43,7 @@ struct RelightSource {
   /// without positions and lights that enclose a pixel's position.
   /// anchorSpread: models only, as modelLocalRelight.
   std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread,
-                                   LampMode mode)>
+                                   const LampSettings& settings)>
       relightLocal;
 };
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/error.h"
 #include "core/random_bits.h"
 #include "relight/shadow_ray_batch.h"
 
@@ -17,9 +18,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr int kTile = 3;                // probes interleave over 3x3 pixels
 constexpr int kProbes = kTile * kTile;  // so a neighbourhood's cover the disc
-constexpr int kStrataSide = 8;          // kSphereLampStrata = 8 x 8
 constexpr std::int8_t kNoProbe = -1, kProbeBlocked = 0, kProbeReached = 1;
-static_assert(kStrataSide * kStrataSide == kSphereLampStrata);
 
 /// The concentric map of the unit square onto the unit disc [Shirley97]:
 /// area-preserving, and square cells stay compact on the disc.
@@ -45,19 +44,18 @@ const std::array<Eigen::Vector2d, kProbes>& probePoints() {
   return points;
 }
 
-/// The strata's disc points: one in each cell of an 8 x 8 grid of the
-/// square, jittered once by a fixed seed, mapped onto the disc.
-const std::array<Eigen::Vector2d, kSphereLampStrata>& strataPoints() {
-  static const auto points = [] {
-    std::array<Eigen::Vector2d, kSphereLampStrata> p;
-    for (int i = 0; i < kSphereLampStrata; ++i) {
-      const std::uint64_t h = splitMix(0x5eed0000ull + static_cast<std::uint64_t>(i));
-      p[i] = concentricDisc((i % kStrataSide + unitFromBits(h)) / kStrataSide,
-                            (i / kStrataSide + unitFromBits(splitMix(h))) / kStrataSide);
-    }
-    return p;
-  }();
-  return points;
+/// The strata's disc points for `rays` = n x n: one in each cell of an n x
+/// n grid of the square, jittered once by a fixed seed, mapped onto the disc.
+std::vector<Eigen::Vector2d> strataPoints(int rays) {
+  const int side = static_cast<int>(std::lround(std::sqrt(double(rays))));
+  ACPCA_CHECK(side >= 1 && side * side == rays, "sphere lamp rays ", rays, " is not a square");
+  std::vector<Eigen::Vector2d> p(static_cast<size_t>(rays));
+  for (int i = 0; i < rays; ++i) {
+    const std::uint64_t h = splitMix(0x5eed0000ull + static_cast<std::uint64_t>(i));
+    p[i] = concentricDisc((i % side + unitFromBits(h)) / side,
+                          (i / side + unitFromBits(splitMix(h))) / side);
+  }
+  return p;
 }
 
 /// A sphere seen from a point: the cap of directions to it.
@@ -121,7 +119,8 @@ struct CapLight {
 /// horizons of f/albedo x cos and, where `trace`, queues their rays with
 /// that as their light.
 template <typename Batch>
-double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, Batch* trace) {
+double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s,
+                 const std::vector<Eigen::Vector2d>& strata, Batch* trace) {
   const LampGeometry& g = h.lamps;
   const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s),
              ng = vec3At(g.geometricNormal, s);
@@ -132,8 +131,7 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, Ba
   const double turn = 2 * kPi * unitFromBits(splitMix(static_cast<std::uint64_t>(s)));
   const double c = std::cos(turn), sn = std::sin(turn);
   double sum = 0;
-  for (int i = 0; i < kSphereLampStrata; ++i) {
-    const Eigen::Vector2d& p = strataPoints()[i];
+  for (const Eigen::Vector2d& p : strata) {
     const Vec3 w = cap.direction({c * p.x() - sn * p.y(), sn * p.x() + c * p.y()});
     const double cosine = n.dot(w);
     if (!(cosine > 0 && ng.dot(w) > 0)) continue;  // both horizons, as the precompute's rays
@@ -199,8 +197,9 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
 }
 
 void addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
-                   const std::vector<LampSight>& sight, long long first, long long end,
+                   const std::vector<LampSight>& sight, int rays, long long first, long long end,
                    std::vector<Rgb>& acc) {
+  const std::vector<Eigen::Vector2d> strata = strataPoints(rays);
   const LampGeometry& g = h.lamps;
   const long long firstSample = g.sampleStart[first];
   std::vector<CapLight> light(static_cast<size_t>(g.sampleStart[end] - firstSample));
@@ -220,10 +219,10 @@ void addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder, cons
       const bool closedForm = g.materials[g.material[s]].type == Material::Type::Diffuse &&
                               cap.above(n) && cap.above(vec3At(g.geometricNormal, s));
       const bool traced = sight[r] == LampSight::Partly;
-      if (!closedForm || traced) l.strataSum = sumStrata(h, cap, s, traced ? &batch : nullptr);
-      l.unoccluded =
-          g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
-                                    : l.strataSum * cap.solidAngle() / kSphereLampStrata);
+      if (!closedForm || traced)
+        l.strataSum = sumStrata(h, cap, s, strata, traced ? &batch : nullptr);
+      l.unoccluded = g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
+                                               : l.strataSum * cap.solidAngle() / rays);
     }
   }
   batch.flush();

@@ -16,10 +16,6 @@
 
 namespace acpca {
 
-/// Rays a sample in a penumbra traces: an 8 x 8 grid of strata over the
-/// cap, jittered, turned by an angle seeded by the sample's index.
-inline constexpr int kSphereLampStrata = 64;
-
 /// What a row's 3x3 pixel neighbourhood saw of a lamp by its probes.
 enum class LampSight : std::uint8_t { Hidden, Whole, Partly };
 
@@ -36,10 +32,11 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& header, const Scen
 /// One sphere lamp's light on rows [first, end), added to acc[row - first]
 /// (albedo not applied): per sample L x the integral of f/albedo x cos over
 /// the cap, in closed form for a diffuse sample seeing the whole cap above
-/// its horizons, else over kSphereLampStrata strata, each traced where the
-/// row's sight is Partly.
+/// its horizons, else over `rays` strata (an n x n grid of the square,
+/// jittered, mapped onto the cap and turned by an angle seeded by the
+/// sample's index), each traced where the row's sight is Partly.
 void addSphereLamp(const TransportHeader& header, const SceneOccluder& occluder,
-                   const LocalLight& lamp, const std::vector<LampSight>& sight, long long first,
-                   long long end, std::vector<Rgb>& acc);
+                   const LocalLight& lamp, const std::vector<LampSight>& sight, int rays,
+                   long long first, long long end, std::vector<Rgb>& acc);
 
 }  // namespace acpca

@@ -18,6 +18,7 @@ struct RelightArgs {
   CommonOptions common;
   std::string background;  ///< empty: env, or black for a captured light set
   std::string lightMode;   ///< empty: exact
+  std::string lampRays;    ///< empty: the default
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -29,7 +30,8 @@ void run(RelightArgs& a) {
   o.input = a.views.front();
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
   o.background = backgroundFor(a.background, o.input);
-  if (!a.lightMode.empty()) o.lampMode = kLampModeNames.parse(a.lightMode);
+  if (!a.lightMode.empty()) o.lamps.mode = kLampModeNames.parse(a.lightMode);
+  if (!a.lampRays.empty()) o.lamps.sphereRays = parseSphereLampRays(a.lampRays);
   const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -76,6 +78,11 @@ void registerRelight(CLI::App& app) {
                   "Lamps: exact (default; shadow rays from each camera sample where the file "
                   "holds its surfaces: one to a point or spot lamp, over a sphere lamp's disc "
                   "where a penumbra may fall) or lattice (through T's texels, as before)");
+  sub->add_option("--lamp-rays", args->lampRays,
+                  concat("Sphere lamps, exact: shadow rays per camera sample where a penumbra may "
+                         "fall, a square from 4 to ",
+                         kMaxSphereLampRays, " (default ", kDefaultSphereLampRays,
+                         "; fewer: faster, noisier penumbrae)"));
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
@@ -83,7 +90,8 @@ void registerRelight(CLI::App& app) {
   args->common.add(*sub);
   nameParameters(*sub, {{"--frames", {"timing frames"}},
                         {"--max-rank", {"maximum rank"}},
-                        {"--light-mode", {"light mode"}}});
+                        {"--light-mode", {"light mode"}},
+                        {"--lamp-rays", {"lamp rays"}}});
   sub->callback([args] { run(*args); });
 }
 

@@ -624,6 +624,16 @@ def test_frames_carry_no_negative_light_unless_asked_as_the_cli_writes_them(tmp_
     assert (raw < 0).sum() > 0, "this lamp no longer shows the model's undershoot"
     clamped = r.relight(None, lights=[lamp], background="black")
     assert np.array_equal(clamped, np.maximum(raw, 0))
+    # The penumbra's rays: 64 by default, any square from 4 to 256.
+    r.light_mode = "exact"
+    assert r.lamp_rays == 64
+    r.lamp_rays = 16
+    assert r.relight(None, lights=[lamp], background="black").min() >= 0
+    with pytest.raises(ac.Error, match="lamp rays '50'"):
+        r.lamp_rays = 50
+    assert r.lamp_rays == 16
+    r.lamp_rays = 64
+    r.light_mode = "lattice"
     batch = r.relight_batch([ac.Environment("sky")], lights=[lamp], background="alpha")
     assert batch.min() >= 0
     assert (r.shading(raw, keep_negative=True) < 0).any() and r.shading(raw).min() >= 0

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "cluster/compress.h"
+#include "core/error.h"
 #include "model/model_file.h"
 #include "precompute/scene.h"
 #include "precompute/sphere_light_reference.h"
@@ -29,9 +30,9 @@ constexpr float kAlbedo = 0.8f;
 const Material kGrey{Material::Type::Diffuse, {kAlbedo, kAlbedo, kAlbedo}};
 
 std::vector<float> lampRows(const std::string& path, const std::string& spec,
-                            LampMode mode = LampMode::Exact) {
+                            const LampSettings& settings = {}) {
   const RelightSource source = openRelightSource(path);
-  return source.relightLocal({parseLocalLight(spec)}, kAnchorSpreadTexels, mode);
+  return source.relightLocal({parseLocalLight(spec)}, kAnchorSpreadTexels, settings);
 }
 
 Vec3 positionOf(const TransportHeader& h, long long r) {
@@ -100,55 +101,58 @@ TEST(SphereLamps, APenumbraOnAFloorIsAsWideAsItsClosedForm) {
   const std::string path = precomputed(dir, s, 8);
   const TransportReader t(path);
   const std::string spec = concat("sphere:", centre.x(), ",", centre.y(), ",0,", kRadius, ",50");
-  const std::vector<float> rows = lampRows(path, spec);
-  const auto signedT = [&](double x) {  // the line from (x, 0) through the edge
-    const Eigen::Vector2d from(x, 0), along = Eigen::Vector2d(kEdgeX, kEdgeY) - from;
-    const Eigen::Vector2d toCentre = Eigen::Vector2d(centre.x(), centre.y()) - from;
-    return (along.y() * toCentre.x() - along.x() * toCentre.y()) / along.norm() / kRadius;
-  };
-  // The lit share per image column over the middle rows (|z| < 0.06).
-  std::map<int, std::pair<double, int>> columns;  // column -> (share sum, count), x
-  std::map<int, double> xOfColumn;
-  const int width = t.header().camera.size.width;
-  for (long long r = 0; r < t.rows(); ++r) {
-    const Vec3 p = positionOf(t.header(), r);
-    if (std::abs(p.z()) > 0.06 || p.y() > 0.5) continue;  // the floor only
-    const Vec3 toLight = centre - p;
-    const double d = toLight.norm();
-    const double whole = kAlbedo * 50 * std::pow(kRadius / d, 2) * toLight.y() / d;
-    auto& [sum, count] = columns[t.header().pixels[r] % width];
-    sum += rows[3 * r] / whole, ++count;
-    xOfColumn[t.header().pixels[r] % width] = p.x();
-  }
-  std::vector<std::pair<double, double>> profile;  // x, share
-  for (const auto& [column, sc] : columns)
-    profile.push_back({xOfColumn[column], sc.first / sc.second});
-  std::sort(profile.begin(), profile.end());
-  ASSERT_GT(profile.size(), 100u);
-  EXPECT_LT(profile.front().second, 1e-6);      // the umbra, every ray blocked
-  EXPECT_NEAR(profile.back().second, 1, 1e-5);  // the whole lamp, in closed form
-  const auto crossing = [&](double share) {     // first x where the profile passes `share`
-    for (size_t i = 1; i < profile.size(); ++i)
-      if (profile[i].second >= share) {
-        const auto [x0, s0] = profile[i - 1];
-        const auto [x1, s1] = profile[i];
-        return x0 + (share - s0) / (s1 - s0) * (x1 - x0);
-      }
-    return profile.back().first;
-  };
-  const auto closedCrossing = [&](double share) {  // bisection: the share grows with x
-    double lo = -0.5, hi = 1.5;
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (visibleShare(signedT(mid)) < share ? lo : hi) = mid;
+  for (const int rays : {16, kDefaultSphereLampRays}) {
+    const std::vector<float> rows = lampRows(path, spec, {LampMode::Exact, rays});
+    const auto signedT = [&](double x) {  // the line from (x, 0) through the edge
+      const Eigen::Vector2d from(x, 0), along = Eigen::Vector2d(kEdgeX, kEdgeY) - from;
+      const Eigen::Vector2d toCentre = Eigen::Vector2d(centre.x(), centre.y()) - from;
+      return (along.y() * toCentre.x() - along.x() * toCentre.y()) / along.norm() / kRadius;
+    };
+    // The lit share per image column over the middle rows (|z| < 0.06).
+    std::map<int, std::pair<double, int>> columns;  // column -> (share sum, count), x
+    std::map<int, double> xOfColumn;
+    const int width = t.header().camera.size.width;
+    for (long long r = 0; r < t.rows(); ++r) {
+      const Vec3 p = positionOf(t.header(), r);
+      if (std::abs(p.z()) > 0.06 || p.y() > 0.5) continue;  // the floor only
+      const Vec3 toLight = centre - p;
+      const double d = toLight.norm();
+      const double whole = kAlbedo * 50 * std::pow(kRadius / d, 2) * toLight.y() / d;
+      auto& [sum, count] = columns[t.header().pixels[r] % width];
+      sum += rows[3 * r] / whole, ++count;
+      xOfColumn[t.header().pixels[r] % width] = p.x();
     }
-    return 0.5 * (lo + hi);
-  };
-  const double measured = crossing(0.9) - crossing(0.1);
-  const double expected = closedCrossing(0.9) - closedCrossing(0.1);
-  EXPECT_NEAR(measured / expected, 1, 0.05) << measured << " against " << expected;
-  RecordProperty("penumbra_width_10_90", std::to_string(measured));
-  RecordProperty("closed_form_width_10_90", std::to_string(expected));
+    std::vector<std::pair<double, double>> profile;  // x, share
+    for (const auto& [column, sc] : columns)
+      profile.push_back({xOfColumn[column], sc.first / sc.second});
+    std::sort(profile.begin(), profile.end());
+    ASSERT_GT(profile.size(), 100u);
+    EXPECT_LT(profile.front().second, 1e-6);      // the umbra, every ray blocked
+    EXPECT_NEAR(profile.back().second, 1, 1e-5);  // the whole lamp, in closed form
+    const auto crossing = [&](double share) {     // first x where the profile passes `share`
+      for (size_t i = 1; i < profile.size(); ++i)
+        if (profile[i].second >= share) {
+          const auto [x0, s0] = profile[i - 1];
+          const auto [x1, s1] = profile[i];
+          return x0 + (share - s0) / (s1 - s0) * (x1 - x0);
+        }
+      return profile.back().first;
+    };
+    const auto closedCrossing = [&](double share) {  // bisection: the share grows with x
+      double lo = -0.5, hi = 1.5;
+      for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (visibleShare(signedT(mid)) < share ? lo : hi) = mid;
+      }
+      return 0.5 * (lo + hi);
+    };
+    const double measured = crossing(0.9) - crossing(0.1);
+    const double expected = closedCrossing(0.9) - closedCrossing(0.1);
+    EXPECT_NEAR(measured / expected, 1, 0.05)
+        << measured << " against " << expected << ", " << rays << " rays";
+    RecordProperty(concat("penumbra_width_10_90 rays ", rays), std::to_string(measured));
+    RecordProperty("closed_form_width_10_90", std::to_string(expected));
+  }
 }
 
 TEST(SphereLamps, ABoxShadowMatchesShadowRaysRenderedApartFromTransportAndModel) {
@@ -165,15 +169,20 @@ TEST(SphereLamps, ABoxShadowMatchesShadowRaysRenderedApartFromTransportAndModel)
   const double radius = 0.25;
   const std::string spec =
       concat("sphere:", centre.x(), ",", centre.y(), ",", centre.z(), ",", radius, ",10");
-  const std::vector<float> exact = lampRows(path, spec);
   const auto reference =
       renderSphereLightReference(s, {centre, radius, Eigen::Vector3d::Constant(10)}, 1, 400);
-  ASSERT_EQ(exact.size(), reference.size());
-  double err = 0, norm = 0;
-  for (size_t i = 0; i < exact.size(); ++i)
-    err += std::pow(double(exact[i]) - reference[i], 2), norm += std::pow(double(reference[i]), 2);
-  EXPECT_LT(std::sqrt(err / norm), 0.01);
-  RecordProperty("relative_l2_against_shadow_rays", std::to_string(std::sqrt(err / norm)));
+  // Fewer rays add noise in the penumbra, nothing else.
+  for (const auto& [rays, bound] : {std::pair{16, 0.02}, std::pair{kDefaultSphereLampRays, 0.01}}) {
+    const std::vector<float> rows = lampRows(path, spec, {LampMode::Exact, rays});
+    ASSERT_EQ(rows.size(), reference.size());
+    double err = 0, norm = 0;
+    for (size_t i = 0; i < rows.size(); ++i)
+      err += std::pow(double(rows[i]) - reference[i], 2), norm += std::pow(double(reference[i]), 2);
+    EXPECT_LT(std::sqrt(err / norm), bound) << rays << " rays";
+    RecordProperty(concat("relative_l2_against_shadow_rays rays ", rays),
+                   std::to_string(std::sqrt(err / norm)));
+  }
+  const std::vector<float> exact = lampRows(path, spec);
   EXPECT_EQ(lampRows(model, spec), exact);
   tbb::task_arena one(1);
   EXPECT_EQ(one.execute([&] { return lampRows(path, spec); }), exact);
@@ -202,6 +211,21 @@ TEST(SphereLamps, ASpotOfHalfAngleNinetyDegreesLightsItsHalfSpace) {
   }
   EXPECT_GT(lit, 100);
   EXPECT_GT(dark, 100);
+}
+
+TEST(SphereLamps, LampRaysAreASquareFromFourTo256) {
+  EXPECT_EQ(parseSphereLampRays("4"), 4);
+  EXPECT_EQ(parseSphereLampRays("64"), 64);
+  EXPECT_EQ(parseSphereLampRays("256"), 256);
+  for (const char* bad : {"1", "50", "289", "0", "-16", "16x", "", "abc", "1e9"}) {
+    try {
+      parseSphereLampRays(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const ParameterError& e) {
+      EXPECT_EQ(e.value(), bad);
+      EXPECT_NE(std::string(e.what()).find("square from 4 to 256"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
