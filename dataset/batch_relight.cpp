@@ -144,11 +144,14 @@ class LocalLightRows {
       const Stopwatch watch;
       rows_ = sets_[set].empty() ? std::vector<float>()
                                  : source_.relightLocal(sets_[set], anchorSpread_, lamps_);
+      relit_ += !sets_[set].empty();
       current_ = set;
       seconds_ += watch.seconds();
     }
     return rows_;
   }
+  /// How many light sets this relit (this rank's).
+  long long relit() const { return relit_; }
 
  private:
   const RelightSource& source_;
@@ -158,6 +161,7 @@ class LocalLightRows {
   double& seconds_;
   size_t current_ = static_cast<size_t>(-1);
   std::vector<float> rows_;
+  long long relit_ = 0;
 };
 
 /// Refuses a batch whose frames, uncompressed in every format (an upper
@@ -855,6 +859,8 @@ struct BatchRun {
   UncoveredLighting uncovered;
   long long framesWithNegatives = 0;  ///< rank 0: frames written with values below zero
   NegativeClamp negatives;
+  /// This rank's lamps: shadow rays traced, and covered pixels relit (rows x light sets).
+  long long lampShadowRays = 0, lampPixels = 0;
 };
 
 /// Refuses, before any frame, what a captured light set cannot do: show the
@@ -911,6 +917,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   std::vector<double>& msPerFrame = run.msPerFrame;
   const DomainLighting domain(source.header);
   LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
+  const long long raysBefore = source.lampShadowRays();
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<Frame>& frames = run.viewFrames;
   const int rank = ranks::rank();
@@ -971,6 +978,8 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
             });
       });
   gather.finish();
+  run.lampShadowRays += source.lampShadowRays() - raysBefore;
+  run.lampPixels += localRows.relit() * source.header.rows();
   if (!writing) return frames.size();
   writing->finish();
   stages.writing += writing->writingSeconds();
@@ -1075,6 +1084,12 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
   result.stages = stages;
   result.json["stages"] = stages.json(static_cast<long long>(frames));
   result.json["frames_per_second"] = stages.wall > 0 ? frames / stages.wall : 0.0;
+  if (run.lampShadowRays > 0) {
+    const double perPixel = double(run.lampShadowRays) / double(std::max(1LL, run.lampPixels));
+    result.json["lamp_shadow_rays"] = {{"total", run.lampShadowRays},
+                                       {"per_covered_pixel", perPixel}};
+    result.summary += concat("; lamps: ", perPixel, " shadow rays per covered pixel");
+  }
   result.summary += concat("; ", frames, " frame(s) written in ", stages.wall, " s (",
                            stages.wall > 0 ? frames / stages.wall : 0.0, " frames/s)");
   result.json["outputs"] = std::move(run.outputs);

@@ -48,8 +48,9 @@ LampRay lampRay(const TransportHeader& h, const LocalLight& lamp, long long s) {
 
 /// A point or spot lamp's light on rows [first, end), added to
 /// acc[row - first]: a shadow ray per sample.
-void addPointLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
-                  long long first, long long end, std::vector<Rgb>& acc) {
+long long addPointLamp(const TransportHeader& h, const SceneOccluder& occluder,
+                       const LocalLight& lamp, long long first, long long end,
+                       std::vector<Rgb>& acc) {
   const LampGeometry& g = h.lamps;
   std::vector<double> rowLight(static_cast<size_t>(end - first), 0.0);
   ShadowRayBatch batch(occluder, g.rayEpsilon,
@@ -61,6 +62,7 @@ void addPointLamp(const TransportHeader& h, const SceneOccluder& occluder, const
     }
   batch.flush();
   for (long long r = first; r < end; ++r) acc[r - first] += rowLight[r - first] * lamp.emission;
+  return batch.rays();
 }
 
 }  // namespace
@@ -110,17 +112,19 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights,
   // Sphere lamps probe first: a row's rays depend on its neighbours' probes.
   std::vector<std::vector<LampSight>> sight(lights.size());
   for (size_t i = 0; i < lights.size(); ++i)
-    if (lights[i].sphere()) sight[i] = sphereLampSight(header_, *occluder_, lights[i], rowOfPixel_);
+    if (lights[i].sphere())
+      sight[i] = sphereLampSight(header_, *occluder_, lights[i], rowOfPixel_, rays_);
   // Each row sums its lamps in order, then its samples in order, whatever
   // the blocks: the same values for any thread count.
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 256), [&](const auto& range) {
     std::vector<Rgb> acc(static_cast<size_t>(range.size()), Rgb::Zero());
+    long long rays = 0;
     for (size_t i = 0; i < lights.size(); ++i)
-      if (lights[i].sphere())
-        addSphereLamp(header_, *occluder_, lights[i], sight[i], sphereRays, range.begin(),
-                      range.end(), acc);
-      else
-        addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
+      rays += lights[i].sphere()
+                  ? addSphereLamp(header_, *occluder_, lights[i], sight[i], sphereRays,
+                                  range.begin(), range.end(), acc)
+                  : addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
+    rays_ += rays;
     for (long long r = range.begin(); r < range.end(); ++r)
       for (int c = 0; c < 3; ++c)
         out[3 * r + c] = static_cast<float>(header_.albedo[3 * r + c] * acc[r - range.begin()][c]);

@@ -6,6 +6,7 @@
 // sample's BRDF, as the precompute would have traced the lamp itself. The
 // lattice path (relight/local_relight.h) is what files without lamp
 // geometry and files with bounced light still take.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -65,12 +66,15 @@ class ExactLamps {
   /// `sphereRays`: a sphere lamp's rays per sample in a penumbra (a square).
   std::vector<float> relight(const std::vector<LocalLight>& lights,
                              int sphereRays = kDefaultSphereLampRays) const;
+  /// The shadow rays traced so far, by every call.
+  long long shadowRays() const { return rays_; }
 
  private:
   const TransportHeader& header_;
   mutable std::once_flag built_;
   mutable std::unique_ptr<SceneOccluder> occluder_;
   mutable std::vector<std::int32_t> rowOfPixel_;  ///< sphere lamps' pixel neighbourhoods
+  mutable std::atomic<long long> rays_{0};
 };
 
 /// The rows (rows x 3) of all of `lights`: exactly when the settings' mode

@@ -55,6 +55,7 @@ class LampsOfFile {
       std::call_once(state_->warned, [&] { warn(latticeLampsWarning(state_->path, state_->why)); });
     });
   }
+  long long shadowRays() const { return state_->exact ? state_->exact->shadowRays() : 0; }
 
  private:
   static const TransportHeader& headerOf(const ModelRelighter& m) { return m.geometry(); }
@@ -101,9 +102,11 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     // The columns local lights meet, kept from frame to frame (made at the
     // first local light: environment-only runs never need them).
     auto kept = std::make_shared<std::optional<LocalLightColumns>>();
-    s.relightLocal = [relighter = s.model, path, kept, lamps = LampsOfFile(s.model, path, true)](
-                         const std::vector<LocalLight>& lights, double anchorSpread,
-                         const LampSettings& settings) {
+    const LampsOfFile lamps(s.model, path, true);
+    s.lampShadowRays = [lamps] { return lamps.shadowRays(); };
+    s.relightLocal = [relighter = s.model, path, kept, lamps](const std::vector<LocalLight>& lights,
+                                                              double anchorSpread,
+                                                              const LampSettings& settings) {
       requireLocalLightsApply(relighter->geometry(), path, true, lights);
       return lamps.relight(lights, settings, [&](const std::vector<LocalLight>& some) {
         if (!*kept) kept->emplace(relighter->packed());
@@ -127,9 +130,10 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     ms.assign(l.size(), watch.milliseconds() / std::max<size_t>(1, l.size()));
     return out;
   };
-  s.relightLocal = [transport, path, lamps = LampsOfFile(transport, path, false)](
-                       const std::vector<LocalLight>& lights, double,
-                       const LampSettings& settings) {
+  const LampsOfFile lamps(transport, path, false);
+  s.lampShadowRays = [lamps] { return lamps.shadowRays(); };
+  s.relightLocal = [transport, path, lamps](const std::vector<LocalLight>& lights, double,
+                                            const LampSettings& settings) {
     requireLocalLightsApply(transport->header(), path, false, lights);
     return lamps.relight(lights, settings, [&](const std::vector<LocalLight>& some) {
       return denseLocalRelight(*transport, some);

@@ -45,6 +45,8 @@ struct RelightSource {
   std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread,
                                    const LampSettings& settings)>
       relightLocal;
+  /// The shadow rays its exact lamps have traced so far (0 where none).
+  std::function<long long()> lampShadowRays = [] { return 0LL; };
 };
 
 /// Frames a batch relights together: a transport shares one pass over T among

@@ -30,8 +30,12 @@ class ShadowRayBatch {
     packet_.dx[i] = direction.x(), packet_.dy[i] = direction.y(), packet_.dz[i] = direction.z();
     packet_.nearest[i] = nearest_, packet_.farthest[i] = farthest;
     pending_[i] = {tag, light};
+    ++rays_;
     if (packet_.count == SceneOccluder::kPacket) flush();
   }
+
+  /// How many rays were added.
+  long long rays() const { return rays_; }
 
   /// Traces what is queued.
   void flush() {
@@ -47,6 +51,7 @@ class ShadowRayBatch {
   float nearest_;
   Reached reached_;
   SceneOccluder::Packet packet_;
+  long long rays_ = 0;
   std::array<std::pair<std::int64_t, double>, SceneOccluder::kPacket> pending_;
 };
 

@@ -153,7 +153,8 @@ std::vector<std::int32_t> rowsOfPixels(const TransportHeader& h) {
 
 std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccluder& occluder,
                                        const LocalLight& lamp,
-                                       const std::vector<std::int32_t>& rowOfPixel) {
+                                       const std::vector<std::int32_t>& rowOfPixel,
+                                       std::atomic<long long>& rays) {
   const LampGeometry& g = h.lamps;
   const int width = h.camera.size.width, height = h.camera.size.height;
   std::vector<std::int8_t> probe(static_cast<size_t>(g.samples()), kNoProbe);
@@ -174,6 +175,7 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
       }
     }
     batch.flush();
+    rays += batch.rays();
   });
   std::vector<LampSight> sight(static_cast<size_t>(h.rows()));
   tbb::parallel_for(tbb::blocked_range<long long>(0, h.rows(), 1024), [&](const auto& range) {
@@ -196,9 +198,9 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
   return sight;
 }
 
-void addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder, const LocalLight& lamp,
-                   const std::vector<LampSight>& sight, int rays, long long first, long long end,
-                   std::vector<Rgb>& acc) {
+long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
+                        const LocalLight& lamp, const std::vector<LampSight>& sight, int rays,
+                        long long first, long long end, std::vector<Rgb>& acc) {
   const std::vector<Eigen::Vector2d> strata = strataPoints(rays);
   const LampGeometry& g = h.lamps;
   const long long firstSample = g.sampleStart[first];
@@ -241,6 +243,7 @@ void addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder, cons
     }
     acc[r - first] += sum * lamp.emission;
   }
+  return batch.rays();
 }
 
 }  // namespace acpca

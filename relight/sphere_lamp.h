@@ -7,6 +7,7 @@
 // whose neighbourhood saw all of its probes reach the lamp (or none) is
 // lit whole (or not at all) without more rays, and the rest trace a
 // stratified set over the cap.
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -23,20 +24,20 @@ enum class LampSight : std::uint8_t { Hidden, Whole, Partly };
 std::vector<std::int32_t> rowsOfPixels(const TransportHeader& header);
 
 /// One probe per sample (the cap's point its pixel's place in a 3x3 tile
-/// picks) and, per row, what its neighbourhood's probes saw. Parallel; the
-/// same for any thread count.
+/// picks) and, per row, what its neighbourhood's probes saw; the probes
+/// traced are added to `rays`. Parallel; the same for any thread count.
 std::vector<LampSight> sphereLampSight(const TransportHeader& header, const SceneOccluder& occluder,
                                        const LocalLight& lamp,
-                                       const std::vector<std::int32_t>& rowOfPixel);
+                                       const std::vector<std::int32_t>& rowOfPixel,
+                                       std::atomic<long long>& rays);
 
 /// One sphere lamp's light on rows [first, end), added to acc[row - first]
-/// (albedo not applied): per sample L x the integral of f/albedo x cos over
-/// the cap, in closed form for a diffuse sample seeing the whole cap above
-/// its horizons, else over `rays` strata (an n x n grid of the square,
-/// jittered, mapped onto the cap and turned by an angle seeded by the
-/// sample's index), each traced where the row's sight is Partly.
-void addSphereLamp(const TransportHeader& header, const SceneOccluder& occluder,
-                   const LocalLight& lamp, const std::vector<LampSight>& sight, int rays,
-                   long long first, long long end, std::vector<Rgb>& acc);
+/// (albedo not applied), returning the rays it traced: per sample L x the integral of f/albedo x
+/// cos over the cap, in closed form for a diffuse sample seeing the whole cap above its horizons,
+/// else over `rays` strata (an n x n grid of the square, jittered, mapped onto the cap and turned
+/// by an angle seeded by the sample's index), each traced where the row's sight is Partly.
+long long addSphereLamp(const TransportHeader& header, const SceneOccluder& occluder,
+                        const LocalLight& lamp, const std::vector<LampSight>& sight, int rays,
+                        long long first, long long end, std::vector<Rgb>& acc);
 
 }  // namespace acpca

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "model/model_file.h"
 #include "tests/cli/image_pixels.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
@@ -470,6 +471,19 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   EXPECT_NEAR(stages["frames_per_second"].get<double>() * wall, 12, 1e-6);
   EXPECT_NEAR(stages["stages"]["shading"]["share_of_wall"].get<double>(), seconds("shading") / wall,
               1e-9);
+  EXPECT_FALSE(stages.contains("lamp_shadow_rays"));  // no lamp, no rays
+  // A lamp's shadow rays: at most one per traced camera sample for a point lamp.
+  ASSERT_EQ(runCli(relight + "--light point:0.3,3,2,20 --background black --out " +
+                   out.file("lamp.exr") + " --json " + out.file("lamp.json"))
+                .status,
+            0);
+  const auto lamp = nlohmann::json::parse(std::ifstream(out.file("lamp.json")));
+  ASSERT_TRUE(lamp.contains("lamp_shadow_rays")) << lamp.dump();
+  EXPECT_GT(lamp["lamp_shadow_rays"]["total"].get<long long>(), 0);
+  const double perPixel = lamp["lamp_shadow_rays"]["per_covered_pixel"].get<double>();
+  EXPECT_GT(perPixel, 0);
+  const Model m = readModel(model);
+  EXPECT_LE(perPixel, double(m.geometry.lamps.samples()) / double(m.geometry.rows()));
 
   // No bases (and no means in this model): every object pixel is black, while
   // the background still shows the environment.

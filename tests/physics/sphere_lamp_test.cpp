@@ -16,6 +16,7 @@
 #include "precompute/scene.h"
 #include "precompute/sphere_light_reference.h"
 #include "precompute/transport_renderer.h"
+#include "relight/lamp_light.h"
 #include "relight/local_relight.h"
 #include "relight/relight_source.h"
 #include "relight/sphere_lamp.h"
@@ -72,8 +73,15 @@ TEST(SphereLamps, AnOpenFloorIsTheClosedFormWithNoRayPastTheProbes) {
     EXPECT_NEAR(exactSum / latticeSum, 1, 0.005) << spec;
     RecordProperty(concat("energy exact / lattice ", spec), std::to_string(exactSum / latticeSum));
     const SceneOccluder occluder(t.header().lamps);
-    const auto sight = sphereLampSight(t.header(), occluder, light, rowsOfPixels(t.header()));
+    std::atomic<long long> probes{0};
+    const auto sight =
+        sphereLampSight(t.header(), occluder, light, rowsOfPixels(t.header()), probes);
     EXPECT_EQ(std::count(sight.begin(), sight.end(), LampSight::Whole), t.rows()) << spec;
+    // One ray a sample, the probe, and no more.
+    const ExactLamps lamps(t.header());
+    lamps.relight({light});
+    EXPECT_EQ(lamps.shadowRays(), t.header().lamps.samples()) << spec;
+    EXPECT_EQ(probes, t.header().lamps.samples()) << spec;
   }
 }
 
