@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Point lamps lit exactly, measured (docs/results.md, "Point and spot lamps,
-# exact"): a lamp frame of the plant's default model (adaptive-quad) against
-# a sky frame of it and the bound the lamps' issue set, a sky frame plus 1.3 x
-# covered pixels / the machine's shadow-ray rate (`bench rays`), beside the
-# lattice path; with the machine's streaming read.
+# Lamps lit exactly, measured (docs/results.md, "Point and spot lamps,
+# exact" and "Sphere lamps, exact"): a lamp frame of the plant's default
+# model (adaptive-quad) against a sky frame of it and the bound the lamps'
+# issue set, a sky frame plus 1.3 x covered pixels / the machine's
+# shadow-ray rate (`bench rays`), beside the lattice path; a sphere lamp at
+# 16 and 64 penumbra rays with the shadow rays per covered pixel; with the
+# machine's streaming read.
 #
 #   bash scripts/bench/exact-lamps.sh OUT_DIR [SIZE (default 1024)]
 set -euo pipefail
@@ -23,6 +25,12 @@ for mode in exact lattice; do
   "$cli" relight model.h5 --light point:-1:1:0.0625,2.6,1.4,100 --light-mode "$mode" \
     --background black --quiet --json "lamp-$mode.json" --out "lamp-$mode"
 done
+# A sphere lamp of the same centre (eight frames), at 16 and 64 penumbra rays.
+rm -rf sphere-16 sphere-64
+for rays in 16 64; do
+  "$cli" relight model.h5 --light sphere:-1:1:0.25,2.6,1.4,0.15,300 --lamp-rays "$rays" \
+    --background black --quiet --json "sphere-$rays.json" --out "sphere-$rays"
+done
 "$cli" info model.h5 --json info.json >/dev/null
 /usr/bin/python3 - <<'PY'
 import json, re
@@ -39,4 +47,9 @@ for mode in ("exact", "lattice"):
     print(f"point lamp, {mode}: {stage['ms_per_frame']:.1f} ms/frame over 32 frames")
 print(f"bound: {sky:.1f} + 1.3 x {covered} / {rays:.1f} M = "
       f"{sky + 1.3 * covered / (rays * 1e3):.1f} ms")
+for n in (16, 64):
+    j = json.load(open(f"sphere-{n}.json"))
+    ms = j["stages"]["local_lights"]["ms_per_frame"]
+    print(f"sphere lamp, {n} penumbra rays: {ms:.1f} ms/frame ({ms / sky:.1f}x sky), "
+          f"{j['lamp_shadow_rays']['per_covered_pixel']:.2f} shadow rays per covered pixel")
 PY
