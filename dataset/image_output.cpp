@@ -47,7 +47,71 @@ const float* scaledPixels(const Image& image, float scale) {
 unsigned char srgbCode(float scaled) {
   return static_cast<unsigned char>(std::lround(linearToSrgb(scaled) * 255));
 }
+
+/// The 16-bit code of a curve value in [0, 1], by the formula itself.
+std::uint16_t srgb16Code(double curve) {
+  return static_cast<std::uint16_t>(std::lround(linearToSrgb(curve) * 65535));
+}
 }  // namespace
+
+Srgb16Encoder::Tables::Tables() : thresholds(65536), bucketCode(kBucketExponents << kBucketBits) {
+  // Non-negative doubles order like their bit patterns: each threshold is the
+  // smallest x with srgb16Code(x) > c, by bisection over the bits, started
+  // around the exact inverse and widened until it brackets the step.
+  const std::uint64_t one = std::bit_cast<std::uint64_t>(1.0);  // srgb16Code(1) = 65535
+  for (int c = 0; c < 65535; ++c) {
+    const std::uint64_t guess = std::bit_cast<std::uint64_t>(srgbToLinear((c + 0.5) / 65535));
+    std::uint64_t span = std::uint64_t(1) << 20;
+    std::uint64_t lo = guess > span ? guess - span : 0, hi = std::min(guess + span, one);
+    while (srgb16Code(std::bit_cast<double>(lo)) > c) lo = lo > span ? lo - (span <<= 1) : 0;
+    while (hi < one && srgb16Code(std::bit_cast<double>(hi)) <= c)
+      hi = std::min(hi + (span <<= 1), one);
+    while (lo < hi) {
+      const std::uint64_t mid = lo + (hi - lo) / 2;
+      if (srgb16Code(std::bit_cast<double>(mid)) > c)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    thresholds[c] = std::bit_cast<double>(lo);
+  }
+  thresholds[65535] = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < bucketCode.size(); ++k)
+    bucketCode[k] =
+        srgb16Code(std::bit_cast<double>(kFirstBucket + (std::uint64_t(k) << (52 - kBucketBits))));
+}
+
+Srgb16Encoder::Srgb16Encoder(double exposureEv, ToneCurve tone)
+    : scale_(std::exp2(exposureEv)), tone_(tone), tables_(tables()) {}
+
+const Srgb16Encoder::Tables& Srgb16Encoder::tables() {
+  static const Tables shared;
+  return shared;
+}
+
+std::uint16_t Srgb16Encoder::operator()(float linear) const {
+  const double curve = toneMapped(double(linear) * scale_, tone_);
+  if (!(curve > 0)) return 0;  // zero or NaN
+  if (curve >= 1) return 65535;
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(curve);
+  int code =
+      bits < kFirstBucket ? 0 : tables_.bucketCode[(bits - kFirstBucket) >> (52 - kBucketBits)];
+  while (curve >= tables_.thresholds[code]) ++code;  // thresholds[65535] is infinite
+  return static_cast<std::uint16_t>(code);
+}
+
+void Srgb16Encoder::encodeInto(const Image& image, std::vector<std::uint16_t>& values) const {
+  values.resize(image.pixels.size());
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, values.size(), 1 << 14),
+      [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i)
+          values[i] = image.channels == 4 && i % 4 == 3
+                          ? static_cast<std::uint16_t>(
+                                std::lround(std::clamp(double(image.pixels[i]), 0.0, 1.0) * 65535))
+                          : (*this)(image.pixels[i]);
+      });
+}
 
 SrgbEncoder::Tables::Tables() {
   // Non-negative floats order like their bit patterns, so each threshold is
@@ -120,23 +184,11 @@ void encodePng8(int width, int height, int channels, const unsigned char* values
 
 namespace {
 
-/// 16-bit sRGB: round(65535 linearToSrgb(tone(v 2^exposure))), alpha as
-/// coverage; by the formula, value by value (no table has 65,536 steps).
+/// 16-bit sRGB (Srgb16Encoder), alpha as coverage.
 void encodePng16(const Image& image, const std::string& file, const std::string& path,
                  double exposureEv, const ImageEncoding& encoding) {
-  const double scale = std::exp2(exposureEv);
-  std::vector<std::uint16_t>& values = frameScratch<std::uint16_t>(image.pixels.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, values.size(), 1 << 14),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t i = range.begin(); i != range.end(); ++i) {
-                        const double v = image.pixels[i];
-                        const double coded =
-                            image.channels == 4 && i % 4 == 3
-                                ? std::clamp(v, 0.0, 1.0)
-                                : linearToSrgb(toneMapped(v * scale, encoding.tone));
-                        values[i] = static_cast<std::uint16_t>(std::lround(coded * 65535));
-                      }
-                    });
+  std::vector<std::uint16_t>& values = frameScratch<std::uint16_t>(0);
+  Srgb16Encoder(exposureEv, encoding.tone).encodeInto(image, values);
   ImageWriteSpec spec{image.width, image.height, image.channels, PixelType::UInt16};
   spec.integerAttributes = {{"png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9)}};
   writeImageFile(file, spec, values.data(), path);

@@ -101,4 +101,32 @@ class SrgbEncoder {
   const Tables& tables_;
 };
 
+/// 16-bit sRGB as png16 output writes it: round(65535 * linearToSrgb(tone(v
+/// 2^exposure))) in double. Exact by the same construction as SrgbEncoder:
+/// the 65,535 double thresholds where the code steps up, found by bisection
+/// over the formula itself, and a table of buckets of the curve's value that
+/// leaves a step or two to walk. Built once, on first use (about 20 ms).
+class Srgb16Encoder {
+ public:
+  explicit Srgb16Encoder(double exposureEv = 0, ToneCurve tone = ToneCurve::Clamp);
+  std::uint16_t operator()(float linear) const;
+  /// Every channel of the image into `values` (resized); alpha, if any, is
+  /// coverage: round(65535 clamp(a, 0, 1)).
+  void encodeInto(const Image& image, std::vector<std::uint16_t>& values) const;
+
+ private:
+  static constexpr int kBucketExponents = 24, kBucketBits = 12;
+  static constexpr std::uint64_t kFirstBucket = std::uint64_t(1023 - kBucketExponents) << 52;
+  struct Tables {
+    Tables();
+    std::vector<double> thresholds;         ///< [c]: smallest curve value whose code is c + 1
+    std::vector<std::uint16_t> bucketCode;  ///< code at the start of each bucket
+  };
+  static const Tables& tables();
+
+  double scale_;
+  ToneCurve tone_;
+  const Tables& tables_;
+};
+
 }  // namespace acpca

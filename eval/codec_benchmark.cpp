@@ -78,10 +78,8 @@ StudyOutput runCodecBenchmark(const CodecBenchmarkOptions& o) {
       {"exr float, zip", ImageFormat::Exr, encoding(ExrCompression::Zip, true, 1)}};
   // The values each encoder is handed, made once: sRGB codes, halves, floats.
   const std::vector<unsigned char> codes = SrgbEncoder(0).encode(image);
-  std::vector<std::uint16_t> codes16(image.pixels.size()), halves(image.pixels.size());
-  for (size_t i = 0; i < codes16.size(); ++i)
-    codes16[i] = static_cast<std::uint16_t>(
-        std::lround(linearToSrgb(toneMapped(image.pixels[i], ToneCurve::Clamp)) * 65535));
+  std::vector<std::uint16_t> codes16, halves(image.pixels.size());
+  Srgb16Encoder(0).encodeInto(image, codes16);
   floatToHalfIeee(image.pixels.data(), halves.data(), halves.size());
 
   const std::string ours = (fs::path(o.directory) / ".bench-codecs-ours").string();

@@ -1,8 +1,10 @@
-// The 8-bit sRGB encoder the PNG writer and the viewer share: it must give the
-// very codes of the formula round(255 * srgb(v * 2^EV)) for every value.
+// The sRGB encoders the PNG writers and the viewer share: they must give the
+// very codes of the formulas round(255 or 65535 * srgb(v * 2^EV)) for every value.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -49,6 +51,51 @@ TEST(SrgbEncoder, GivesTheFormulasCodeForEveryValueTried) {
   EXPECT_EQ(encode(std::numeric_limits<float>::quiet_NaN()), 0);
   EXPECT_EQ(encode(1e30f), 255);
   EXPECT_EQ(encode(std::numeric_limits<float>::infinity()), 255);
+}
+
+std::uint16_t formula16(float v, double exposureEv, ToneCurve tone = ToneCurve::Clamp) {
+  const double curve = toneMapped(double(v) * std::exp2(exposureEv), tone);
+  return static_cast<std::uint16_t>(std::lround(linearToSrgb(curve) * 65535));
+}
+
+TEST(Srgb16Encoder, GivesTheFormulasCodeForEveryValueTried) {
+  // Every float in [0, 1] at EV 0 when ACPCA_EXHAUSTIVE is set (1.07e9
+  // values), else every 97th; random values at other exposures and ACES;
+  // one double either side of every step.
+  const Srgb16Encoder encode0(0);
+  const std::uint32_t stride = std::getenv("ACPCA_EXHAUSTIVE") ? 1 : 97;
+  const std::uint32_t one = std::bit_cast<std::uint32_t>(1.0f);
+  long long mismatches = 0;
+  for (std::uint32_t bits = 0; bits <= one; bits += stride) {
+    const float v = std::bit_cast<float>(bits);
+    mismatches += encode0(v) != formula16(v, 0);
+  }
+  EXPECT_EQ(mismatches, 0);
+  for (const ToneCurve tone : {ToneCurve::Clamp, ToneCurve::Aces})
+    for (double ev : {-3.0, 0.0, 1.5, 7.25}) {
+      const Srgb16Encoder encode(ev, tone);
+      std::mt19937 rng(7);
+      std::uniform_real_distribution<float> logValue(-20, 4);
+      for (int i = 0; i < 200000; ++i) {
+        const float v = std::exp2(logValue(rng)) * (ev > 0 ? std::exp2(float(-ev)) : 1.0f);
+        ASSERT_EQ(encode(v), formula16(v, ev, tone)) << "v = " << v << " at EV " << ev;
+      }
+    }
+  for (int c = 1; c < 65536; c += 7) {  // the steps, as curve values: EV 0 keeps them exact
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 70; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (std::lround(linearToSrgb(mid) * 65535) >= c ? hi : lo) = mid;
+    }
+    for (double v : {std::nextafter(hi, 0.0), hi, std::nextafter(hi, 2.0)}) {
+      const float f = static_cast<float>(v);
+      EXPECT_EQ(encode0(f), formula16(f, 0)) << v;
+    }
+  }
+  EXPECT_EQ(encode0(-1.0f), 0);
+  EXPECT_EQ(encode0(std::numeric_limits<float>::quiet_NaN()), 0);
+  EXPECT_EQ(encode0(1e30f), 65535);
+  EXPECT_EQ(encode0(std::numeric_limits<float>::infinity()), 65535);
 }
 
 TEST(SrgbEncoder, LeavesAlphaAsCoverage) {
