@@ -161,18 +161,29 @@ TEST_F(Viewer, ScriptedKeysToggleOverlaysAndSaveWritesTheBatchImage) {
   EXPECT_TRUE(std::filesystem::exists(out.file("saved.exr")));
 }
 
+/// Where the lamp tests put a lamp: between the eye and the plant, above the
+/// view's middle, and the pixel it is drawn at.
+struct LampPlace {
+  Vec3 position;
+  Eigen::Vector2d drawn;
+};
+LampPlace lampPlace(const Camera& camera) {
+  LampPlace p;
+  p.position = camera.eye + 0.4 * (camera.target - camera.eye) +
+               0.1 * (camera.target - camera.eye).norm() * camera.imageUp();
+  double depth = 0;
+  EXPECT_TRUE(camera.project(p.position, p.drawn, depth));
+  return p;
+}
+
 // A light added by script, dragged from where it is drawn and wheeled nearer:
 // it stays under the cursor, the saved frame is relight's image under the
 // lights the viewer reports, and the lamp visibly changes the image.
 TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
   TempDir out;
   const Camera camera = readModel(model()).geometry.camera;
-  // Between the eye and the plant, above the view's middle.
-  const Vec3 start = camera.eye + 0.4 * (camera.target - camera.eye) +
-                     0.1 * (camera.target - camera.eye).norm() * camera.imageUp();
-  Eigen::Vector2d drawn;
+  const auto [start, drawn] = lampPlace(camera);
   double depth = 0;
-  ASSERT_TRUE(camera.project(start, drawn, depth));
   const std::string script = out.file("events.txt");
   std::ofstream(script) << "light point:" << start.x() << "," << start.y() << "," << start.z()
                         << ",4\n"
@@ -208,11 +219,8 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
 TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
   TempDir out;
   const Camera camera = readModel(model()).geometry.camera;
-  const Vec3 start = camera.eye + 0.4 * (camera.target - camera.eye) +
-                     0.1 * (camera.target - camera.eye).norm() * camera.imageUp();
-  Eigen::Vector2d drawn;
+  const auto [start, drawn] = lampPlace(camera);
   double depth = 0;
-  ASSERT_TRUE(camera.project(start, drawn, depth));
   const std::string script = out.file("events.txt");
   std::ofstream(script) << "light sphere:" << start.x() << "," << start.y() << "," << start.z()
                         << ",0.05,400\n"
