@@ -6,6 +6,7 @@
 // ordinary heap.
 #include <cstddef>
 #include <new>
+#include <utility>
 #include <vector>
 
 namespace acpca {
@@ -24,6 +25,17 @@ struct HugePageAllocator {
   template <typename U>
   HugePageAllocator(const HugePageAllocator<U>&) {}
   T* allocate(std::size_t n) { return static_cast<T*>(huge_pages::allocate(n * sizeof(T))); }
+  /// Default-initializes: a vector sized without a value leaves numbers
+  /// unset, for whoever fills every one on many threads (zeroing them first
+  /// would touch every fresh page on one).
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
   void deallocate(T* p, std::size_t n) { huge_pages::release(p, n * sizeof(T)); }
   template <typename U>
   bool operator==(const HugePageAllocator<U>&) const {
@@ -36,6 +48,7 @@ struct HugePageAllocator {
 };
 
 /// A vector whose storage is asked for on huge pages once it is large.
+/// HugePageVector<float>(n) and resize(n) leave the new numbers unset.
 template <typename T>
 using HugePageVector = std::vector<T, HugePageAllocator<T>>;
 

@@ -1,5 +1,6 @@
 // Raw bytes as a model file: refused with a UserError, or read and relit
-// under constant light with a finite result.
+// under constant light with a finite result, by both readers: the
+// relighter's, cluster by cluster from the file, and the whole model's.
 #include "fuzz/fuzz_support.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
@@ -10,11 +11,17 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;
   const std::string path = fuzz::writeInput(data, size, ".h5");
-  return fuzz::runReader([&] {
-    const Model model = readModel(path);
-    const CubeLattice lattice(model.geometry.cubemapResolution);
+  const auto relitFinite = [](ModelRelighter& relighter) {
+    const CubeLattice lattice(relighter.geometry().cubemapResolution);
     const LatticeLighting light = computeLighting(*loadEnvironment("constant:1"), lattice, {});
-    ModelRelighter relighter(model);
     fuzz::requireFinite(relighter.relight(light), "relit value");
+  };
+  fuzz::runReader([&] {
+    ModelRelighter relighter(readPackedModel(path));
+    relitFinite(relighter);
+  });
+  return fuzz::runReader([&] {
+    ModelRelighter relighter(readModel(path));
+    relitFinite(relighter);
   });
 }

@@ -38,6 +38,23 @@ double Model::totalCost() const {
   return clustersCost(ranks, rowOffsets, hasMean, globalBases());
 }
 
+ClusterValues Model::clusterValues(int c) const {
+  ClusterValues v;
+  v.rank = ranks[c];
+  v.rows = rowOffsets[c + 1] - rowOffsets[c];
+  v.globalBases = globalBases();
+  v.precision = precision;
+  v.bases = bases.data() + basisOffsets[c];
+  v.mean = means.data() + static_cast<long long>(c) * v.globalBases;
+  const long long at = coefficientOffsets[c];
+  v.coefficients = precision == CoeffPrecision::F32 ? static_cast<const void*>(coeffF32.data() + at)
+                   : precision == CoeffPrecision::F16
+                       ? static_cast<const void*>(coeffF16.data() + at)
+                       : static_cast<const void*>(coeffI8.data() + at);
+  v.scale = coeffScale.data() + firstBasisIndex(c);
+  return v;
+}
+
 float Model::coefficient(int c, long long r, int k) const {
   const long long i = coefficientOffsets[c] + r * ranks[c] + k;
   switch (precision) {

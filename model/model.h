@@ -24,6 +24,20 @@ CoeffPrecision parseCoeffPrecision(const std::string& text);  // f32 | f16 | i8
 CoeffPrecision parseBasisPrecision(const std::string& text);  // f32 | f16
 const char* coeffPrecisionName(CoeffPrecision p);
 
+/// One cluster's stored values, wherever they are held: its bases W_c^T
+/// (rank rows of N values), its mean (N values) and its coefficients (rows x
+/// rank, row-major, in the model's precision), with its bases' i8 steps.
+struct ClusterValues {
+  int rank = 0;
+  long long rows = 0;
+  int globalBases = 0;
+  CoeffPrecision precision = CoeffPrecision::F32;
+  const float* bases = nullptr;
+  const float* mean = nullptr;
+  const void* coefficients = nullptr;
+  const float* scale = nullptr;  ///< rank values: the i8 steps, else 1
+};
+
 struct Model {
   TransportHeader geometry;  ///< camera, lattice, pixels, albedo, coverage (normals unused)
   std::string method;
@@ -72,6 +86,8 @@ struct Model {
   long long firstBasisIndex(int c) const {
     return globalBases() > 0 ? basisOffsets[c] / globalBases() : 0;
   }
+  /// Cluster c's values, pointing into this model's arrays.
+  ClusterValues clusterValues(int c) const;
   /// The cluster of every row, in the transport's row order.
   std::vector<int> clusterOfRow() const;
 };

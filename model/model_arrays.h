@@ -11,6 +11,23 @@
 
 namespace acpca {
 
+/// The model file at `path`, its format, version and completeness checked.
+h5::Handle openModelFile(const std::string& path);
+
+struct ModelCounts {
+  long long globalBases, clusters;
+};
+
+/// The model's own attributes (past the image header) into m, and the
+/// global basis's shape; N and C checked against the rows and row length.
+ModelCounts readModelAttributes(hid_t f, const std::string& ctx, long long rows, long long l,
+                                Model& m);
+
+/// A model file's header, attributes, cluster rows (a partition of the rows,
+/// checked), offsets, means and steps, but not its global basis, bases or
+/// coefficients (left empty: the caller reads those its own way).
+ModelCounts readModelLayout(hid_t f, const std::string& ctx, Model& m);
+
 /// Marks a file of model clusters (one tile of a streamed build).
 inline constexpr const char* kClustersFormat = "adaptive-cpca model clusters";
 
@@ -31,10 +48,20 @@ std::vector<T> readVector(hid_t f, const std::string& name, hid_t type, hsize_t 
 void readClusterOffsets(hid_t f, Model& m, long long rows, long long n, long long clusters,
                         const std::string& ctx);
 
-/// The cluster arrays of a model file (rows of its clusters in all, n global
-/// bases): offsets checked against the ranks and sizes before the large
-/// arrays are read.
+/// The cluster rows, offsets, means and steps of a model file (rows of its
+/// clusters in all, n global bases): offsets checked against the ranks and
+/// sizes first.
+void readClusterLayout(hid_t f, Model& m, long long rows, long long n, long long clusters,
+                       const std::string& ctx);
+
+/// The same and the bases and coefficients.
 void readClusterArrays(hid_t f, Model& m, long long rows, long long n, long long clusters,
                        const std::string& ctx);
+
+/// The coefficients, in the model's precision (after readClusterLayout).
+void readCoefficients(hid_t f, Model& m, const std::string& ctx);
+
+/// The coefficients' memory type for a precision (half: `half`).
+hid_t coefficientType(CoeffPrecision p, hid_t half);
 
 }  // namespace acpca

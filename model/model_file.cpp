@@ -195,60 +195,6 @@ bool isModelFile(const std::string& path) {
   }
 }
 
-namespace {
-
-/// The model file at `path`, its format, version and completeness checked.
-h5::Handle openModelFile(const std::string& path) {
-  const std::string& ctx = path;
-  h5::Handle file = h5::openFileReadOnly(path);
-  const hid_t f = file.get();
-  if (!h5::hasAttribute(f, "format") || h5::readStringAttribute(f, "format", ctx) != kModelFormat)
-    throw UserError(concat(ctx, ": not an adaptive-cpca model file"));
-  const long long version = h5::readIntAttribute(f, "version", ctx);
-  if (version < kOldestModelVersion || version > kModelVersion)
-    throw UserError(concat(ctx, ": model format version ", version, "; this build reads ",
-                           kOldestModelVersion, " to ", kModelVersion,
-                           version < kOldestModelVersion ? ": compress (or build) it again"
-                                                         : ": written by a newer adaptive-cpca"));
-  if (!h5::hasAttribute(f, "complete") || h5::readIntAttribute(f, "complete", ctx) != 1)
-    throw UserError(concat(ctx, ": the model file is incomplete"));
-  return file;
-}
-
-struct ModelCounts {
-  long long globalBases, clusters;
-};
-
-/// The model's own attributes (past the image header) into m, and the
-/// global basis's shape; N and C checked against the rows and row length.
-ModelCounts readModelAttributes(hid_t f, const std::string& ctx, long long rows, long long l,
-                                Model& m) {
-  m.method = h5::readStringAttribute(f, "method", ctx);
-  m.settings = h5::readStringAttribute(f, "settings", ctx);
-  const long long n = h5::readIntAttribute(f, "global_bases", ctx);
-  const long long clusters = h5::readIntAttribute(f, "clusters", ctx);
-  if (n < 0 || n > l || clusters < 0 || clusters > std::max(rows, 1LL))
-    throw UserError(concat(ctx, ": sizes in the header do not add up"));
-  m.hasMean = h5::readIntAttribute(f, "has_mean", ctx) != 0;
-  // Storage kinds, named as the file's attributes (not as the CLI options).
-  const auto storage = [&](const char* attribute, bool allowI8) {
-    const std::string text = h5::readStringAttribute(f, attribute, ctx);
-    if (text == "f32") return CoeffPrecision::F32;
-    if (text == "f16") return CoeffPrecision::F16;
-    if (text == "i8" && allowI8) return CoeffPrecision::I8;
-    throw UserError(concat(ctx, ": attribute '", attribute, "' is '", text, "'"));
-  };
-  m.precision = storage("coeffs", true);
-  m.basisPrecision = h5::hasAttribute(f, "bases") ? storage("bases", false) : CoeffPrecision::F32;
-  m.transportError = h5::readDoubleAttribute(f, "transport_error", ctx);
-  m.globalEnergyKept = h5::readDoubleAttribute(f, "global_energy_kept", ctx);
-  if (h5::datasetShape(f, "global_basis", ctx) != std::vector<hsize_t>{hsize_t(l), hsize_t(n)})
-    throw UserError(concat(ctx, ": dataset 'global_basis' has the wrong shape"));
-  return {n, clusters};
-}
-
-}  // namespace
-
 ModelSummary readModelSummary(const std::string& path) {
   const h5::Handle file = openModelFile(path);
   const hid_t f = file.get();
@@ -291,23 +237,13 @@ Model readModel(const std::string& path) {
   const h5::Handle file = openModelFile(path);
   const hid_t f = file.get();
   Model m;
-  m.geometry = readImageHeader(f, false, ctx);
-  auto& g = m.geometry;
-  const long long rows = g.rows();
-  const long long l = g.rowLength();
-  const auto [n, clusters] = readModelAttributes(f, ctx, rows, l, m);
-  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg(l, n);
+  const auto [n, clusters] = readModelLayout(f, ctx, m);
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> vg(m.geometry.rowLength(),
+                                                                           n);
   h5::readDataset(f, "global_basis", vg.data(), ctx);
   m.globalBasis = vg;
-  readClusterArrays(f, m, rows, n, clusters, ctx);
-  if (m.rowOffsets.back() != rows) throw UserError(concat(ctx, ": clusters do not cover the rows"));
-  g.validate(ctx);  // pixel indices in range and increasing, albedo and coverage sane
-  std::vector<char> seen(rows, 0);
-  for (auto r : m.clusterRows) {
-    if (r < 0 || r >= rows || seen[r])
-      throw UserError(concat(ctx, ": cluster rows are not a partition"));
-    seen[r] = 1;
-  }
+  m.bases = readVector<float>(f, "bases", H5T_NATIVE_FLOAT, m.basisOffsets.back(), ctx);
+  readCoefficients(f, m, ctx);
   checkModelValues(m, ctx);
   return m;
 }

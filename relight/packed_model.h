@@ -8,10 +8,14 @@
 // can share one.
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/huge_pages.h"
 #include "model/model.h"
+#include "model/model_cluster_reader.h"
 
 namespace acpca {
 
@@ -23,9 +27,28 @@ inline constexpr long long kSpanRows = 8192;
 /// 48 floats) and/or 16 pixels in a row (one run of the image).
 inline constexpr std::uint8_t kRowsConsecutive = 1, kPixelsConsecutive = 2;
 
+/// Where a PackedModel takes a model's large arrays from: a Model in memory,
+/// or a model file read cluster by cluster (ModelClusterReader).
+struct ModelValuesSource {
+  int globalBases = 0;
+  /// V_g(j, k) = globalBasis[j * rowStride + k * columnStride].
+  const float* globalBasis = nullptr;
+  long long rowStride = 0, columnStride = 0;
+  /// Cluster c's bases, rank rows of N floats (each cluster once, before its
+  /// coefficients; any thread).
+  std::function<const float*(int c, ClusterScratch& scratch)> bases;
+  /// Rows [first, first + rows) of cluster c's coefficients, row-major, in the
+  /// model's precision (any thread).
+  std::function<const void*(int c, long long first, long long rows, ClusterScratch& scratch)>
+      coefficients;
+};
+
 struct PackedModel {
   /// Repacks the model's bases and coefficients; the model may be released afterwards.
   explicit PackedModel(const Model& model);
+  /// The same from `layout` (a Model's all but its global basis, bases and
+  /// coefficients) and the arrays of `source`.
+  PackedModel(const Model& layout, const ModelValuesSource& source);
 
   struct Chunk {
     int cluster;
@@ -35,8 +58,11 @@ struct PackedModel {
   long long rows() const { return geometry.rows(); }
   int clusters() const { return static_cast<int>(ranks.size()); }
   long long spans() const { return static_cast<long long>(spanChunks.size()) - 1; }
+  /// The cluster of every row, in the transport's row order (Model::clusterOfRow).
+  std::vector<int> clusterOfRow() const;
 
   TransportHeader geometry;
+  std::string method;
   CoeffPrecision precision;
   CoeffPrecision basisPrecision;
   int globalBases = 0;
@@ -69,14 +95,20 @@ struct PackedModel {
   HugePageVector<std::int8_t> coeffI8;
 
  private:
-  void packGlobalBasis(const Model& m);
-  void packClusterBases(const Model& m);
-  /// Orders the chunks; returns, per chunk in shading order, its first row's
-  /// position in the model's cluster-ordered row list.
+  void packGlobalBasis(const Model& m, const ModelValuesSource& source);
+  void packClusterBases(const Model& m, const ModelValuesSource& source);
+  /// Orders the chunks; returns, per chunk in cluster order (cluster by
+  /// cluster, 16 rows each), its place in the shading order.
   std::vector<long long> orderChunks(const Model& m);
   void markConsecutiveChunks();
   void packAlbedo(const Model& m);
-  void packCoefficients(const Model& m, const std::vector<long long>& firstRowOf);
+  void packCoefficients(const Model& m, const ModelValuesSource& source,
+                        const std::vector<long long>& shadingIndexOf);
 };
+
+/// A model file packed for relighting, its large arrays read cluster by
+/// cluster straight into the packed layout (no copy of the model is kept);
+/// every value checked as readModel checks it.
+std::shared_ptr<const PackedModel> readPackedModel(const std::string& path);
 
 }  // namespace acpca

@@ -74,11 +74,10 @@ class LampsOfFile {
 RelightSource openRelightSource(const std::string& path, const std::string& maxRank) {
   RelightSource s;
   if (isModelFile(path)) {
-    {
-      const Model model = readModel(path);
-      s.method = model.method;
-      s.model = std::make_shared<ModelRelighter>(model);
-    }  // the relighter keeps its own packed copy
+    // Read cluster by cluster into the relighter's layout: no copy of the file's arrays.
+    const std::shared_ptr<const PackedModel> packed = readPackedModel(path);
+    s.method = packed->method;
+    s.model = std::make_shared<ModelRelighter>(packed);
     applyRankLimit(maxRank, *s.model);
     s.header = s.model->geometry();
     s.bytesPerPass = s.model->bytesPerFrame();

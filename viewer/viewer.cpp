@@ -11,7 +11,6 @@
 #include "core/warning.h"
 #include "dataset/envmap_export.h"
 #include "model/model.h"
-#include "model/model_file.h"
 #include "pictures/pictures.h"
 #include "relight/lamp_light.h"
 #include "relight/local_relight.h"
@@ -38,14 +37,15 @@ bool sameRelight(const ViewState& a, const ViewState& b) {
 
 Viewer::Viewer(const ViewerOptions& options) : options_(options) {
   {
-    const Model model = readModel(options.modelPath);
-    relighter_ = std::make_unique<ModelRelighter>(model);
-    const TransportHeader& g = model.geometry;
+    const std::shared_ptr<const PackedModel> packed = readPackedModel(options.modelPath);
+    relighter_ = std::make_unique<ModelRelighter>(packed);
+    const TransportHeader& g = packed->geometry;
     width_ = g.camera.size.width;
     height_ = g.camera.size.height;
-    clusterOfPixel_ = clusterOfPixel(g, model.clusterOfRow());
-    maxRank_ = model.ranks.empty() ? 0 : *std::max_element(model.ranks.begin(), model.ranks.end());
-  }  // the relighter keeps its own packed copy of the model
+    clusterOfPixel_ = clusterOfPixel(g, packed->clusterOfRow());
+    maxRank_ =
+        packed->ranks.empty() ? 0 : *std::max_element(packed->ranks.begin(), packed->ranks.end());
+  }
   latticeLamps_ = exactLampsUnavailable(relighter_->geometry(), true);
   if (latticeLamps_.empty()) exactLamps_ = std::make_unique<ExactLamps>(relighter_->geometry());
   for (const auto& spec : options.envSpecs) envs_.push_back(loadEnvironment(spec));
