@@ -1,5 +1,9 @@
 #include "lighting/sh_lighting.h"
 
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
 #include "core/error.h"
 
 namespace acpca {
@@ -24,21 +28,36 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
   constexpr int kCells = 16;
   const int r = lattice.resolution();
   const double step = 2.0 / r, cell = step / kCells;
-  for (int texel = 0; texel < lattice.size(); ++texel) {
+  const auto corner = [&](int index, int sub) { return -1 + index * step + sub * cell; };
+  // A cell's solid angle depends on its place on a face, not on the face:
+  // found once for one face (most of the work: four atan2 a cell), and the
+  // texels on all cores, each summed in the same order as before.
+  std::vector<double> cellAngle(static_cast<size_t>(r) * r * kCells * kCells);
+  tbb::parallel_for(0, r * r, [&](int place) {
+    const int row = place / r, col = place % r;
+    for (int i = 0; i < kCells; ++i)
+      for (int k = 0; k < kCells; ++k) {
+        const double s0 = corner(col, k), t0 = corner(row, i);
+        cellAngle[(static_cast<size_t>(place) * kCells + i) * kCells + k] =
+            CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+      }
+  });
+  tbb::parallel_for(0, lattice.size(), [&](int texel) {
     const TexelCoord t = lattice.texelCoord(texel);
+    const double* angle = &cellAngle[static_cast<size_t>(t.row * r + t.col) * kCells * kCells];
     std::array<double, 9> sum{};
     double area = 0;
     for (int i = 0; i < kCells; ++i)
       for (int k = 0; k < kCells; ++k) {
-        const double s0 = -1 + t.col * step + k * cell, t0 = -1 + t.row * step + i * cell;
-        const double w = CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+        const double s0 = corner(t.col, k), t0 = corner(t.row, i);
+        const double w = angle[i * kCells + k];
         const auto y = realSh9(
             CubeLattice::faceDirection(t.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized());
         for (int b = 0; b < 9; ++b) sum[b] += w * y[b];
         area += w;
       }
     for (int b = 0; b < 9; ++b) meanY_[texel][b] = sum[b] / area;
-  }
+  });
 }
 
 ShProjector::ShProjector(const DomainLighting& domain) : ShProjector(domain.mapLattice()) {
