@@ -131,6 +131,10 @@ SrgbEncoder::Tables::Tables() {
   for (size_t k = 0; k < bucketCode.size(); ++k)
     bucketCode[k] =
         srgbCode(std::bit_cast<float>(kFirstBucket + (std::uint32_t(k) << (23 - kBucketBits))));
+  // The two steps codeOfScaled takes reach any code inside a bucket.
+  for (size_t k = 0; k < bucketCode.size(); ++k)
+    ACPCA_CHECK((k + 1 < bucketCode.size() ? bucketCode[k + 1] : 255) - bucketCode[k] <= 2,
+                "sRGB bucket ", k, " spans more than two codes");
 }
 
 // The tables hold scaled values, so one set serves every exposure; built once
@@ -143,17 +147,24 @@ const SrgbEncoder::Tables& SrgbEncoder::tables() {
   return shared;
 }
 
-unsigned char SrgbEncoder::operator()(float linear) const {
-  float scaled = linear * scale_;
-  // A curve maps first; the tables then encode its value exactly.
-  if (tone_ != ToneCurve::Clamp) scaled = static_cast<float>(toneMapped(scaled, tone_));
-  if (!(scaled > 0)) return 0;  // negative, zero or NaN
-  if (scaled >= 1) return 255;
-  const std::uint32_t bits = std::bit_cast<std::uint32_t>(scaled);
-  int code =
-      bits < kFirstBucket ? 0 : tables_.bucketCode[(bits - kFirstBucket) >> (23 - kBucketBits)];
-  while (scaled >= tables_.thresholds[code]) ++code;  // thresholds[255] is infinite
+unsigned char SrgbEncoder::codeOfScaled(float scaled) const {
+  // Without branches: negatives and NaN become 0, 1 and above the float just
+  // below 1 (code 255 either way), values below the first bucket its start
+  // (code 0 either way); the bucket's code is then at most two steps short.
+  constexpr float kBelowOne = 0x1.fffffep-1f;
+  const float s = scaled > 0 ? std::min(scaled, kBelowOne) : 0.0f;
+  const std::uint32_t bits = std::max(std::bit_cast<std::uint32_t>(s), kFirstBucket);
+  int code = tables_.bucketCode[(bits - kFirstBucket) >> (23 - kBucketBits)];
+  code += s >= tables_.thresholds[code];  // thresholds[255] is infinite
+  code += s >= tables_.thresholds[code];
   return static_cast<unsigned char>(code);
+}
+
+unsigned char SrgbEncoder::operator()(float linear) const {
+  const float scaled = linear * scale_;
+  // A curve maps first; the tables then encode its value exactly.
+  return codeOfScaled(tone_ == ToneCurve::Clamp ? scaled
+                                                : static_cast<float>(toneMapped(scaled, tone_)));
 }
 
 std::vector<unsigned char> SrgbEncoder::encode(const Image& image) const {
@@ -166,11 +177,17 @@ void SrgbEncoder::encodeInto(const Image& image, std::vector<unsigned char>& byt
   bytes.resize(image.pixels.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, bytes.size(), 1 << 16),
                     [&](const tbb::blocked_range<size_t>& range) {
+                      const float* in = image.pixels.data();
+                      if (tone_ == ToneCurve::Clamp && image.channels != 4) {
+                        for (size_t i = range.begin(); i != range.end(); ++i)
+                          bytes[i] = codeOfScaled(in[i] * scale_);
+                        return;
+                      }
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         const bool alpha = image.channels == 4 && i % 4 == 3;
-                        bytes[i] = alpha ? static_cast<unsigned char>(std::lround(
-                                               std::clamp(image.pixels[i], 0.0f, 1.0f) * 255))
-                                         : (*this)(image.pixels[i]);
+                        bytes[i] = alpha ? static_cast<unsigned char>(
+                                               std::lround(std::clamp(in[i], 0.0f, 1.0f) * 255))
+                                         : (*this)(in[i]);
                       }
                     });
 }

@@ -95,6 +95,8 @@ class SrgbEncoder {
     std::array<unsigned char, (kBucketExponents << kBucketBits)> bucketCode;
   };
   static const Tables& tables();
+  /// The code of an exposed (and tone-mapped) value.
+  unsigned char codeOfScaled(float scaled) const;
 
   float scale_;
   ToneCurve tone_;
