@@ -8,10 +8,12 @@
 #include <cstring>
 #include <numeric>
 #include <type_traits>
+#include <vector>
 #ifdef __AVX2__
 #include <immintrin.h>
 #endif
 
+#include "imageio/whole_file.h"
 #include "imageio/zlib_stream.h"
 
 namespace acpca {
@@ -199,22 +201,38 @@ bool writeExr(const std::string& file, const ExrPixels& p, ExrCodec codec,
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return p.channelNames[a] < p.channelNames[b]; });
+  // Encoded into memory (kept from call to call on each thread), then
+  // written to the file in one call (whole_file.h).
+  struct Stream {
+    std::string* error;
+    std::vector<unsigned char>* bytes;
+  };
+  thread_local std::vector<unsigned char> encoded;
+  encoded.clear();
+  Stream stream{&error, &encoded};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-  init.user_data = &error;
+  init.user_data = &stream;
   init.error_handler_fn = [](exr_const_context_t context, exr_result_t code, const char* message) {
     void* data = nullptr;
     if (exr_get_user_data(context, &data) == EXR_ERR_SUCCESS && data)
-      *static_cast<std::string*>(data) = message ? message : exr_get_default_error_message(code);
+      *static_cast<Stream*>(data)->error = message ? message : exr_get_default_error_message(code);
+  };
+  init.write_fn = [](exr_const_context_t, void* data, const void* buffer, uint64_t size,
+                     uint64_t offset, exr_stream_error_func_ptr_t) -> int64_t {
+    std::vector<unsigned char>& bytes = *static_cast<Stream*>(data)->bytes;
+    if (offset + size > bytes.size()) bytes.resize(offset + size);
+    std::memcpy(bytes.data() + offset, buffer, size);
+    return static_cast<int64_t>(size);
   };
   exr_context_t context = nullptr;
   exr_result_t r = exr_start_write(&context, file.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
   if (!r) r = writeHeader(context, p, codec, order, attributes);
   if (!r) r = writeChunks(context, p, codec, order);
-  // exr_finish writes the offsets; after an error it removes the file.
+  // exr_finish writes the offsets.
   const exr_result_t finished = context ? exr_finish(&context) : r;
   if (!r) r = finished;
   if (r && error.empty()) error = exr_get_default_error_message(r);
-  return r == EXR_ERR_SUCCESS;
+  return r == EXR_ERR_SUCCESS && writeWholeFile(file, encoded.data(), encoded.size(), error);
 }
 
 }  // namespace acpca

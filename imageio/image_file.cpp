@@ -11,6 +11,7 @@
 #include "imageio/exr_encoder.h"
 #include "imageio/exr_reader.h"
 #include "imageio/png_encoder.h"
+#include "imageio/whole_file.h"
 
 namespace acpca {
 
@@ -74,13 +75,7 @@ std::optional<bool> writePngDirectly(const std::string& file, const ImageWriteSp
   }
   const std::vector<unsigned char> bytes = encodePng(
       {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels}, level);
-  std::FILE* out = std::fopen(file.c_str(), "wb");
-  if (!out) return error = std::strerror(errno), false;
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), out) == bytes.size();
-  const int writeErrno = errno;
-  if (std::fclose(out) != 0 || !written)
-    return error = std::strerror(written ? errno : writeErrno), false;
-  return true;
+  return writeWholeFile(file, bytes.data(), bytes.size(), error);
 }
 
 /// An EXR of half or float values by exr_encoder.h; nullopt for PIZ, other
