@@ -27,15 +27,21 @@ void requireBackgroundShown(const TransportHeader& header, Background background
 
 NegativeClamp clampNegative(float* pixels, size_t values, int channels, bool keep) {
   NegativeClamp clamp;
+  // Without branches, so a frame's millions of values vectorize: a value not
+  // >= 0 (negative or NaN) is counted and, unless kept, becomes 0.
+  const auto visit = [&](float& v) {
+    const bool below = !(v >= 0);
+    clamp.values += below;
+    clamp.mostNegative = v < clamp.mostNegative ? v : clamp.mostNegative;
+    if (!keep) v = below ? 0.0f : v;
+  };
+  if (channels != 4) {
+    for (size_t i = 0; i < values; ++i) visit(pixels[i]);
+    return clamp;
+  }
   // Alpha (the fourth of four channels) is coverage: never negative, skipped.
-  const size_t stride = channels == 4 ? 4 : 1, colours = channels == 4 ? 3 : 1;
-  for (size_t p = 0; p < values; p += stride)
-    for (size_t i = p; i < std::min(values, p + colours); ++i) {
-      if (pixels[i] >= 0) continue;
-      ++clamp.values;
-      clamp.mostNegative = std::min(clamp.mostNegative, pixels[i]);
-      if (!keep) pixels[i] = 0;
-    }
+  for (size_t p = 0; p + 3 < values; p += 4)
+    for (size_t c = 0; c < 3; ++c) visit(pixels[p + c]);
   return clamp;
 }
 
