@@ -42,7 +42,7 @@ ModelClusterReader::ModelClusterReader(const std::string& path)
   const DatasetSlices basis(f, path, "global_basis", H5T_NATIVE_FLOAT, {hsize_t(l), hsize_t(n)},
                             ctx);
   globalBasis_.reset(new float[std::max(1LL, l * n)]);  // every value read below
-  const long long blocks = (l + kGlobalBasisBlockRows - 1) / kGlobalBasisBlockRows;
+  const long long blocks = n > 0 ? (l + kGlobalBasisBlockRows - 1) / kGlobalBasisBlockRows : 0;
   std::vector<std::vector<double>> columnSums(blocks);
   tbb::parallel_for(0LL, blocks, [&](long long b) {
     const long long first = b * kGlobalBasisBlockRows,

@@ -123,6 +123,23 @@ TEST(PackedModel, AFileReadClusterByClusterPacksAsTheWholeModel) {
     }
 }
 
+TEST(PackedModel, AModelWithoutGlobalBasesPacksToo) {
+  // N = 0: no bases, means or coefficients; every relit value is 0.
+  Model m = shapedModel(CoeffPrecision::F32, CoeffPrecision::F32);
+  m.globalBasis = Eigen::MatrixXf(m.globalBasis.rows(), 0);
+  std::fill(m.ranks.begin(), m.ranks.end(), 0);
+  std::fill(m.basisOffsets.begin(), m.basisOffsets.end(), 0);
+  std::fill(m.coefficientOffsets.begin(), m.coefficientOffsets.end(), 0);
+  m.bases.clear();
+  m.means.clear();
+  m.coeffF32.clear();
+  m.coeffScale.clear();
+  test::TempDir dir;
+  const std::string path = dir.file("m.h5");
+  writeModel(m, path);
+  expectSamePacking(*readPackedModel(path), PackedModel(m));
+}
+
 TEST(PackedModel, ChunkedDatasetsAreReadThroughHdf5ToTheSameArrays) {
   const Model m = shapedModel(CoeffPrecision::F32, CoeffPrecision::F32);
   test::TempDir dir;
