@@ -106,6 +106,34 @@ void packRows(const ExrPixels& p, const std::vector<int>& order, int y0, int y1,
     pack(static_cast<const std::uint16_t*>(p.values));
 }
 
+/// packRows then reorderAndPredict in one pass, for half values: the
+/// chunk's low bytes then its high bytes (`split`, scratch of the chunk's
+/// size), then each byte's difference from the one before (+128) in `out`,
+/// a loop the compiler vectorizes.
+void prepareHalfRows(const ExrPixels& p, const std::vector<int>& order, int y0, int y1,
+                     unsigned char* split, unsigned char* out) {
+  const size_t channels = p.channelNames.size();
+  const size_t width = static_cast<size_t>(p.width);
+  const size_t halves = width * channels * static_cast<size_t>(y1 - y0);
+  const auto* values = static_cast<const std::uint16_t*>(p.values);
+  unsigned char* low = split;
+  unsigned char* high = split + halves;
+  for (int y = y0; y < y1; ++y)
+    for (int source : order) {
+      const std::uint16_t* v = values + static_cast<size_t>(y) * width * channels + source;
+      for (size_t x = 0; x < width; ++x) {
+        const std::uint16_t h = v[x * channels];
+        low[x] = static_cast<unsigned char>(h);
+        high[x] = static_cast<unsigned char>(h >> 8);
+      }
+      low += width, high += width;
+    }
+  if (halves == 0) return;
+  out[0] = split[0];
+  for (size_t i = 1; i < 2 * halves; ++i)
+    out[i] = static_cast<unsigned char>(split[i] - split[i - 1] + 128);
+}
+
 exr_compression_t compressionOf(ExrCodec codec) {
   switch (codec) {
     case ExrCodec::None:
@@ -135,11 +163,16 @@ exr_result_t writeChunks(exr_context_t context, const ExrPixels& p, ExrCodec cod
   for (int y = 0; y < p.height; y += linesPerChunk) {
     const int y1 = std::min(p.height, y + linesPerChunk);
     const size_t bytes = lineBytes * (y1 - y);
-    packRows(p, order, y, y1, packed.data());
     const unsigned char* chunk = packed.data();
     size_t chunkBytes = bytes;
+    if (codec == ExrCodec::None) packRows(p, order, y, y1, packed.data());
     if (codec != ExrCodec::None) {
-      reorderAndPredict(packed.data(), bytes, prepared.data());
+      if (p.isFloat) {
+        packRows(p, order, y, y1, packed.data());
+        reorderAndPredict(packed.data(), bytes, prepared.data());
+      } else {
+        prepareHalfRows(p, order, y, y1, packed.data(), prepared.data());
+      }
       coded.clear();
       if (codec == ExrCodec::Rle) {
         coded.resize(bytes + bytes / 64 + 2);
@@ -148,7 +181,10 @@ exr_result_t writeChunks(exr_context_t context, const ExrPixels& p, ExrCodec cod
         appendZlibStream(prepared.data(), bytes, kZipLevel, coded);
       }
       // A chunk that would not shrink is stored as it is (readers tell by its size).
-      if (coded.size() < bytes) chunk = coded.data(), chunkBytes = coded.size();
+      if (coded.size() < bytes)
+        chunk = coded.data(), chunkBytes = coded.size();
+      else if (!p.isFloat)
+        packRows(p, order, y, y1, packed.data());  // it held the split bytes
     }
     if (const exr_result_t r = exr_write_scanline_chunk(context, 0, y, chunk, chunkBytes)) return r;
   }
