@@ -80,10 +80,8 @@ std::vector<int> Model::clusterOfRow() const {
 long long frameBytesOf(CoeffPrecision coefficients, CoeffPrecision bases, long long basisValues,
                        long long meanValues, long long coefficientValues,
                        long long globalBasisValues) {
-  const long long coefficientBytes = coefficients == CoeffPrecision::F32   ? 4
-                                     : coefficients == CoeffPrecision::F16 ? 2
-                                                                           : 1;
-  const long long basisBytes = bases == CoeffPrecision::F16 ? 2 : 4;
+  const long long coefficientBytes = storedBytes(coefficients);
+  const long long basisBytes = storedBytes(bases);
   return (basisValues + meanValues) * basisBytes + coefficientValues * coefficientBytes +
          globalBasisValues * 4;
 }

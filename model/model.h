@@ -23,6 +23,10 @@ inline constexpr EnumNames<CoeffPrecision, 3> kCoeffPrecisionNames{
 CoeffPrecision parseCoeffPrecision(const std::string& text);  // f32 | f16 | i8
 CoeffPrecision parseBasisPrecision(const std::string& text);  // f32 | f16
 const char* coeffPrecisionName(CoeffPrecision p);
+/// Bytes of one stored value: 4, 2 or 1.
+inline int storedBytes(CoeffPrecision p) {
+  return p == CoeffPrecision::F32 ? 4 : p == CoeffPrecision::F16 ? 2 : 1;
+}
 
 /// One cluster's stored values, wherever they are held: its bases W_c^T
 /// (rank rows of N values), its mean (N values) and its coefficients (rows x

@@ -115,9 +115,7 @@ const void* ModelClusterReader::readCoefficients(int c, long long first, long lo
   ClusterValues v = valuesOf(c);
   ACPCA_CHECK(first >= 0 && rows >= 0 && first + rows <= v.rows, "rows of cluster ", c);
   const long long values = rows * v.rank;
-  const long long bytes = values * (v.precision == CoeffPrecision::F32   ? 4
-                                    : v.precision == CoeffPrecision::F16 ? 2
-                                                                         : 1);
+  const long long bytes = values * storedBytes(v.precision);
   scratch.coefficients.resize((bytes + sizeof(float) - 1) / sizeof(float));
   sets_->coefficients->read(model_.coefficientOffsets[c] + first * v.rank, values,
                             scratch.coefficients.data());

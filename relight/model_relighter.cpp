@@ -63,10 +63,8 @@ void ModelRelighter::setRankFraction(double fraction) {
 }
 
 long long ModelRelighter::bytesPerFrame(size_t groupFrames) const {
-  const long long elementBytes = m_.precision == CoeffPrecision::F32   ? 4
-                                 : m_.precision == CoeffPrecision::F16 ? 2
-                                                                       : 1;
-  const long long basisBytes = m_.basisPrecision == CoeffPrecision::F16 ? 2 : 4;
+  const long long elementBytes = storedBytes(m_.precision);
+  const long long basisBytes = storedBytes(m_.basisPrecision);
   // V_g, the bases and the means: read once a group.
   long long shared = static_cast<long long>(m_.globalBasis.size()) * 4;
   for (size_t c = 0; c < activeRanks_.size(); ++c)
