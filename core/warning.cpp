@@ -13,7 +13,16 @@ WarningHandler& currentHandler() {
   static WarningHandler h;
   return h;
 }
+thread_local HeldWarnings* innermostHeld = nullptr;
 }  // namespace
+
+HeldWarnings::HeldWarnings() : outer_(innermostHeld) {
+  innermostHeld = this;
+}
+
+HeldWarnings::~HeldWarnings() {
+  innermostHeld = outer_;
+}
 
 WarningHandler setWarningHandler(WarningHandler handler) {
   std::lock_guard lock(handlerMutex());
@@ -22,6 +31,7 @@ WarningHandler setWarningHandler(WarningHandler handler) {
 }
 
 void warn(const std::string& message) {
+  if (innermostHeld) return innermostHeld->held_.push_back(message);
   std::lock_guard lock(handlerMutex());
   if (currentHandler()) currentHandler()(message);
 }

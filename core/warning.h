@@ -5,6 +5,7 @@
 // handler they are dropped.
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace acpca {
 
@@ -15,5 +16,24 @@ WarningHandler setWarningHandler(WarningHandler handler);
 
 /// Reports a warning to the handler (thread-safe; nothing without a handler).
 void warn(const std::string& message);
+
+/// While one lives, warnings raised on its thread are held here instead of
+/// reported: work run in parallel (each task its own) passes them on after,
+/// in input order, whatever the thread count. Nests; what is not taken is
+/// dropped.
+class HeldWarnings {
+ public:
+  HeldWarnings();
+  ~HeldWarnings();
+  HeldWarnings(const HeldWarnings&) = delete;
+  HeldWarnings& operator=(const HeldWarnings&) = delete;
+  /// The warnings held so far, in the order they were raised.
+  std::vector<std::string> take() { return std::move(held_); }
+
+ private:
+  friend void warn(const std::string& message);
+  HeldWarnings* outer_;
+  std::vector<std::string> held_;
+};
 
 }  // namespace acpca

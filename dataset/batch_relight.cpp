@@ -1,10 +1,13 @@
 #include "dataset/batch_relight.h"
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
 #include <memory>
@@ -191,19 +194,56 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
   requireResources(need, a.force);
 }
 
-/// Every lighting of the batch; in a batch, one that cannot be read is
-/// skipped with a warning (and reported), otherwise its error stops the run.
-std::vector<EnvInput> loadInputs(const std::vector<std::string>& specs, bool batch,
-                                 const std::function<void(const std::string&)>& warn) {
+/// A lighting as loaded on some thread: the map, or what stopped it, and
+/// the warnings it raised, held for their turn.
+struct LoadedLighting {
+  std::unique_ptr<Environment> env;
+  std::exception_ptr error;
+  bool userError = false;  ///< the input's fault (a batch skips it)
+  std::vector<std::string> warnings;
+};
+
+/// Every lighting of the batch read at once, each on its own task (decoding
+/// and checking a 2048x1024 map takes tens of milliseconds of one core).
+/// Each task is isolated, so its held warnings are its own.
+std::vector<LoadedLighting> loadLightings(const std::vector<std::string>& specs) {
+  std::vector<LoadedLighting> loaded(specs.size());
+  tbb::parallel_for(size_t(0), specs.size(), [&](size_t k) {
+    tbb::this_task_arena::isolate([&] {
+      LoadedLighting& l = loaded[k];
+      HeldWarnings held;
+      try {
+        l.env = loadEnvironment(specs[k]);
+      } catch (const UserError&) {
+        l.error = std::current_exception(), l.userError = true;
+      } catch (...) {
+        l.error = std::current_exception();
+      }
+      l.warnings = held.take();
+    });
+  });
+  return loaded;
+}
+
+/// The lightings loaded, their warnings and errors in the order given, as
+/// if read one after another: in a batch, one that cannot be read is skipped
+/// with a warning (and reported), otherwise its error stops the run.
+std::vector<EnvInput> takeInputs(const std::vector<std::string>& specs,
+                                 std::vector<LoadedLighting> loaded, bool batch,
+                                 const std::function<void(const std::string&)>& warnOf) {
   std::vector<EnvInput> inputs;
-  for (const auto& spec : specs) {
-    EnvInput in{spec, nullptr, ""};
-    try {
-      in.env = loadEnvironment(spec);
-    } catch (const UserError& e) {
-      if (!batch) throw;
-      in.error = e.what();
-      if (warn) warn(concat("skipping: ", e.what()));
+  for (size_t k = 0; k < specs.size(); ++k) {
+    LoadedLighting& l = loaded[k];
+    for (const std::string& w : l.warnings) warn(w);
+    EnvInput in{specs[k], std::move(l.env), ""};
+    if (l.error) {
+      if (!batch || !l.userError) std::rethrow_exception(l.error);
+      try {
+        std::rethrow_exception(l.error);
+      } catch (const UserError& e) {
+        in.error = e.what();
+      }
+      if (warnOf) warnOf(concat("skipping: ", in.error));
     }
     inputs.push_back(std::move(in));
   }
@@ -948,19 +988,22 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   std::vector<size_t> mine;
   for (long long i : ranks::itemsOfThisRank(static_cast<long long>(frames.size())))
     mine.push_back(static_cast<size_t>(i));
-  const auto lightingOf = [&](size_t k) {
+  std::mutex uncoveredMutex;
+  const auto lightingOf = [&](size_t k) {  // on several threads at once
     const Frame& f = frames[mine[k]];
-    const Stopwatch watch;
     double uncovered = 0;
     LatticeLighting lighting = domain(*f.input->env, f.rotation, a.rotationMode, &uncovered);
-    run.uncovered.note(uncovered);
+    {
+      const std::lock_guard<std::mutex> lock(uncoveredMutex);
+      run.uncovered.note(uncovered);
+    }
     if (writing) writing->noteLighting(mine[k], lighting);
-    stages.lighting += watch.seconds();
     return lighting;
   };
   const ImageComposer composer(source.header);
   relightInGroups(
-      mine.size(), lightingOf, [&](size_t g, const std::vector<LatticeLighting>& lightings) {
+      mine.size(), lightingOf,
+      [&](size_t g, const std::vector<LatticeLighting>& lightings) {
         const auto backgroundOf = [&](size_t k, float* pixels) {
           const Frame& f = frames[mine[g + k]];
           composer.background(a.background, *f.input->env, rotationMatrix(f.rotation), pixels);
@@ -976,7 +1019,8 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
                 pixels.push_back(static_cast<float>(ms));
               gather.put(static_cast<long long>(mine[g + k]), pixels);
             });
-      });
+      },
+      &stages.lighting);
   gather.finish();
   run.lampShadowRays += source.lampShadowRays() - raysBefore;
   run.lampPixels += localRows.relit() * source.header.rows();
@@ -1019,15 +1063,28 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
   const Stopwatch wall;
   BatchRun run(a, plan);
   const std::vector<std::string> views = a.viewInputs();
-  std::optional<RelightSource> source(openRelightSource(views[0], a.maxRank));
-  requireAovs(source->header, a.aovs, views[0], !source->dense);
-  requireLightingDomain(source->header, run, views[0]);
+  // The lightings load beside the model's opening; what either finds wrong
+  // is reported in the order of old: the model first.
+  std::vector<LoadedLighting> loaded;
+  tbb::task_group loading;
+  loading.run([&] { loaded = loadLightings(a.envs); });
+  std::optional<RelightSource> source;
+  try {
+    source.emplace(openRelightSource(views[0], a.maxRank));
+    requireAovs(source->header, a.aovs, views[0], !source->dense);
+    requireLightingDomain(source->header, run, views[0]);
+  } catch (...) {
+    loading.cancel();  // the model's error comes now, not after every map
+    loading.wait();
+    throw;
+  }
   run.stages.open = wall.seconds();
+  loading.wait();
   requireFrameSpace(a, source->header.camera.size, run.formats, batch,
                     run.sets.size() * views.size());
   // Sampled lighting draws from every map given: one that cannot be read
   // stops the batch, so that a seed always makes the same frames.
-  run.inputs = loadInputs(a.envs, batch && a.sampling.count == 0, a.warn);
+  run.inputs = takeInputs(a.envs, std::move(loaded), batch && a.sampling.count == 0, a.warn);
   // Local lights alone: one frame over a black environment.
   if (run.inputs.empty()) run.inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
   for (const auto& set : run.sets) run.setSpecs.push_back(canonicalSpecs(set));

@@ -1,6 +1,7 @@
 #include "lighting/latlong_integration.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -129,7 +130,11 @@ std::shared_ptr<const RowArcs> rowArcs(const CubeLattice& lattice, int subW, int
   static std::map<std::tuple<int, int, int>, std::shared_ptr<const RowArcs>> made;
   const std::lock_guard<std::mutex> lock(mutex);
   auto& arcs = made[{lattice.resolution(), subW, subH}];
-  if (!arcs) arcs = std::make_shared<const RowArcs>(rowArcsOf(lattice, subW, subH));
+  // Isolated: while this thread waits on the rows it runs none of a
+  // caller's other tasks, which could come back to this lock.
+  if (!arcs)
+    tbb::this_task_arena::isolate(
+        [&] { arcs = std::make_shared<const RowArcs>(rowArcsOf(lattice, subW, subH)); });
   return arcs;
 }
 

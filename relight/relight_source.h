@@ -55,12 +55,15 @@ struct RelightSource {
 inline constexpr size_t kFramesPerGroup = 32;
 
 /// Frames [0, count) of a batch in groups of kFramesPerGroup, in order:
-/// lightingOf(i) is frame i's lighting; relightGroup(first, lightings) relights
-/// frames first .. first + lightings.size() - 1. The CLI's batches and
-/// Python's relight_batch both go through here.
+/// lightingOf(i) is frame i's lighting, called for a group's frames at once
+/// (thread-safe); relightGroup(first, lightings) relights frames first ..
+/// first + lightings.size() - 1. The seconds spent making lightings are
+/// added to lightingSeconds when given. The CLI's batches and Python's
+/// relight_batch both go through here.
 void relightInGroups(
     size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
-    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup);
+    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,
+    double* lightingSeconds = nullptr);
 
 /// Opens a model or transport file; maxRank as applyRankLimit (models only:
 /// a ParameterError for a transport).

@@ -219,6 +219,44 @@ TEST_F(Cli, BadInputIsAClearErrorWithNothingHalfWritten) {
   EXPECT_TRUE(test::fs::exists(out.path() / "batch" / "manifest.csv"));
 }
 
+TEST_F(Cli, MapsLoadedTogetherWarnAndFailInTheOrderGiven) {
+  TempDir out;
+  // Maps read at once: each one's warning (negative texels clamped) or
+  // failure (a NaN) comes in the order the maps were given.
+  const auto mapPath = [&](int k) {
+    std::string name = "m";  // appended, not "m" + ...: GCC 12's -Wrestrict misfires there
+    name += std::to_string(k);
+    name += ".exr";
+    return out.file(name);
+  };
+  std::string envs;
+  for (int k = 0; k < 6; ++k) {
+    std::vector<float> pixels(3 * 64 * 32, 1.0f);
+    const std::string name = mapPath(k);
+    pixels[7] = k % 3 == 1 ? NAN : -0.05f * (k + 1);
+    auto o = OIIO::ImageOutput::create(name);
+    o->open(name, OIIO::ImageSpec(64, 32, 3, OIIO::TypeDesc::FLOAT));
+    o->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+    o->close();
+    envs += " --env " + name;
+  }
+  const RunResult r = runCli("relight " + transport_ + envs + " --out " + out.file("b"));
+  EXPECT_NE(r.status, 0);  // two maps could not be used
+  size_t from = 0;
+  for (int k = 0; k < 6; ++k) {
+    std::string said = mapPath(k);
+    said.append(k % 3 == 1 ? ": pixel (2, 0) channel 1" : ": 1 negative values clamped");
+    const size_t at = r.output.find(said, from);
+    ASSERT_NE(at, std::string::npos) << said << " after " << from << " in\n" << r.output;
+    from = at;
+  }
+  EXPECT_TRUE(test::fs::exists(out.path() / "b" / "00000_m0_y0.exr"));
+  EXPECT_TRUE(test::fs::exists(out.path() / "b" / "00003_m5_y0.exr"));
+  // A model that cannot be read is named first, though its maps load beside it.
+  expectFailure("relight " + out.file("missing.h5") + envs + " --out " + out.file("c"),
+                "missing.h5");
+}
+
 TEST_F(Cli, CompressInfoAndRelightAModel) {
   TempDir out;
   const RunResult c = runCli("compress " + transport_ + " --method adaptive-quad --quiet --out " +

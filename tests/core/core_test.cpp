@@ -22,6 +22,7 @@
 #include "core/statistics.h"
 #include "core/table.h"
 #include "core/text.h"
+#include "core/warning.h"
 #include "tests/temp_dir.h"
 
 namespace acpca {
@@ -185,6 +186,28 @@ TEST(EnumNames, ParsesPrintsAndRefusesByName) {
     EXPECT_STREQ(e.what(), "colour 'blue': is not one of red, green");
     EXPECT_EQ(e.messageFor("--colour"), "--colour 'blue': is not one of red, green");
   }
+}
+
+TEST(HeldWarnings, HoldTheirThreadsWarningsNestedAndLeaveOtherThreadsAlone) {
+  std::vector<std::string> reported;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string& w) { reported.push_back(w); });
+  {
+    HeldWarnings outer;
+    warn("a");
+    {
+      HeldWarnings inner;
+      warn("b");
+      std::thread([] { warn("elsewhere"); }).join();  // no holder on that thread
+      EXPECT_EQ(inner.take(), std::vector<std::string>{"b"});
+    }
+    warn("c");
+    EXPECT_EQ(outer.take(), (std::vector<std::string>{"a", "c"}));
+    warn("dropped");
+  }
+  warn("d");
+  setWarningHandler(previous);
+  EXPECT_EQ(reported, (std::vector<std::string>{"elsewhere", "d"}));
 }
 
 TEST(OrderedPipeline, ConsumesInOrderForAnyThreadCount) {

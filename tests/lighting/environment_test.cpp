@@ -239,6 +239,39 @@ TEST(Environment, FilesWithNaNOrInfTexelsAreRefusedNamingThePixel) {
   EXPECT_THROW(loadEnvironment(dir.file("missing.exr")), UserError);
 }
 
+TEST(Environment, AFullSizeMapNamesItsFirstNonFiniteTexelInReadingOrder) {
+  // 2048x1024, its rows checked on all cores: the first bad texel in reading
+  // order is named whichever row is checked first, and a -Inf beside
+  // negative texels is named, not clamped.
+  const int w = 2048, h = 1024;
+  std::vector<float> pixels(3ull * w * h, 0.25f);
+  const auto at = [&](int x, int y, int c) -> float& {
+    return pixels[3 * (size_t(y) * w + x) + c];
+  };
+  at(9, 900, 0) = NAN;
+  at(1500, 301, 1) = -1e-6f;
+  at(1501, 301, 2) = -INFINITY;
+  at(2047, 700, 0) = INFINITY;
+  try {
+    makeEnvironmentFromPixels("big", "big", w, h, 3, pixels.data());
+    FAIL() << "accepted a map with NaN and Inf";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("pixel (1501, 301) channel 2 is -inf"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Environment, AGreyMapIsReadAsEqualRgb) {
+  std::vector<float> grey(16 * 8);
+  for (size_t i = 0; i < grey.size(); ++i) grey[i] = 0.1f * i;
+  std::vector<float> rgb;
+  for (float g : grey) rgb.insert(rgb.end(), {g, g, g});
+  const CubeLattice lattice(4);
+  EXPECT_EQ(
+      computeLighting(*makeEnvironmentFromPixels("g", "g", 16, 8, 1, grey.data()), lattice, {}),
+      computeLighting(*makeEnvironmentFromPixels("c", "c", 16, 8, 3, rgb.data()), lattice, {}));
+}
+
 TEST(Environment, TinyNegativeTexelsAreClampedWithOneWarning) {
   test::TempDir dir;
   // Ringing as filtered HDRIs have it: a few values just below zero.
