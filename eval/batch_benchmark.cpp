@@ -1,14 +1,55 @@
 #include "eval/batch_benchmark.h"
 
 #include <algorithm>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
 #include "core/statistics.h"
+#include "core/stopwatch.h"
 #include "core/text.h"
+#include "lighting/domain_lighting.h"
+#include "lighting/environment.h"
+#include "relight/image_composer.h"
 #include "relight/memory_bandwidth.h"
+#include "relight/relight_source.h"
 
 namespace acpca {
+
+namespace {
+
+/// The lighting and background stages of a batch's frames, ms a frame, on
+/// all cores with nothing beside them.
+struct StagesAlone {
+  double lightingMs = 0, backgroundMs = 0;
+  int frames = 0;
+};
+
+/// The batch's first map under each of its rotations, timed stage by stage
+/// after the batch: in the batch the writing threads share the cores, so its
+/// stages read longer than their own work. None without a map.
+std::optional<StagesAlone> stagesAlone(const BatchRelightOptions& a) {
+  if (a.envs.empty()) return std::nullopt;
+  const TransportHeader header = openRelightSource(a.input, a.maxRank).header;
+  const DomainLighting domain(header);
+  const std::unique_ptr<Environment> env = loadEnvironment(a.envs[0]);
+  const ImageComposer composer(header);
+  const int channels = ImageComposer::channels(a.background);
+  std::vector<float> pixels(static_cast<size_t>(header.camera.size.pixels()) * channels);
+  std::vector<double> lighting, background;
+  for (const EnvRotation& rotation : a.rotations) {
+    const Stopwatch lit;
+    const LatticeLighting l = domain(*env, rotation, a.rotationMode);
+    lighting.push_back(1e3 * lit.seconds());
+    const Stopwatch drawn;
+    composer.background(a.background, *env, rotationMatrix(rotation), pixels.data());
+    background.push_back(1e3 * drawn.seconds());
+  }
+  return StagesAlone{median(lighting), median(background), static_cast<int>(lighting.size())};
+}
+
+}  // namespace
 
 StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
   if (!(o.streamGiB > 0 && o.streamGiB <= 64))
@@ -42,6 +83,12 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
       s.projection + s.shading > 0
           ? result.bytesPerFrame * frames / (s.projection + s.shading) / 1e9
           : 0.0);
+  const std::optional<StagesAlone> alone = stagesAlone(o.batch);
+  if (alone)
+    text += formatted(
+        "alone, nothing beside them (the first map under %d rotation(s), median): lighting %.3f "
+        "ms, background %.3f ms a frame\n",
+        alone->frames, alone->lightingMs, alone->backgroundMs);
   StudyOutput out;
   out.summary = text;
   out.json = {{"frames", result.frames},
@@ -50,6 +97,10 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
               {"streaming_read_gb_per_s", stream.gbPerSecondMedian},
               {"stages", s.json(result.frames)},
               {"batch", result.json}};
+  if (alone)
+    out.json["alone_ms_per_frame"] = {{"lighting", alone->lightingMs},
+                                      {"background", alone->backgroundMs},
+                                      {"frames", alone->frames}};
   return out;
 }
 

@@ -3,7 +3,9 @@
 // shading, background, encoding and writing), each stage's share, against two
 // references measured in the same run: the machine's streaming read and the
 // relight alone (projection and shading), so the batch's cost beyond the
-// relighter reads as a ratio on any machine.
+// relighter reads as a ratio on any machine; then the lighting and
+// background of the first map's frames timed alone, with no writing
+// threads sharing the cores.
 #include <optional>
 
 #include "dataset/batch_relight.h"

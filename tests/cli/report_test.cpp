@@ -222,6 +222,13 @@ TEST_F(Reports, BatchBenchSaysWhereABatchsTimeWent) {
   EXPECT_GT(json["streaming_read_gb_per_s"].get<double>(), 0);
   EXPECT_EQ(json["batch"]["outputs"].size(), 24u);
   EXPECT_TRUE(fs::exists(out.file("frames") + "/manifest.csv"));
+  // The first map's stages alone, one frame per rotation.
+  EXPECT_NE(r.output.find("alone, nothing beside them (the first map under 12 rotation(s)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(json["alone_ms_per_frame"]["frames"].get<int>(), 12);
+  EXPECT_GT(json["alone_ms_per_frame"]["lighting"].get<double>(), 0);
+  EXPECT_GT(json["alone_ms_per_frame"]["background"].get<double>(), 0);
 }
 
 TEST_F(Reports, CodecBenchTimesEveryBatchFormatAgainstOpenImageIO) {
