@@ -8,20 +8,30 @@
 
 namespace acpca {
 
-std::array<double, 9> realSh9(const Vec3& d) {
-  const double x = d.x(), y = d.y(), z = d.z();
+namespace {
+
+/// The nine real SH bands summed over weighted directions, from their
+/// moments: w the weights' sum, first the sum of w d, second of w d d^T.
+/// Each band is a polynomial of degree at most 2 in d.
+std::array<double, 9> sh9OfMoments(double w, const Vec3& first, const Eigen::Matrix3d& second) {
   // sqrt(1 / 4 pi), sqrt(3 / 4 pi), sqrt(15 / 4 pi), sqrt(5 / 16 pi), sqrt(15 / 16 pi)
   constexpr double c0 = 0.28209479177387814, c1 = 0.4886025119029199, c2 = 1.0925484305920792,
                    c3 = 0.31539156525252005, c4 = 0.5462742152960396;
-  return {c0,
-          c1 * y,
-          c1 * z,
-          c1 * x,
-          c2 * x * y,
-          c2 * y * z,
-          c3 * (3 * z * z - 1),
-          c2 * x * z,
-          c4 * (x * x - y * y)};
+  return {c0 * w,
+          c1 * first.y(),
+          c1 * first.z(),
+          c1 * first.x(),
+          c2 * second(0, 1),
+          c2 * second(1, 2),
+          c3 * (3 * second(2, 2) - w),
+          c2 * second(0, 2),
+          c4 * (second(0, 0) - second(1, 1))};
+}
+
+}  // namespace
+
+std::array<double, 9> realSh9(const Vec3& d) {
+  return sh9OfMoments(1, d, d * d.transpose());
 }
 
 ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
@@ -29,35 +39,41 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
   const int r = lattice.resolution();
   const double step = 2.0 / r, cell = step / kCells;
   const auto corner = [&](int index, int sub) { return -1 + index * step + sub * cell; };
-  // A cell's solid angle depends on its place on a face, not on the face:
-  // found once for one face (most of the work: four atan2 a cell), and the
-  // texels on all cores, each summed in the same order as before.
-  std::vector<double> cellAngle(static_cast<size_t>(r) * r * kCells * kCells);
+  // Every Y is a polynomial of degree 2 in the direction, and each face is
+  // the same square turned by a signed permutation A (faceDirection): so a
+  // place on a face needs only its cells' weighted moments of n = (s, t, 1)
+  // / |(s, t, 1)|, found once for all six faces: the sum of w, of w n and of
+  // w n n^T (16 x 16 cells of exact solid angle w), then each face's sums
+  // of w Y through d = A n.
+  struct Moments {
+    double w = 0;
+    Vec3 first = Vec3::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  };
+  std::vector<Moments> places(static_cast<size_t>(r) * r);
   tbb::parallel_for(0, r * r, [&](int place) {
     const int row = place / r, col = place % r;
+    Moments& m = places[place];
     for (int i = 0; i < kCells; ++i)
       for (int k = 0; k < kCells; ++k) {
         const double s0 = corner(col, k), t0 = corner(row, i);
-        cellAngle[(static_cast<size_t>(place) * kCells + i) * kCells + k] =
-            CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+        const double w = CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+        const Vec3 n = Vec3(s0 + 0.5 * cell, t0 + 0.5 * cell, 1).normalized();
+        m.w += w;
+        m.first += w * n;
+        m.second += w * n * n.transpose();
       }
   });
-  tbb::parallel_for(0, lattice.size(), [&](int texel) {
+  for (int texel = 0; texel < lattice.size(); ++texel) {
     const TexelCoord t = lattice.texelCoord(texel);
-    const double* angle = &cellAngle[static_cast<size_t>(t.row * r + t.col) * kCells * kCells];
-    std::array<double, 9> sum{};
-    double area = 0;
-    for (int i = 0; i < kCells; ++i)
-      for (int k = 0; k < kCells; ++k) {
-        const double s0 = corner(t.col, k), t0 = corner(t.row, i);
-        const double w = angle[i * kCells + k];
-        const auto y = realSh9(
-            CubeLattice::faceDirection(t.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized());
-        for (int b = 0; b < 9; ++b) sum[b] += w * y[b];
-        area += w;
-      }
-    for (int b = 0; b < 9; ++b) meanY_[texel][b] = sum[b] / area;
-  });
+    const Vec3 origin = CubeLattice::faceDirection(t.face, 0, 0);
+    Eigen::Matrix3d a;
+    a << CubeLattice::faceDirection(t.face, 1, 0) - origin,
+        CubeLattice::faceDirection(t.face, 0, 1) - origin, origin;
+    const Moments& m = places[static_cast<size_t>(t.row) * r + t.col];
+    const std::array<double, 9> sum = sh9OfMoments(m.w, a * m.first, a * m.second * a.transpose());
+    for (int b = 0; b < 9; ++b) meanY_[texel][b] = sum[b] / m.w;
+  }
 }
 
 ShProjector::ShProjector(const DomainLighting& domain) : ShProjector(domain.mapLattice()) {

@@ -27,6 +27,36 @@ TEST(ShLighting, TheBasisIsTheUsualPolynomialsInOurAxes) {
   EXPECT_NEAR(y[8], std::sqrt(15 / (16 * kPi)) * (d.x() * d.x() - d.y() * d.y()), 1e-15);
 }
 
+TEST(ShLighting, EachTexelsMeanIsItsCellsBandsWeightedByTheirSolidAngles) {
+  // The projector sums each texel from one face's moments turned onto the
+  // others; here each texel's 16 x 16 cells are summed directly instead.
+  const CubeLattice lattice(6);
+  const ShProjector sh(lattice);
+  const int r = lattice.resolution(), kCells = 16;
+  const double cell = 2.0 / r / kCells;
+  for (int texel = 0; texel < lattice.size(); ++texel) {
+    const TexelCoord t = lattice.texelCoord(texel);
+    std::array<double, 9> sum{};
+    double area = 0;
+    for (int i = 0; i < kCells; ++i)
+      for (int k = 0; k < kCells; ++k) {
+        const double s0 = -1 + (t.col * kCells + k) * cell, t0 = -1 + (t.row * kCells + i) * cell;
+        const double w = CubeLattice::rectangleSolidAngle(s0, t0, s0 + cell, t0 + cell);
+        const auto y = realSh9(
+            CubeLattice::faceDirection(t.face, s0 + 0.5 * cell, t0 + 0.5 * cell).normalized());
+        for (int b = 0; b < 9; ++b) sum[b] += w * y[b];
+        area += w;
+      }
+    LatticeLighting oneTexel(3 * lattice.size(), 0.0);
+    oneTexel[3 * texel] = 1;  // red alone
+    const auto got = sh.project(oneTexel);
+    for (int b = 0; b < 9; ++b) {
+      EXPECT_NEAR(got[b].x(), sum[b] / area, 1e-14) << "texel " << texel << " band " << b;
+      EXPECT_EQ(got[b].y(), 0);
+    }
+  }
+}
+
 TEST(ShLighting, AConstantMapHasOnlyItsClosedFormBandZero) {
   const CubeLattice lattice(8);
   const ShProjector sh(lattice);
