@@ -25,46 +25,52 @@ namespace {
 // -(1 to 127) and the bytes.
 constexpr size_t kMinRun = 3, kMaxRun = 128, kMaxLiteral = 127;
 
-/// Whether three equal bytes start at p (p + 2 < size).
-bool tripleAt(const unsigned char* b, size_t p) {
-  return b[p] == b[p + 1] && b[p + 1] == b[p + 2];
-}
-
-/// The first p in [from, limit) where three equal bytes start, else limit;
-/// limit <= size. 32 positions at a time where the loads stay inside.
-size_t firstTriple(const unsigned char* b, size_t size, size_t from, size_t limit) {
-  size_t p = from;
+/// A chunk's bytes as bit masks, 64 positions a word: bit p of `next` is
+/// set when b[p + 1] == b[p]. A run is a stretch of set bits, and three
+/// equal bytes start at p where bits p and p + 1 are both set; the coder
+/// then finds each run's end and each literal's end in a word or three,
+/// where comparing byte by byte missed a branch at every change.
+class EqualNeighbours {
+ public:
+  void build(const unsigned char* b, size_t size) {
+    words_.assign(size / 64 + 2, 0);  // a zero word past the end for triples()
+    size_t p = 0;
 #ifdef __AVX2__
-  for (; p < limit && p + 34 <= size; p += 32) {
-    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + p));
-    const __m256i n1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + p + 1));
-    const __m256i n2 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + p + 2));
-    const auto mask = static_cast<std::uint32_t>(_mm256_movemask_epi8(
-        _mm256_and_si256(_mm256_cmpeq_epi8(a, n1), _mm256_cmpeq_epi8(n1, n2))));
-    if (mask) return std::min(limit, p + static_cast<size_t>(__builtin_ctz(mask)));
-  }
+    for (; p + 33 <= size; p += 32) {
+      const __m256i here = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + p));
+      const __m256i next = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + p + 1));
+      const auto equal =
+          static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(here, next)));
+      words_[p / 64] |= static_cast<std::uint64_t>(equal) << (p % 64);  // p % 64 is 0 or 32
+    }
 #endif
-  for (; p < limit; ++p)
-    if (p + 2 < size && tripleAt(b, p)) return p;
-  return limit;
-}
+    for (; p + 1 < size; ++p)
+      words_[p / 64] |= static_cast<std::uint64_t>(b[p + 1] == b[p]) << (p % 64);
+  }
+  /// The first p in [from, limit) where b[p + 1] != b[p], else limit (limit < size).
+  size_t firstChange(size_t from, size_t limit) const {
+    return firstSet(from, limit, [&](size_t w) { return ~words_[w]; });
+  }
+  /// The first p in [from, limit) where three equal bytes start, else limit.
+  size_t firstTriple(size_t from, size_t limit) const {
+    return firstSet(from, limit,
+                    [&](size_t w) { return words_[w] & (words_[w] >> 1 | words_[w + 1] << 63); });
+  }
 
-/// The end of the run of bytes equal to b[s], at most s + kMaxRun and size.
-size_t runEnd(const unsigned char* b, size_t size, size_t s) {
-  const size_t limit = std::min(size, s + kMaxRun);
-  size_t e = s + 1;
-#ifdef __AVX2__
-  const __m256i value = _mm256_set1_epi8(static_cast<char>(b[s]));
-  for (; e + 32 <= limit; e += 32) {
-    const __m256i bytes = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + e));
-    const auto equal =
-        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_cmpeq_epi8(bytes, value)));
-    if (equal != ~0u) return e + static_cast<size_t>(__builtin_ctz(~equal));
+ private:
+  template <typename Word>
+  static size_t firstSet(size_t from, size_t limit, const Word& word) {
+    if (from >= limit) return limit;
+    size_t w = from / 64;
+    std::uint64_t bits = word(w) & (~std::uint64_t{0} << (from % 64));
+    while (bits == 0) {
+      if (++w * 64 >= limit) return limit;
+      bits = word(w);
+    }
+    return std::min(limit, w * 64 + static_cast<size_t>(std::countr_zero(bits)));
   }
-#endif
-  while (e < limit && b[e] == b[s]) ++e;
-  return e;
-}
+  std::vector<std::uint64_t> words_;
+};
 
 /// OpenEXR's preparation of a chunk for RLE and ZIP: even bytes then odd
 /// bytes, each byte then replaced by its difference from the one before
@@ -211,17 +217,27 @@ exr_result_t writeHeader(exr_context_t context, const ExrPixels& p, ExrCodec cod
 }  // namespace
 
 size_t exrRunLengthCode(const unsigned char* b, size_t size, unsigned char* out) {
+  thread_local EqualNeighbours neighbours;
+  EqualNeighbours& equal = neighbours;  // the thread's address found once
+  equal.build(b, size);
   unsigned char* o = out;
   size_t s = 0;
   while (s < size) {
-    size_t e = runEnd(b, size, s);
+    // The run of bytes equal to b[s]: it ends after the first change.
+    const size_t limit = std::min(size, s + kMaxRun);
+    size_t e = equal.firstChange(s, limit - 1) + 1;
     if (e - s >= kMinRun) {
       *o++ = static_cast<unsigned char>(e - s - 1);
       *o++ = b[s];
     } else {
-      e = firstTriple(b, size, e, std::min(size, s + kMaxLiteral));
+      e = equal.firstTriple(e, std::min(size, s + kMaxLiteral));
       *o++ = static_cast<unsigned char>(-static_cast<int>(e - s));
-      std::memcpy(o, b + s, e - s);
+      // Away from the end, a literal's 127 bytes at most go as 128 in a few
+      // wide moves (no call); `out`'s room covers what lands past it.
+      if (s + kMaxRun <= size)
+        std::memcpy(o, b + s, kMaxRun);
+      else
+        std::memcpy(o, b + s, e - s);
       o += e - s;
     }
     s = e;
