@@ -988,21 +988,36 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   std::vector<size_t> mine;
   for (long long i : ranks::itemsOfThisRank(static_cast<long long>(frames.size())))
     mine.push_back(static_cast<size_t>(i));
-  std::mutex uncoveredMutex;
-  const auto lightingOf = [&](size_t k) {  // on several threads at once
-    const Frame& f = frames[mine[k]];
-    double uncovered = 0;
-    LatticeLighting lighting = domain(*f.input->env, f.rotation, a.rotationMode, &uncovered);
-    {
-      const std::lock_guard<std::mutex> lock(uncoveredMutex);
-      run.uncovered.note(uncovered);
+  // A group's frames of one map after another (a batch runs map by map)
+  // are made together (DomainLighting's many rotations), the runs of
+  // different maps at once.
+  const auto lightingsOf = [&](size_t first, size_t n) {
+    std::vector<size_t> runStarts;
+    for (size_t k = 0; k < n; ++k)
+      if (k == 0 || frames[mine[first + k]].input != frames[mine[first + k - 1]].input)
+        runStarts.push_back(k);
+    runStarts.push_back(n);
+    std::vector<LatticeLighting> lightings(n);
+    std::vector<double> uncovered(n, 0.0);
+    tbb::parallel_for(size_t(0), runStarts.size() - 1, [&](size_t run) {
+      const size_t k0 = runStarts[run], k1 = runStarts[run + 1];
+      std::vector<EnvRotation> rotations;
+      for (size_t k = k0; k < k1; ++k) rotations.push_back(frames[mine[first + k]].rotation);
+      std::vector<double> shares;
+      std::vector<LatticeLighting> made = domain.lightings(*frames[mine[first + k0]].input->env,
+                                                           rotations, a.rotationMode, &shares);
+      for (size_t k = k0; k < k1; ++k)
+        lightings[k] = std::move(made[k - k0]), uncovered[k] = shares[k - k0];
+    });
+    for (size_t k = 0; k < n; ++k) {
+      run.uncovered.note(uncovered[k]);
+      if (writing) writing->noteLighting(mine[first + k], lightings[k]);
     }
-    if (writing) writing->noteLighting(mine[k], lighting);
-    return lighting;
+    return lightings;
   };
   const ImageComposer composer(source.header);
   relightInGroups(
-      mine.size(), lightingOf,
+      mine.size(), lightingsOf,
       [&](size_t g, const std::vector<LatticeLighting>& lightings) {
         const auto backgroundOf = [&](size_t k, float* pixels) {
           const Frame& f = frames[mine[g + k]];

@@ -35,7 +35,25 @@ LatticeLighting DomainLighting::operator()(const Environment& env, const EnvRota
   if (uncoveredShare) *uncoveredShare = 0;
   if (lattice_) return computeLighting(env, *lattice_, rotation, mode);
   if (!rotation.isIdentity()) requireRotationMode(true, mode);
-  const LatticeLighting fine = computeLighting(env, cells_->lattice(), rotation);
+  return gatherCells(computeLighting(env, cells_->lattice(), rotation), uncoveredShare);
+}
+
+std::vector<LatticeLighting> DomainLighting::lightings(const Environment& env,
+                                                       const std::vector<EnvRotation>& rotations,
+                                                       RotationMode mode,
+                                                       std::vector<double>* uncoveredShares) const {
+  if (uncoveredShares) uncoveredShares->assign(rotations.size(), 0.0);
+  if (lattice_) return computeLightings(env, *lattice_, rotations, mode);
+  for (const EnvRotation& rotation : rotations)
+    if (!rotation.isIdentity()) requireRotationMode(true, mode);
+  std::vector<LatticeLighting> made = computeLightings(env, cells_->lattice(), rotations);
+  for (size_t k = 0; k < made.size(); ++k)
+    made[k] = gatherCells(made[k], uncoveredShares ? &(*uncoveredShares)[k] : nullptr);
+  return made;
+}
+
+LatticeLighting DomainLighting::gatherCells(const LatticeLighting& fine,
+                                            double* uncoveredShare) const {
   LatticeLighting lighting(3 * static_cast<size_t>(size_), 0.0);
   cells_->gather(fine, 3, lighting);
   for (int k = 0; k < size_; ++k)

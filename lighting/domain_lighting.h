@@ -36,6 +36,13 @@ class DomainLighting {
   LatticeLighting operator()(const Environment& env, const EnvRotation& rotation,
                              RotationMode mode = RotationMode::Exact,
                              double* uncoveredShare = nullptr) const;
+  /// The same under each of `rotations`, made together where the map can
+  /// (computeLightings); `uncoveredShares`, when given, receives one share
+  /// per rotation.
+  std::vector<LatticeLighting> lightings(const Environment& env,
+                                         const std::vector<EnvRotation>& rotations,
+                                         RotationMode mode = RotationMode::Exact,
+                                         std::vector<double>* uncoveredShares = nullptr) const;
 
   /// The lighting drawn on a cube lattice, mapLattice(): a light set's on
   /// its fine lattice, each texel at the radiance of the cell holding it (0
@@ -44,6 +51,9 @@ class DomainLighting {
   const CubeLattice& mapLattice() const { return lattice_ ? *lattice_ : cells_->lattice(); }
 
  private:
+  /// A light set's cells' lighting from its fine lattice's.
+  LatticeLighting gatherCells(const LatticeLighting& fine, double* uncoveredShare) const;
+
   int size_ = 0;
   std::unique_ptr<CubeLattice> lattice_;
   std::unique_ptr<LightCells> cells_;

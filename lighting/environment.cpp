@@ -13,6 +13,14 @@
 
 namespace acpca {
 
+void Environment::integrateMany(const CubeLattice& lattice,
+                                const std::vector<Eigen::Matrix3d>& rotations,
+                                const std::vector<LatticeLighting*>& lightings) const {
+  ACPCA_CHECK(rotations.size() == lightings.size(), rotations.size(), " rotations, ",
+              lightings.size(), " lightings");
+  for (size_t k = 0; k < rotations.size(); ++k) integrate(lattice, rotations[k], *lightings[k]);
+}
+
 void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                              const std::function<Rgb(const Vec3&)>& radiance, int sub,
                              LatticeLighting& lighting) {

@@ -70,6 +70,12 @@ class Environment {
   /// texel: integral over texel j of L(R^T w) dw. Total energy is conserved.
   virtual void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                          LatticeLighting& lighting) const = 0;
+  /// integrate() under each of `rotations`, onto *lightings[k]: the same
+  /// values, made one by one unless the map can do better (a large lat-long
+  /// map reads each row once for all its yaws).
+  virtual void integrateMany(const CubeLattice& lattice,
+                             const std::vector<Eigen::Matrix3d>& rotations,
+                             const std::vector<LatticeLighting*>& lightings) const;
 };
 
 /// A built-in map's grammar, written once: loadEnvironment parses by it, its

@@ -225,61 +225,97 @@ void LatLongRowSums::upTo(int row, long long i, int sub, double out[3]) const {
              (part ? part * static_cast<double>(p[3 * pixel + c]) : 0.0);
 }
 
+namespace {
+
+/// Row r's arcs under a turn of `turnCells` sub-cells, added onto `acc`.
+void addRowArcs(const LatLongRowSums& sums, const RowArcs& arcs, int r, int sub, int subW,
+                double omega, double turnCells, double* acc) {
+  const int pixelRow = r / sub;
+  const std::vector<double>& firstCell = arcs.firstCell[r];
+  const std::vector<int>& texel = arcs.texel[r];
+  // Cell i lies in arc k when start_k <= azimuth_i + turn < start_k+1.
+  const auto cellOf = [&](size_t k) {
+    return static_cast<long long>(std::ceil(firstCell[k] - turnCells));
+  };
+  const long long first = cellOf(0);
+  long long begin = first;
+  double below[3], upToEnd[3];
+  sums.upTo(pixelRow, begin, sub, below);
+  // The sums an arc reads are a cache miss apart: fetched a few arcs ahead.
+  constexpr size_t kAhead = 6;
+  const long long cells = subW;
+  const auto prefetch = [&](size_t k) {
+    long long i = cellOf(k) % cells;
+    sums.prefetch(pixelRow, i < 0 ? i + cells : i, sub);
+  };
+  for (size_t k = 1; k < std::min(texel.size(), kAhead); ++k) prefetch(k);
+  for (size_t k = 0; k < texel.size(); ++k) {
+    if (k + kAhead < texel.size()) prefetch(k + kAhead);
+    const long long end = k + 1 < texel.size() ? cellOf(k + 1) : first + subW;
+    if (end <= begin) continue;
+    sums.upTo(pixelRow, end, sub, upToEnd);
+    double* out = &acc[3 * static_cast<size_t>(texel[k])];
+    for (int c = 0; c < 3; ++c) {
+      out[c] += omega * (upToEnd[c] - below[c]);
+      below[c] = upToEnd[c];
+    }
+    begin = end;
+  }
+}
+
+}  // namespace
+
 void integrateLatLongYawed(const LatLongPixels& map, const LatLongRowSums& sums,
                            const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                            LatticeLighting& lighting) {
-  ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
-  ACPCA_CHECK(isYawOnly(rotation), "not a yaw: ", rotation);
+  std::vector<LatticeLighting*> one{&lighting};
+  integrateLatLongYaws(map, sums, lattice, {rotation}, one);
+}
+
+void integrateLatLongYaws(const LatLongPixels& map, const LatLongRowSums& sums,
+                          const CubeLattice& lattice, const std::vector<Eigen::Matrix3d>& rotations,
+                          const std::vector<LatticeLighting*>& lightings) {
+  ACPCA_CHECK(rotations.size() == lightings.size(), rotations.size(), " rotations, ",
+              lightings.size(), " lightings");
+  const size_t frames = rotations.size();
+  const size_t values = 3u * lattice.size();
+  for (size_t f = 0; f < frames; ++f) {
+    ACPCA_CHECK(lightings[f]->size() == values, "lighting size ", lightings[f]->size());
+    ACPCA_CHECK(isYawOnly(rotations[f]), "not a yaw: ", rotations[f]);
+  }
   const int sub = latLongSubCells(map, lattice);
   const int subW = map.width * sub, subH = map.height * sub;
   const std::shared_ptr<const RowArcs> arcs = rowArcs(lattice, subW, subH);
   // R turns every azimuth by the same angle: that of R (0, 0, -1).
-  const double turnCells = std::atan2(-rotation(0, 2), rotation(2, 2)) * (subW / (2 * kPi));
-  // Fixed chunks of rows, each with its own sums, added in order: the same
-  // result for any thread count.
+  std::vector<double> turnCells(frames);
+  for (size_t f = 0; f < frames; ++f)
+    turnCells[f] = std::atan2(-rotations[f](0, 2), rotations[f](2, 2)) * (subW / (2 * kPi));
+  // Each frame: fixed chunks of rows, each with its own sums, added in
+  // order: the same result for any thread count or set of frames. A task
+  // takes a chunk's rows for up to kFramesATask frames, each row for all
+  // of them in turn while its pixels and sums are in cache.
   constexpr int kChunks = 4;
+  constexpr size_t kFramesATask = 8;
   const int chunkRows = (subH + kChunks - 1) / kChunks;
-  std::vector<LatticeLighting> partial(kChunks);
-  tbb::parallel_for(0, kChunks, [&](int chunk) {
-    LatticeLighting& acc = partial[chunk];
-    acc.assign(lighting.size(), 0.0);
+  const size_t frameSets = (frames + kFramesATask - 1) / kFramesATask;
+  std::vector<LatticeLighting> partial(frames * kChunks);
+  tbb::parallel_for(size_t(0), kChunks * frameSets, [&](size_t task) {
+    const int chunk = static_cast<int>(task % kChunks);
+    const size_t f0 = task / kChunks * kFramesATask, f1 = std::min(frames, f0 + kFramesATask);
+    for (size_t f = f0; f < f1; ++f) partial[f * kChunks + chunk].assign(values, 0.0);
     for (int r = chunk * chunkRows; r < std::min(subH, (chunk + 1) * chunkRows); ++r) {
       const double omega = subRow(r, subH, subW).omega;
-      const int pixelRow = r / sub;
-      const std::vector<double>& firstCell = arcs->firstCell[r];
-      const std::vector<int>& texel = arcs->texel[r];
-      // Cell i lies in arc k when start_k <= azimuth_i + turn < start_k+1.
-      const auto cellOf = [&](size_t k) {
-        return static_cast<long long>(std::ceil(firstCell[k] - turnCells));
-      };
-      const long long first = cellOf(0);
-      long long begin = first;
-      double below[3], upToEnd[3];
-      sums.upTo(pixelRow, begin, sub, below);
-      // The sums an arc reads are a cache miss apart: fetched a few arcs ahead.
-      constexpr size_t kAhead = 6;
-      const long long cells = subW;
-      const auto prefetch = [&](size_t k) {
-        long long i = cellOf(k) % cells;
-        sums.prefetch(pixelRow, i < 0 ? i + cells : i, sub);
-      };
-      for (size_t k = 1; k < std::min(texel.size(), kAhead); ++k) prefetch(k);
-      for (size_t k = 0; k < texel.size(); ++k) {
-        if (k + kAhead < texel.size()) prefetch(k + kAhead);
-        const long long end = k + 1 < texel.size() ? cellOf(k + 1) : first + subW;
-        if (end <= begin) continue;
-        sums.upTo(pixelRow, end, sub, upToEnd);
-        double* out = &acc[3 * static_cast<size_t>(texel[k])];
-        for (int c = 0; c < 3; ++c) {
-          out[c] += omega * (upToEnd[c] - below[c]);
-          below[c] = upToEnd[c];
-        }
-        begin = end;
-      }
+      for (size_t f = f0; f < f1; ++f)
+        addRowArcs(sums, *arcs, r, sub, subW, omega, turnCells[f],
+                   partial[f * kChunks + chunk].data());
     }
   });
-  for (const LatticeLighting& acc : partial)
-    for (size_t k = 0; k < lighting.size(); ++k) lighting[k] += acc[k];
+  for (size_t f = 0; f < frames; ++f)
+    for (int chunk = 0; chunk < kChunks; ++chunk) {
+      const LatticeLighting& acc = partial[f * kChunks + chunk];
+      LatticeLighting& lighting = *lightings[f];
+      for (size_t k = 0; k < values; ++k) lighting[k] += acc[k];
+    }
 }
 
 }  // namespace acpca

@@ -59,5 +59,11 @@ class LatLongRowSums {
 void integrateLatLongYawed(const LatLongPixels& map, const LatLongRowSums& sums,
                            const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                            LatticeLighting& lighting);
+/// The same under several yaws at once, each row read once for all of them:
+/// adds onto *lightings[k] what integrateLatLongYawed adds for rotations[k],
+/// the same values.
+void integrateLatLongYaws(const LatLongPixels& map, const LatLongRowSums& sums,
+                          const CubeLattice& lattice, const std::vector<Eigen::Matrix3d>& rotations,
+                          const std::vector<LatticeLighting*>& lightings);
 
 }  // namespace acpca

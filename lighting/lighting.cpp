@@ -39,4 +39,22 @@ LatticeLighting computeLighting(const Environment& env, const CubeLattice& latti
   return lighting;
 }
 
+std::vector<LatticeLighting> computeLightings(const Environment& env, const CubeLattice& lattice,
+                                              const std::vector<EnvRotation>& rotations,
+                                              RotationMode mode) {
+  std::vector<LatticeLighting> lightings(rotations.size());
+  std::vector<Eigen::Matrix3d> exact;
+  std::vector<LatticeLighting*> onto;
+  for (size_t k = 0; k < rotations.size(); ++k)
+    if (mode == RotationMode::Exact || rotations[k].isIdentity()) {
+      lightings[k].assign(3 * static_cast<size_t>(lattice.size()), 0.0);
+      exact.push_back(rotationMatrix(rotations[k]));
+      onto.push_back(&lightings[k]);
+    } else {
+      lightings[k] = computeLighting(env, lattice, rotations[k], mode);
+    }
+  env.integrateMany(lattice, exact, onto);
+  return lightings;
+}
+
 }  // namespace acpca

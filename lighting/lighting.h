@@ -17,6 +17,11 @@ enum class RotationMode {
 LatticeLighting computeLighting(const Environment& env, const CubeLattice& lattice,
                                 const EnvRotation& rotation,
                                 RotationMode mode = RotationMode::Exact);
+/// computeLighting under each rotation, the same values, made together
+/// where the map can (Environment::integrateMany).
+std::vector<LatticeLighting> computeLightings(const Environment& env, const CubeLattice& lattice,
+                                              const std::vector<EnvRotation>& rotations,
+                                              RotationMode mode = RotationMode::Exact);
 
 /// Radiance of each texel (lighting / solid angle), RGB.
 std::vector<double> latticeRadiance(const LatticeLighting& lighting, const CubeLattice& lattice);

@@ -144,19 +144,32 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
 }
 
 void relightInGroups(
-    size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
+    size_t count,
+    const std::function<std::vector<LatticeLighting>(size_t first, size_t n)>& lightingsOf,
     const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,
     double* lightingSeconds) {
   for (size_t first = 0; first < count; first += kFramesPerGroup) {
-    // A group's lightings at once: one map's integration keeps a few cores
-    // busy, a group's keep them all.
     const Stopwatch watch;
-    std::vector<LatticeLighting> lightings(std::min(count - first, kFramesPerGroup));
-    tbb::parallel_for(size_t(0), lightings.size(),
-                      [&](size_t k) { lightings[k] = lightingOf(first + k); });
+    const size_t n = std::min(count - first, kFramesPerGroup);
+    const std::vector<LatticeLighting> lightings = lightingsOf(first, n);
+    ACPCA_CHECK(lightings.size() == n, lightings.size(), " lightings for ", n, " frames");
     if (lightingSeconds) *lightingSeconds += watch.seconds();
     relightGroup(first, lightings);
   }
+}
+
+void relightInGroups(
+    size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
+    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,
+    double* lightingSeconds) {
+  // A group's lightings at once: one map's integration keeps a few cores
+  // busy, a group's keep them all.
+  const auto lightingsOf = [&](size_t first, size_t n) {
+    std::vector<LatticeLighting> lightings(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t k) { lightings[k] = lightingOf(first + k); });
+    return lightings;
+  };
+  relightInGroups(count, lightingsOf, relightGroup, lightingSeconds);
 }
 
 }  // namespace acpca

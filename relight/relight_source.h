@@ -55,11 +55,17 @@ struct RelightSource {
 inline constexpr size_t kFramesPerGroup = 32;
 
 /// Frames [0, count) of a batch in groups of kFramesPerGroup, in order:
-/// lightingOf(i) is frame i's lighting, called for a group's frames at once
-/// (thread-safe); relightGroup(first, lightings) relights frames first ..
-/// first + lightings.size() - 1. The seconds spent making lightings are
-/// added to lightingSeconds when given. The CLI's batches and Python's
-/// relight_batch both go through here.
+/// lightingsOf(first, n) makes frames first .. first + n - 1's lightings,
+/// relightGroup(first, lightings) relights them. The seconds spent making
+/// lightings are added to lightingSeconds when given. The CLI's batches
+/// and Python's relight_batch both go through here.
+void relightInGroups(
+    size_t count,
+    const std::function<std::vector<LatticeLighting>(size_t first, size_t n)>& lightingsOf,
+    const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,
+    double* lightingSeconds = nullptr);
+/// The same with lightingOf(i) frame i's lighting, called for a group's
+/// frames at once (thread-safe).
 void relightInGroups(
     size_t count, const std::function<LatticeLighting(size_t frame)>& lightingOf,
     const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,

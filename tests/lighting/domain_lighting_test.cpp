@@ -86,6 +86,28 @@ TEST(DomainLighting, GivenCellsScaleTheVoronoiCellsMeanRadiance) {
     EXPECT_NEAR(r, 1, 1e-9);
 }
 
+TEST(DomainLighting, ManyRotationsAtOnceAreEachRotationAlone) {
+  // A light set's cells and a cube lattice's texels, under several rotations
+  // at once: the lighting and the uncovered share of each as made alone.
+  const auto sky = makeSkyEnvironment();
+  const std::vector<EnvRotation> rotations{{}, {30, 0, 0}, {-75, 10, 5}};
+  TransportHeader lattice;
+  lattice.cubemapResolution = 8;
+  for (const TransportHeader& h : {lightSetHeader(octahedron(), 40), lattice}) {
+    const DomainLighting domain(h);
+    std::vector<double> shares;
+    const std::vector<LatticeLighting> many =
+        domain.lightings(*sky, rotations, RotationMode::Exact, &shares);
+    ASSERT_EQ(many.size(), rotations.size());
+    ASSERT_EQ(shares.size(), rotations.size());
+    for (size_t k = 0; k < rotations.size(); ++k) {
+      double share = -1;
+      EXPECT_EQ(many[k], domain(*sky, rotations[k], RotationMode::Exact, &share)) << k;
+      EXPECT_EQ(shares[k], share) << k;
+    }
+  }
+}
+
 TEST(DomainLighting, ACubeLatticeFileLightsAsBefore) {
   TransportHeader h;
   h.cubemapResolution = 8;

@@ -178,6 +178,33 @@ TEST(Environment, AYawedMapRowByRowEqualsItCellByCellWithASunInIt) {
   EXPECT_FALSE(isYawOnly(rotationMatrix({10, 1e-9, 0})));
 }
 
+TEST(Environment, YawsMadeTogetherEqualYawsMadeOneByOne) {
+  // A 2048x1024 map (past the size integrateMany reads row by row for all
+  // yaws at once) and a 1024x512 one (one yaw at a time): every value the
+  // same as integrate() gives each rotation alone, also for a rotation that
+  // is not a yaw among them.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(0, 1);
+  for (auto [w, h] : {std::pair{2048, 1024}, {1024, 512}}) {
+    std::vector<float> rgb(3ull * w * h);
+    for (float& v : rgb) v = value(rng);
+    for (int c = 0; c < 3; ++c) rgb[3 * (300 * w + 700) + c] = 1e5f;  // a sun
+    const auto map = makeLatLongEnvironment("m", w, h, rgb);
+    const CubeLattice lattice(32);
+    std::vector<EnvRotation> rotations;
+    for (double yaw = -180; yaw < 180; yaw += 15.5) rotations.push_back({yaw, 0, 0});
+    rotations.push_back({});
+    for (int pass = 0; pass < 2; ++pass) {
+      const std::vector<LatticeLighting> together = computeLightings(*map, lattice, rotations);
+      ASSERT_EQ(together.size(), rotations.size());
+      for (size_t k = 0; k < rotations.size(); ++k)
+        ASSERT_EQ(together[k], computeLighting(*map, lattice, rotations[k]))
+            << w << "x" << h << " yaw " << rotations[k].yaw;
+      rotations.push_back({10, 20, 0});  // the second pass: not every one a yaw
+    }
+  }
+}
+
 TEST(Environment, LatLongIsReadWithTheDesignOrientation) {
   // A map bright only near u = 0.75 is bright towards +X; near v = 0 at the zenith.
   const int w = 256, h = 128;
