@@ -18,7 +18,10 @@ void Environment::integrateMany(const CubeLattice& lattice,
                                 const std::vector<LatticeLighting*>& lightings) const {
   ACPCA_CHECK(rotations.size() == lightings.size(), rotations.size(), " rotations, ",
               lightings.size(), " lightings");
-  for (size_t k = 0; k < rotations.size(); ++k) integrate(lattice, rotations[k], *lightings[k]);
+  // Each rotation on a task of its own: one integration keeps only a few
+  // cores busy.
+  tbb::parallel_for(size_t(0), rotations.size(),
+                    [&](size_t k) { integrate(lattice, rotations[k], *lightings[k]); });
 }
 
 void integrateSmoothFunction(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,

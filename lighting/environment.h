@@ -71,8 +71,9 @@ class Environment {
   virtual void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                          LatticeLighting& lighting) const = 0;
   /// integrate() under each of `rotations`, onto *lightings[k]: the same
-  /// values, made one by one unless the map can do better (a large lat-long
-  /// map reads each row once for all its yaws).
+  /// values, each on a task of its own unless the map can do better (a
+  /// large lat-long map reads each row once for several yaws). Thread-safe
+  /// integrate() assumed, as for every environment here.
   virtual void integrateMany(const CubeLattice& lattice,
                              const std::vector<Eigen::Matrix3d>& rotations,
                              const std::vector<LatticeLighting*>& lightings) const;
