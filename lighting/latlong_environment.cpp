@@ -52,13 +52,7 @@ class LatLongEnvironment : public Environment {
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                  LatticeLighting& lighting) const override {
     if (!isYawOnly(rotation)) return integrateLatLongCells(pixels_, lattice, rotation, lighting);
-    // The row sums, made on the first yaw and kept: a sweep turns one map many times.
-    // Isolated: while this thread waits on the sums' rows it runs none of a
-    // caller's other tasks, which could come back to this flag.
-    std::call_once(rowSumsMade_, [&] {
-      tbb::this_task_arena::isolate([&] { rowSums_ = std::make_unique<LatLongRowSums>(pixels_); });
-    });
-    integrateLatLongYawed(pixels_, *rowSums_, lattice, rotation, lighting);
+    integrateLatLongYawed(pixels_, rowSums(), lattice, rotation, lighting);
   }
 
   void integrateMany(const CubeLattice& lattice, const std::vector<Eigen::Matrix3d>& rotations,
@@ -68,10 +62,7 @@ class LatLongEnvironment : public Environment {
     const bool yaws = std::all_of(rotations.begin(), rotations.end(), isYawOnly);
     if (!yaws || rotations.size() < 2 || static_cast<long long>(width_) * height_ <= kCachedPixels)
       return Environment::integrateMany(lattice, rotations, lightings);
-    integrate(lattice, rotations[0], *lightings[0]);  // makes the row sums
-    const std::vector<Eigen::Matrix3d> rest(rotations.begin() + 1, rotations.end());
-    const std::vector<LatticeLighting*> onto(lightings.begin() + 1, lightings.end());
-    integrateLatLongYaws(pixels_, *rowSums_, lattice, rest, onto);
+    integrateLatLongYaws(pixels_, rowSums(), lattice, rotations, lightings);
   }
 
  private:
@@ -79,6 +70,16 @@ class LatLongEnvironment : public Environment {
   int width_, height_;
   std::vector<float> rgb_;
   LatLongPixels pixels_;  ///< a view of rgb_
+  /// The row sums, made on the first yaw and kept: a sweep turns one map
+  /// many times. Isolated: while this thread waits on the sums' rows it
+  /// runs none of a caller's other tasks, which could come back to this flag.
+  const LatLongRowSums& rowSums() const {
+    std::call_once(rowSumsMade_, [&] {
+      tbb::this_task_arena::isolate([&] { rowSums_ = std::make_unique<LatLongRowSums>(pixels_); });
+    });
+    return *rowSums_;
+  }
+
   mutable std::once_flag rowSumsMade_;
   mutable std::unique_ptr<LatLongRowSums> rowSums_;
 };
