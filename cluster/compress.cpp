@@ -1,4 +1,5 @@
 #include "cluster/compress.h"
+#include "cluster/blas_core.h"
 #include "cluster/model_fit.h"
 
 #include <iomanip>
@@ -133,7 +134,15 @@ nlohmann::json compressSettings(const CompressOptions& o, int globalBases) {
           {"sample_rows", o.sampleRows},
           {"clustering_dims", width},
           {"seed", o.seed},
-          {"mean", keepsMean(o.method)}};
+          {"mean", keepsMean(o.method)},
+          {"blas_core", blasCore()},
+          {"eigensolver", linearAlgebraJson()["eigensolver"]}};
+}
+
+nlohmann::json linearAlgebraJson() {
+  return {{"blas_core", blasCore()},
+          {"blas_core_chosen_by", blasCoreChosenBy()},
+          {"eigensolver", blasCoreUnsuited() ? "Eigen" : "LAPACK"}};
 }
 
 }  // namespace acpca

@@ -57,6 +57,12 @@ Partition partitionRows(const ClusterInput& in, const CompressOptions& options);
 /// block side resolved and the clustering width on `globalBases` bases.
 nlohmann::json compressSettings(const CompressOptions& options, int globalBases);
 
+/// The linear algebra this process runs (cluster/blas_core.h): `blas_core`,
+/// `blas_core_chosen_by` and `eigensolver` ("LAPACK", or "Eigen" where
+/// OpenBLAS's generic kernels do not suit the CPU). `compress` and `build`
+/// report it in --json; the model's settings keep `blas_core` and `eigensolver`.
+nlohmann::json linearAlgebraJson();
+
 /// Throws ParameterError on a bad value.
 void validateCompressOptions(const CompressOptions& options);
 

@@ -187,6 +187,10 @@ py::object importTransport(const py::object& images, const Doubles& directions,
 }  // namespace
 
 void registerLongCalls(py::module_& m) {
+  m.def(
+      "linear_algebra", [] { return toPython(linearAlgebraJson()); },
+      "The linear algebra this process runs: blas_core (OpenBLAS's kernels), "
+      "blas_core_chosen_by and eigensolver (as compress --json reports them).");
   // The defaults are the library's, as the CLI's are.
   const PrecomputeOptions render;
   m.def("precompute", &precompute, py::arg("scene"), py::arg("out"), py::kw_only(),

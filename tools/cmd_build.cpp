@@ -50,6 +50,7 @@ nlohmann::json buildView(const BuildArgs& a, const Scene& scene, const std::stri
   nlohmann::json report = sceneReport(out, scene);
   report["method"] = methodName(o.compress.method);
   report.update(toJson(s));
+  report.update(linearAlgebraJson());
   return report;
 }
 

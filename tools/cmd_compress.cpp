@@ -32,6 +32,7 @@ void run(const CompressArgs& a) {
     std::cerr << "wrote " << a.out << ": " << describeInWords(model) << ", peak memory "
               << formatBytes(peak) << "\n";
   nlohmann::json report = summaryJson(model);
+  report.update(linearAlgebraJson());
   report.update({{"out", a.out},
                  {"rank_histogram", rankHistogramJson(model.ranks)},
                  {"peak_memory_bytes", peak}});

@@ -4,6 +4,7 @@
 #include <new>
 #include <set>
 
+#include "cluster/blas_core.h"
 #include "core/error.h"
 #include "core/interrupt_cleanup.h"
 #include "core/ranks.h"
@@ -52,6 +53,9 @@ void refuseUndistributedCommand(int argc, char** argv) {
 }  // namespace acpca::cli
 
 int main(int argc, char** argv) {
+  // OpenBLAS fell back to kernels that answer wrong on a CPU newer than it:
+  // run again with the CPU's own (cluster/blas_core.h), before MPI starts.
+  acpca::reexecWithSuitedBlasCore(argv);
   // mpirun -np K: MPI starts here and ends when main returns.
   acpca::ranks::Session mpi(argc, argv);
   // Ctrl-C and SIGTERM remove the unfinished outputs and exit 130 / 143.

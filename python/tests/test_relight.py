@@ -686,3 +686,36 @@ assert ac.read_image(sys.argv[1]).shape == (1, 2, 3)
 assert mapped("libOpenImageIO") and mapped("libacpca_image_codecs")
 """
     subprocess.run([sys.executable, "-c", script, str(tmp_path / "x.ppm")], check=True)
+
+
+def test_openblas_generic_kernels_loaded_by_numpy_first_are_not_asked(tmp_path):
+    # numpy loads OpenBLAS before adaptive_cpca can choose its kernels; under
+    # the generic ones that Debian 12's OpenBLAS falls back to on CPUs newer
+    # than it, Eigen answers every eigenproblem (with one warning) and the
+    # model is as good as the CLI's under the CPU's own kernels.
+    script = (
+        "import json, warnings, numpy, adaptive_cpca as ac\n"
+        "with warnings.catch_warnings(record=True) as seen:\n"
+        "    warnings.simplefilter('always')\n"
+        f"    ac.compress({TRANSPORT!r}, {str(tmp_path / 'py.h5')!r}, method='adaptive-binary',\n"
+        "                clusters=4)\n"
+        "print(json.dumps({'linear_algebra': ac.linear_algebra(),\n"
+        "                  'warnings': [str(w.message) for w in seen]}))\n")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("OPENBLAS_")}
+    run = subprocess.run([sys.executable, "-c", script], env=dict(env, OPENBLAS_CORETYPE="PRESCOTT"),
+                         capture_output=True, text=True, check=True)
+    report = json.loads(run.stdout.splitlines()[-1])
+    assert report["linear_algebra"]["blas_core"] == "Prescott"
+    assert report["linear_algebra"]["blas_core_chosen_by"] == "OPENBLAS_CORETYPE"
+    with open("/proc/cpuinfo") as cpuinfo:
+        flags = next(line for line in cpuinfo if line.startswith("flags")).split()
+    unsuited = "avx2" in flags and "fma" in flags
+    assert report["linear_algebra"]["eigensolver"] == ("Eigen" if unsuited else "LAPACK")
+    assert any("OPENBLAS_CORETYPE=" in w for w in report["warnings"]) == unsuited
+    subprocess.run([CLI, "compress", TRANSPORT, "--method", "adaptive-binary", "--clusters", "4",
+                    "--quiet", "--out", str(tmp_path / "cli.h5")], env=env, check=True)
+    ours, theirs = ac.info(str(tmp_path / "py.h5")), ac.info(str(tmp_path / "cli.h5"))
+    assert ours["settings"]["eigensolver"] == report["linear_algebra"]["eigensolver"]
+    assert theirs["settings"]["eigensolver"] == "LAPACK"
+    assert ours["transport_error"] == pytest.approx(theirs["transport_error"], rel=0.02)
+    assert ours["cost_per_pixel"] == pytest.approx(theirs["cost_per_pixel"], rel=0.05)

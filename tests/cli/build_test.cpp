@@ -75,7 +75,7 @@ void expectSameCompressSettings(const Model& streamed, const Model& twoStep) {
     ASSERT_TRUE(built.contains(key)) << "build's settings lack " << key;
     EXPECT_EQ(built[key], value) << key;
   }
-  EXPECT_EQ(compressed.size(), 14u) << compressed.dump();
+  EXPECT_EQ(compressed.size(), 16u) << compressed.dump();
   EXPECT_EQ(built["cubemap"], 8);
   EXPECT_EQ(built["spp"], 1);
   EXPECT_EQ(built["antialiasing"], "adaptive");
