@@ -56,6 +56,7 @@ void registerBench(CLI::App& app) {
   registerBenchCodecs(*bench);
   registerBenchScaling(*bench);
   registerBenchQuantization(*bench);
+  registerBenchEigen(*bench);
 }
 
 }  // namespace acpca::cli

@@ -23,5 +23,6 @@ void registerBenchBatch(CLI::App& bench);
 void registerBenchCodecs(CLI::App& bench);
 void registerBenchScaling(CLI::App& bench);
 void registerBenchQuantization(CLI::App& bench);
+void registerBenchEigen(CLI::App& bench);
 
 }  // namespace acpca::cli
