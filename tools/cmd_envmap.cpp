@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "dataset/envmap_export.h"
+#include "lighting/map_sources.h"
 #include "lighting/rotation.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -13,14 +14,36 @@ namespace {
 
 struct EnvmapArgs {
   CommonOptions common;
-  std::string env, out, cross, rotate, size = "2048x1024";
+  std::string env, out, cross, rotate, size = "2048x1024", sun = "auto";
   int cubemap = 32;
   RotationMode rotationMode = RotationMode::Exact;
 };
 
+/// The map's compact bright sources, turned with it (lighting/map_sources.h):
+/// direction, THETA and PHI as `sun:` takes them, angular radius, radiance,
+/// share of the map's energy. Lat-long maps only, for now.
+nlohmann::json sourcesJson(const Environment& env, const std::optional<SourceFinding>& finding,
+                           const EnvRotation& rotation) {
+  nlohmann::json list = nlohmann::json::array();
+  if (!finding || !env.latLong()) return list;
+  const Eigen::Matrix3d turn = rotationMatrix(rotation);
+  for (const MapSource& s : splitMapSources(*env.latLong(), *finding).sources) {
+    const Vec3 d = turn * s.direction;
+    constexpr double kDegree = 180 / 3.14159265358979323846;
+    list.push_back({{"direction", {d[0], d[1], d[2]}},
+                    {"theta_deg", std::acos(std::clamp(d[1], -1.0, 1.0)) * kDegree},
+                    {"phi_deg", std::atan2(d[0], -d[2]) * kDegree},
+                    {"radius_deg", s.radius * kDegree},
+                    {"radiance", {s.radiance[0], s.radiance[1], s.radiance[2]}},
+                    {"energy_share", s.energyShare}});
+  }
+  return list;
+}
+
 void run(const EnvmapArgs& a) {
   const ImageSize size = parseImageSize(a.size, "--size");
   const EnvRotation rotation = parseSingleRotation(a.rotate, "--rotate");
+  const std::optional<SourceFinding> finding = parseSourceFinding(a.sun);
   refuseOutputsOverInputs({a.env}, {a.out, a.cross, a.common.jsonPath});
   const CubeLattice lattice(a.cubemap);
   const auto env = loadEnvironment(a.env);
@@ -35,8 +58,12 @@ void run(const EnvmapArgs& a) {
     std::cerr << "wrote " << a.out << (a.cross.empty() ? "" : " and " + a.cross) << ": "
               << env->name() << " on 6x" << a.cubemap << "x" << a.cubemap
               << ", energy (sum of radiance x solid angle) " << energy.transpose() << "\n";
+  const nlohmann::json sources = sourcesJson(*env, finding, rotation);
+  if (!a.common.quiet && !sources.empty())
+    std::cerr << sources.size() << " compact bright source(s) found (listed by --json)\n";
   writeJson(a.common.jsonPath, {{"env", a.env},
                                 {"cubemap", a.cubemap},
+                                {"sources", sources},
                                 {"energy", {energy[0], energy[1], energy[2]}},
                                 {"out", a.out},
                                 {"cross", a.cross}});
@@ -54,9 +81,15 @@ void registerEnvmap(CLI::App& app) {
   sub->add_option("--cubemap", args->cubemap, "Cube-map face resolution R");
   sub->add_option("--rotate", args->rotate, std::string(kRotationGrammar) + " in degrees");
   sub->add_option("--size", args->size, "Lat-long size WxH");
+  sub->add_option("--sun", args->sun,
+                  "A lat-long map's compact bright sources listed by --json: auto, off or K "
+                  "(the brightest K)")
+      ->capture_default_str();
   addFastRotationFlag(*sub, args->rotationMode);
   args->common.add(*sub, false);
-  nameParameters(*sub, {{"--cubemap", {"cube-map resolution"}}, {"--rotate", {"rotation"}}});
+  nameParameters(
+      *sub,
+      {{"--cubemap", {"cube-map resolution"}}, {"--rotate", {"rotation"}}, {"--sun", {"sources"}}});
   sub->callback([args] { run(*args); });
 }
 

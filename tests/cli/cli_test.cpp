@@ -557,5 +557,31 @@ TEST_F(Cli, EveryCommandHasHelp) {
   }
 }
 
+TEST(EnvmapSources, ARealSkysSunIsListedTurnedWithTheMapAndOffListsNone) {
+  // Blender's sunrise sky (blender-data): its low sun holds most of its light.
+  const std::string map = "/usr/share/blender/datafiles/studiolights/world/sunrise.exr";
+  test::TempDir out;
+  const auto sources = [&](const std::string& flags) {
+    const RunResult r = runCli("envmap " + map + " --size 64x32 --quiet --out " +
+                               out.file("e.exr") + " --json " + out.file("e.json") + flags);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(std::ifstream(out.file("e.json")))["sources"];
+  };
+  const auto found = sources("");
+  ASSERT_EQ(found.size(), 1u) << found.dump();
+  const double theta = found[0]["theta_deg"], phi = found[0]["phi_deg"];
+  EXPECT_GT(found[0]["energy_share"].get<double>(), 0.3);
+  EXPECT_LT(found[0]["radius_deg"].get<double>(), 4);
+  EXPECT_GT(theta, 60);  // low in the sky
+  EXPECT_LT(theta, 90);
+  // A yaw of 90 degrees turns +X (PHI 90) to -Z (PHI 0): PHI falls by 90.
+  const auto turned = sources(" --rotate 90");
+  ASSERT_EQ(turned.size(), 1u);
+  EXPECT_NEAR(turned[0]["theta_deg"].get<double>(), theta, 1e-9);
+  EXPECT_NEAR(std::remainder(turned[0]["phi_deg"].get<double>() - (phi - 90), 360.0), 0, 1e-9);
+  EXPECT_TRUE(sources(" --sun off").empty());
+  expectFailure("envmap " + map + " --sun maybe --out " + out.file("x.exr"), "--sun 'maybe'");
+}
+
 }  // namespace
 }  // namespace acpca
