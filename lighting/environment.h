@@ -11,12 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "core/vectors.h"
 #include "transport/camera.h"
 #include "transport/cube_lattice.h"
 
 namespace acpca {
-
-using Rgb = Eigen::Vector3d;
 
 /// Per-texel lighting on the lattice: RGB radiance integrated over each texel's
 /// solid angle (radiance x dOmega), laid out [texel * 3 + channel].

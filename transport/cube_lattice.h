@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace acpca {
+#include "core/vectors.h"
 
-using Vec3 = Eigen::Vector3d;
+namespace acpca {
 
 /// A texel's address on the cube.
 struct TexelCoord {
