@@ -3,17 +3,9 @@
 #include <embree3/rtcore.h>
 
 #include "core/error.h"
-#include "core/warning.h"
+#include "occlusion/embree_device.h"
 
 namespace acpca {
-
-namespace {
-
-void onEmbreeError(void*, RTCError code, const char* message) {
-  warn(concat("Embree error ", static_cast<int>(code), ": ", message ? message : ""));
-}
-
-}  // namespace
 
 struct SceneOccluder::Embree {
   RTCDevice device = nullptr;
@@ -26,10 +18,7 @@ struct SceneOccluder::Embree {
 
 SceneOccluder::SceneOccluder(const LampGeometry& g) : embree_(std::make_unique<Embree>()) {
   Embree& e = *embree_;
-  e.device = rtcNewDevice("verbose=0");
-  ACPCA_CHECK(e.device != nullptr, "rtcNewDevice failed (error ",
-              static_cast<int>(rtcGetDeviceError(nullptr)), ")");
-  rtcSetDeviceErrorFunction(e.device, onEmbreeError, nullptr);
+  e.device = newEmbreeDevice();
   e.scene = rtcNewScene(e.device);
   // Robust (watertight) as the precompute's scene: no ray slips between two
   // triangles that share an edge. Medium quality: built on every open.
@@ -66,20 +55,6 @@ SceneOccluder::SceneOccluder(const LampGeometry& g) : embree_(std::make_unique<E
 }
 
 SceneOccluder::~SceneOccluder() = default;
-
-bool SceneOccluder::blocked(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
-                            float nearest, float farthest) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRay ray{};
-  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
-  ray.dir_x = direction.x(), ray.dir_y = direction.y(), ray.dir_z = direction.z();
-  ray.tnear = nearest;
-  ray.tfar = farthest;
-  ray.mask = ~0u;
-  rtcOccluded1(embree_->scene, &context, &ray);
-  return ray.tfar < 0;  // Embree marks a blocked ray with tfar = -inf
-}
 
 void SceneOccluder::trace(Packet& p) const {
   RTCIntersectContext context;

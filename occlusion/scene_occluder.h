@@ -19,14 +19,11 @@ class SceneOccluder {
   SceneOccluder(const SceneOccluder&) = delete;
   SceneOccluder& operator=(const SceneOccluder&) = delete;
 
-  /// Whether any surface lies on the ray from `origin` along the unit
-  /// `direction` strictly between `nearest` and `farthest`. Thread safe.
-  bool blocked(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float nearest,
-               float farthest) const;
-
   /// Up to kPacket rays at once (structure of arrays), traced as one packet:
   /// neighbouring pixels' rays to one lamp run close together, and a packet
-  /// shares their walk through the scene. Thread safe.
+  /// shares their walk through the scene. A ray is blocked when any surface
+  /// lies on it from its origin along its unit direction strictly between
+  /// `nearest` and `farthest`. Thread safe.
   static constexpr int kPacket = 16;
   struct Packet {
     int count = 0;

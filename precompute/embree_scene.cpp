@@ -9,16 +9,11 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "core/warning.h"
+#include "occlusion/embree_device.h"
 
 namespace acpca {
 
 namespace {
-
-// Embree's own words on an error, before checkDevice turns it into a failure.
-void onEmbreeError(void*, RTCError code, const char* message) {
-  warn(concat("Embree error ", static_cast<int>(code), ": ", message ? message : ""));
-}
 
 void checkDevice(RTCDevice device, const char* what) {
   const RTCError code = rtcGetDeviceError(device);
@@ -30,10 +25,7 @@ void checkDevice(RTCDevice device, const char* what) {
 
 EmbreeScene::EmbreeScene(const Scene& scene) {
   scene.validate();
-  device_ = rtcNewDevice("verbose=0");
-  ACPCA_CHECK(device_ != nullptr, "rtcNewDevice failed (error ",
-              static_cast<int>(rtcGetDeviceError(nullptr)), ")");
-  rtcSetDeviceErrorFunction(device_, onEmbreeError, nullptr);
+  device_ = newEmbreeDevice();
   scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);

@@ -18,8 +18,24 @@ LampGeometry squareAndSphere() {
   return g;
 }
 
+/// One segment traced as the relighter traces them, in a packet of its own.
+struct OneRay {
+  const SceneOccluder& occluder;
+  bool blocked(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float nearest,
+               float farthest) const {
+    SceneOccluder::Packet p;
+    p.count = 1;
+    p.ox[0] = o.x(), p.oy[0] = o.y(), p.oz[0] = o.z();
+    p.dx[0] = d.x(), p.dy[0] = d.y(), p.dz[0] = d.z();
+    p.nearest[0] = nearest, p.farthest[0] = farthest;
+    occluder.trace(p);
+    return p.blocked[0];
+  }
+};
+
 TEST(SceneOccluder, SurfacesBlockTheSegmentsThatCrossThemAndNoOthers) {
-  const SceneOccluder occluder(squareAndSphere());
+  const SceneOccluder scene(squareAndSphere());
+  const OneRay occluder{scene};
   const Eigen::Vector3f up(0, 1, 0), down(0, -1, 0), x(1, 0, 0);
   EXPECT_TRUE(occluder.blocked({0.1f, 0, 0.2f}, up, 0, 5));
   EXPECT_TRUE(occluder.blocked({0.1f, 3, 0.2f}, down, 0, 5));     // from the other side
@@ -34,7 +50,8 @@ TEST(SceneOccluder, SurfacesBlockTheSegmentsThatCrossThemAndNoOthers) {
 }
 
 TEST(SceneOccluder, NoSurfacesBlockNothing) {
-  const SceneOccluder occluder{LampGeometry{}};
+  const SceneOccluder scene{LampGeometry{}};
+  const OneRay occluder{scene};
   EXPECT_FALSE(occluder.blocked({0, 0, 0}, {0, 1, 0}, 0, 1e30f));
 }
 
