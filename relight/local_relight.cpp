@@ -320,8 +320,6 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
                "stored); ",
                model ? "precompute its transport again and compress (or build) it again"
                      : "precompute it again"));
-  const CubeLattice lattice(header.cubemapResolution);
-  std::vector<LightTap> taps;
   for (const LocalLight& light : lights) {
     long long inside = 0, first = -1;
     for (long long row = 0; row < header.rows(); ++row) {
@@ -344,7 +342,6 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
 std::vector<float> denseLocalRelight(const TransportReader& transport,
                                      const std::vector<LocalLight>& lights) {
   const TransportHeader& h = transport.header();
-  requireLocalLightsApply(h, transport.path(), false, lights);
   const CubeLattice lattice(h.cubemapResolution);
   const int l = transport.latticeSize(), length = transport.rowLength();
   std::vector<float> out(3 * static_cast<size_t>(transport.rows()), 0.0f);

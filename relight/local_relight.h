@@ -25,8 +25,8 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
                              const std::vector<LocalLight>& lights);
 
 /// Per occupied row RGB (rows x 3, albedo applied) under the lights alone,
-/// from T (refusing what requireLocalLightsApply refuses): one pass over the file, parallel over
-/// blocks of rows; the same values for any thread count.
+/// from T (call requireLocalLightsApply first, once): one pass over the file,
+/// parallel over blocks of rows; the same values for any thread count.
 std::vector<float> denseLocalRelight(const TransportReader& transport,
                                      const std::vector<LocalLight>& lights);
 

@@ -179,7 +179,7 @@ TEST(LocalLights, ALightOnTheFloorIsRefusedNamingItAndThePixel) {
   const Floor floor;
   const TransportReader t(floor.path);
   try {
-    denseLocalRelight(t, {parseLocalLight("sphere:0,0,0,0.3,1")});
+    requireLocalLightsApply(t.header(), t.path(), false, {parseLocalLight("sphere:0,0,0,0.3,1")});
     FAIL() << "a sphere through the floor was accepted";
   } catch (const ParameterError& e) {
     EXPECT_EQ(e.value(), "sphere:0,0,0,0.3,1");
