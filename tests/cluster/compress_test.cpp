@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <filesystem>
 #include <limits>
@@ -315,6 +316,31 @@ void poisonDataset(const std::string& path, const char* name) {
   std::vector<float> nan(static_cast<size_t>(H5Sget_simple_extent_npoints(space.get())),
                          std::numeric_limits<float>::quiet_NaN());
   ASSERT_GE(H5Dwrite(data.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, nan.data()), 0);
+}
+
+TEST_F(CompressPlant, AdaptiveBinaryOnFourThreadsSplitsAsOnOne) {
+  // More threads than CI's two cores: the splits' eigenproblems run side by
+  // side on four (the sanitizer stage runs this too), and the model is the
+  // one-thread model bit for bit.
+  const TransportReader t(path());
+  CompressOptions o;
+  o.method = Method::AdaptiveBinary;
+  o.clusters = 6;
+  Model one, four;
+  {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = compressTransport(t, o);
+  }
+  {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 4);
+    tbb::task_arena arena(4);
+    arena.execute([&] { four = compressTransport(t, o); });
+  }
+  EXPECT_GT(one.clusters(), 6);
+  EXPECT_EQ(one.clusterRows, four.clusterRows);
+  EXPECT_EQ(one.ranks, four.ranks);
+  EXPECT_EQ(one.bases, four.bases);
+  EXPECT_EQ(one.coeffF32, four.coeffF32);
 }
 
 TEST_F(CompressPlant, ASummaryGivesTheWholeModelsFiguresWithoutReadingItsArrays) {
