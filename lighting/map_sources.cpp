@@ -99,6 +99,20 @@ double MapSource::solidAngle() const {
   return 2 * kPi * (1 - std::cos(radius));
 }
 
+MapSource MapSource::turned(const Eigen::Matrix3d& rotation) const {
+  MapSource s = *this;
+  s.direction = rotation * direction;
+  return s;
+}
+
+double MapSource::thetaDegrees() const {
+  return std::acos(std::clamp(direction[1], -1.0, 1.0)) * (180 / kPi);
+}
+
+double MapSource::phiDegrees() const {
+  return std::atan2(direction[0], -direction[2]) * (180 / kPi);
+}
+
 double latLongPixelSolidAngle(int row, int width, int height) {
   return (std::cos(kPi * row / height) - std::cos(kPi * (row + 1) / height)) * 2 * kPi / width;
 }

@@ -30,6 +30,11 @@ struct MapSource {
   double energyShare = 0;  ///< of the map's whole energy (luminance-weighted)
   double solidAngle() const;
   Rgb energy() const { return radiance * solidAngle(); }
+  /// The same source with its direction turned, as the map it came from is.
+  MapSource turned(const Eigen::Matrix3d& rotation) const;
+  /// Its direction as `sun:` takes one: degrees from +Y, azimuth from -Z towards +X.
+  double thetaDegrees() const;
+  double phiDegrees() const;
 };
 
 /// The sources split off a map, and the map without them.

@@ -27,12 +27,12 @@ nlohmann::json sourcesJson(const Environment& env, const std::optional<SourceFin
   nlohmann::json list = nlohmann::json::array();
   if (!finding || !env.latLong()) return list;
   const Eigen::Matrix3d turn = rotationMatrix(rotation);
-  for (const MapSource& s : splitMapSources(*env.latLong(), *finding).sources) {
-    const Vec3 d = turn * s.direction;
+  for (const MapSource& found : splitMapSources(*env.latLong(), *finding).sources) {
+    const MapSource s = found.turned(turn);
     constexpr double kDegree = 180 / 3.14159265358979323846;
-    list.push_back({{"direction", {d[0], d[1], d[2]}},
-                    {"theta_deg", std::acos(std::clamp(d[1], -1.0, 1.0)) * kDegree},
-                    {"phi_deg", std::atan2(d[0], -d[2]) * kDegree},
+    list.push_back({{"direction", {s.direction[0], s.direction[1], s.direction[2]}},
+                    {"theta_deg", s.thetaDegrees()},
+                    {"phi_deg", s.phiDegrees()},
                     {"radius_deg", s.radius * kDegree},
                     {"radiance", {s.radiance[0], s.radiance[1], s.radiance[2]}},
                     {"energy_share", s.energyShare}});
