@@ -3,6 +3,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <optional>
+
 #include "core/error.h"
 #include "relight/shadow_ray_batch.h"
 #include "relight/sphere_lamp.h"
@@ -100,28 +102,32 @@ int parseSphereLampRays(const std::string& text) {
   return rays;
 }
 
-std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights,
-                                       int sphereRays) const {
+std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, int sphereRays,
+                                       const std::vector<MapSource>& discs) const {
   std::call_once(built_, [&] {
     occluder_ = std::make_unique<SceneOccluder>(header_.lamps);
     rowOfPixel_ = rowsOfPixels(header_);
   });
   const long long rows = header_.rows();
   std::vector<float> out(3 * static_cast<size_t>(rows), 0.0f);
-  if (lights.empty()) return out;
-  // Sphere lamps probe first: a row's rays depend on its neighbours' probes.
-  std::vector<std::vector<LampSight>> sight(lights.size());
-  for (size_t i = 0; i < lights.size(); ++i)
-    if (lights[i].sphere())
-      sight[i] = sphereLampSight(header_, *occluder_, lights[i], rowOfPixel_, rays_);
+  if (lights.empty() && discs.empty()) return out;
+  // The lamps in order, then the discs: a cap each, or a point lamp's index.
+  std::vector<std::optional<CapLamp>> caps;
+  for (const LocalLight& light : lights)
+    caps.push_back(light.sphere() ? std::optional(CapLamp::sphere(light)) : std::nullopt);
+  for (const MapSource& disc : discs) caps.push_back(CapLamp::distant(disc));
+  // Caps probe first: a row's rays depend on its neighbours' probes.
+  std::vector<std::vector<LampSight>> sight(caps.size());
+  for (size_t i = 0; i < caps.size(); ++i)
+    if (caps[i]) sight[i] = sphereLampSight(header_, *occluder_, *caps[i], rowOfPixel_, rays_);
   // Each row sums its lamps in order, then its samples in order, whatever
   // the blocks: the same values for any thread count.
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 256), [&](const auto& range) {
     std::vector<Rgb> acc(static_cast<size_t>(range.size()), Rgb::Zero());
     long long rays = 0;
-    for (size_t i = 0; i < lights.size(); ++i)
-      rays += lights[i].sphere()
-                  ? addSphereLamp(header_, *occluder_, lights[i], sight[i], sphereRays,
+    for (size_t i = 0; i < caps.size(); ++i)
+      rays += caps[i]
+                  ? addSphereLamp(header_, *occluder_, *caps[i], sight[i], sphereRays,
                                   range.begin(), range.end(), acc)
                   : addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
     rays_ += rays;

@@ -16,6 +16,7 @@
 
 #include "core/enum_names.h"
 #include "lighting/local_light.h"
+#include "lighting/map_sources.h"
 #include "occlusion/scene_occluder.h"
 #include "transport/transport_file.h"
 
@@ -64,8 +65,11 @@ class ExactLamps {
   /// sphere lamp's L x f/albedo x cos over the part of its cap the sample's
   /// rays reach. Parallel over rows; the same values for any thread count.
   /// `sphereRays`: a sphere lamp's rays per sample in a penumbra (a square).
+  /// `discs`: distant discs (a map's sources), lit as sphere lamps at
+  /// infinity: L x f/albedo x cos over the part of the cap the rays reach.
   std::vector<float> relight(const std::vector<LocalLight>& lights,
-                             int sphereRays = kDefaultSphereLampRays) const;
+                             int sphereRays = kDefaultSphereLampRays,
+                             const std::vector<MapSource>& discs = {}) const;
   /// The shadow rays traced so far, by every call.
   long long shadowRays() const { return rays_; }
 

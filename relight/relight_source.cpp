@@ -58,6 +58,13 @@ class LampsOfFile {
     });
   }
   long long shadowRays() const { return state_->exact ? state_->exact->shadowRays() : 0; }
+  /// Why its lamps cannot be lit exactly; empty when they can.
+  const std::string& unavailable() const { return state_->why; }
+  std::vector<float> relightDiscs(const std::vector<MapSource>& discs, int rays) const {
+    ACPCA_CHECK(state_->exact, "a map's sources lit exactly from ", state_->path, ": ",
+                state_->why);
+    return state_->exact->relight({}, rays, discs);
+  }
 
  private:
   static const TransportHeader& headerOf(const ModelRelighter& m) { return m.geometry(); }
@@ -70,6 +77,16 @@ class LampsOfFile {
   };
   std::shared_ptr<State> state_;
 };
+
+/// What a source says of its file's exact lamps: the rays traced, and the
+/// map's sources lit exactly (or why not).
+void attachLamps(RelightSource& s, const LampsOfFile& lamps) {
+  s.lampShadowRays = [lamps] { return lamps.shadowRays(); };
+  s.sourcesUnavailable = lamps.unavailable();
+  s.relightSources = [lamps](const std::vector<MapSource>& discs, int rays) {
+    return lamps.relightDiscs(discs, rays);
+  };
+}
 
 }  // namespace
 
@@ -104,7 +121,7 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     // first local light: environment-only runs never need them).
     auto kept = std::make_shared<std::optional<LocalLightColumns>>();
     const LampsOfFile lamps(s.model, path, true);
-    s.lampShadowRays = [lamps] { return lamps.shadowRays(); };
+    attachLamps(s, lamps);
     s.relightLocal = [relighter = s.model, path, kept, lamps](const std::vector<LocalLight>& lights,
                                                               double anchorSpread,
                                                               const LampSettings& settings) {
@@ -132,7 +149,7 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     return out;
   };
   const LampsOfFile lamps(transport, path, false);
-  s.lampShadowRays = [lamps] { return lamps.shadowRays(); };
+  attachLamps(s, lamps);
   s.relightLocal = [transport, path, lamps](const std::vector<LocalLight>& lights, double,
                                             const LampSettings& settings) {
     requireLocalLightsApply(transport->header(), path, false, lights);

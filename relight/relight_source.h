@@ -45,6 +45,13 @@ struct RelightSource {
   std::function<std::vector<float>(const std::vector<LocalLight>&, double anchorSpread,
                                    const LampSettings& settings)>
       relightLocal;
+  /// A map's sources alone (3 floats per occupied row, albedo applied), lit
+  /// exactly as distant discs (ExactLamps::relight), `rays` per camera
+  /// sample in a penumbra; only where sourcesUnavailable is empty.
+  std::function<std::vector<float>(const std::vector<MapSource>&, int rays)> relightSources;
+  /// Why the file cannot light a map's sources exactly (exactLampsUnavailable's
+  /// words); empty when it can.
+  std::string sourcesUnavailable;
   /// The shadow rays its exact lamps have traced so far (0 where none).
   std::function<long long()> lampShadowRays = [] { return 0LL; };
 };

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/error.h"
@@ -44,18 +45,20 @@ const std::array<Eigen::Vector2d, kProbes>& probePoints() {
   return points;
 }
 
-/// The strata's disc points for `rays` = n x n: one in each cell of an n x
-/// n grid of the square, jittered once by a fixed seed, mapped onto the disc.
-std::vector<Eigen::Vector2d> strataPoints(int rays) {
+/// One sample's strata, `rays` = n x n disc points: one in each cell of an
+/// n x n grid of the square, jittered by the sample's own seed, mapped onto
+/// the disc. Jittered anew for each sample, each sample's sum is an unbiased
+/// estimate (one fixed pattern, merely turned, is not: its radii are off
+/// uniform by up to a cell, which widened a 16-ray penumbra by 7%).
+void strataPoints(int rays, std::uint64_t seed, std::vector<Eigen::Vector2d>& p) {
   const int side = static_cast<int>(std::lround(std::sqrt(double(rays))));
   ACPCA_CHECK(side >= 1 && side * side == rays, "sphere lamp rays ", rays, " is not a square");
-  std::vector<Eigen::Vector2d> p(static_cast<size_t>(rays));
+  p.resize(static_cast<size_t>(rays));
   for (int i = 0; i < rays; ++i) {
-    const std::uint64_t h = splitMix(0x5eed0000ull + static_cast<std::uint64_t>(i));
+    const std::uint64_t h = splitMix(seed * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(i));
     p[i] = concentricDisc((i % side + unitFromBits(h)) / side,
                           (i / side + unitFromBits(splitMix(h))) / side);
   }
-  return p;
 }
 
 /// A sphere seen from a point: the cap of directions to it.
@@ -76,23 +79,34 @@ struct SphereCap {
     const double across = std::sqrt(std::max(0.0, k * (2 - k)) / rho2);
     return (1 - k) * axis + across * (p.x() * u + p.y() * v);
   }
-  /// Where a ray along w (a direction of the cap) meets the near surface.
+  /// Where a ray along w (a direction of the cap) meets the near surface;
+  /// infinity for a distant disc.
   double reach(const Vec3& w) const {
+    if (std::isinf(distance)) return distance;
     const double along = w.dot(axis) * distance;
     return along - std::sqrt(std::max(0.0, along * along - distance * distance + radius * radius));
   }
 };
 
 /// False when the point lies inside or on the sphere.
-bool capOf(const LocalLight& lamp, const Vec3& point, SphereCap& cap) {
-  const Vec3 toCentre = lamp.position - point;
-  cap.radius = lamp.sphere()->radius;
-  cap.distance = toCentre.norm();
-  if (!(cap.distance > cap.radius)) return false;
-  cap.axis = toCentre / cap.distance;
-  cap.sinAlpha = cap.radius / cap.distance;
-  const double sin2 = cap.sinAlpha * cap.sinAlpha;
-  cap.oneMinusCos = sin2 / (1 + std::sqrt(1 - sin2));
+bool capOf(const CapLamp& lamp, const Vec3& point, SphereCap& cap) {
+  if (lamp.atInfinity) {
+    cap.axis = lamp.centre;
+    cap.distance = std::numeric_limits<double>::infinity();
+    cap.radius = lamp.radius;
+    cap.sinAlpha = std::sin(lamp.radius);
+    const double half = std::sin(0.5 * lamp.radius);
+    cap.oneMinusCos = 2 * half * half;
+  } else {
+    const Vec3 toCentre = lamp.centre - point;
+    cap.radius = lamp.radius;
+    cap.distance = toCentre.norm();
+    if (!(cap.distance > cap.radius)) return false;
+    cap.axis = toCentre / cap.distance;
+    cap.sinAlpha = cap.radius / cap.distance;
+    const double sin2 = cap.sinAlpha * cap.sinAlpha;
+    cap.oneMinusCos = sin2 / (1 + std::sqrt(1 - sin2));
+  }
   const Vec3 helper = std::abs(cap.axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
   cap.u = cap.axis.cross(helper).normalized();
   cap.v = cap.axis.cross(cap.u);
@@ -103,7 +117,8 @@ Vec3 vec3At(const std::vector<float>& values, long long i) {
   return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
 }
 
-/// A ray's far end: just short of the lamp, so what lies beyond it casts no shadow.
+/// A ray's far end: just short of the lamp, so what lies beyond it casts no
+/// shadow (a distant disc's rays run on to infinity).
 float stopBefore(double reach) {
   return static_cast<float>(reach * (1 - 1e-6));
 }
@@ -119,15 +134,16 @@ struct CapLight {
 /// horizons of f/albedo x cos and, where `trace`, queues their rays with
 /// that as their light.
 template <typename Batch>
-double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s,
-                 const std::vector<Eigen::Vector2d>& strata, Batch* trace) {
+double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, int rays,
+                 std::vector<Eigen::Vector2d>& strata, Batch* trace) {
   const LampGeometry& g = h.lamps;
   const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s),
              ng = vec3At(g.geometricNormal, s);
   const Vec3 toViewer = (h.camera.eye - origin).normalized();
   const Material& material = g.materials[g.material[s]];
-  // The pattern turned by an angle seeded by the sample: neighbouring
-  // samples' strata differ, and a lamp that moves keeps each sample's.
+  // Jittered and turned by the sample's seed: neighbouring samples' strata
+  // differ, and a lamp that moves keeps each sample's.
+  strataPoints(rays, static_cast<std::uint64_t>(s), strata);
   const double turn = 2 * kPi * unitFromBits(splitMix(static_cast<std::uint64_t>(s)));
   const double c = std::cos(turn), sn = std::sin(turn);
   double sum = 0;
@@ -145,6 +161,24 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s,
 
 }  // namespace
 
+CapLamp CapLamp::sphere(const LocalLight& lamp) {
+  ACPCA_CHECK(lamp.sphere(), "a ", kLocalLightKindNames.name(lamp.kind()), " lamp has no cap");
+  CapLamp cap;
+  cap.centre = lamp.position;
+  cap.radius = lamp.sphere()->radius;
+  cap.radiance = lamp.emission;
+  return cap;
+}
+
+CapLamp CapLamp::distant(const MapSource& disc) {
+  CapLamp cap;
+  cap.centre = disc.direction.normalized();
+  cap.radius = disc.radius;
+  cap.atInfinity = true;
+  cap.radiance = disc.radiance;
+  return cap;
+}
+
 std::vector<std::int32_t> rowsOfPixels(const TransportHeader& h) {
   std::vector<std::int32_t> rows(static_cast<size_t>(h.camera.size.pixels()), -1);
   for (long long r = 0; r < h.rows(); ++r) rows[h.pixels[r]] = static_cast<std::int32_t>(r);
@@ -152,7 +186,7 @@ std::vector<std::int32_t> rowsOfPixels(const TransportHeader& h) {
 }
 
 std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccluder& occluder,
-                                       const LocalLight& lamp,
+                                       const CapLamp& lamp,
                                        const std::vector<std::int32_t>& rowOfPixel,
                                        std::atomic<long long>& rays) {
   const LampGeometry& g = h.lamps;
@@ -167,7 +201,10 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
         SphereCap cap;
         const Vec3 origin = vec3At(g.origin, s);
         if (!capOf(lamp, origin, cap)) continue;
-        const int k = static_cast<int>((x % kTile + kTile * (y % kTile) + s) % kProbes);
+        // The pixel's place in its tile picks the first point, its samples
+        // the next: every 3x3 window of pixels holds all nine points.
+        const int k =
+            static_cast<int>((x % kTile + kTile * (y % kTile) + s - g.sampleStart[r]) % kProbes);
         const Vec3 w = cap.direction(probePoints()[k]);
         if (!(vec3At(g.normal, s).dot(w) > 0 && vec3At(g.geometricNormal, s).dot(w) > 0)) continue;
         probe[s] = kProbeBlocked;  // until the ray says otherwise
@@ -199,9 +236,9 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
 }
 
 long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
-                        const LocalLight& lamp, const std::vector<LampSight>& sight, int rays,
+                        const CapLamp& lamp, const std::vector<LampSight>& sight, int rays,
                         long long first, long long end, std::vector<Rgb>& acc) {
-  const std::vector<Eigen::Vector2d> strata = strataPoints(rays);
+  std::vector<Eigen::Vector2d> strata;  // each sample's, in turn
   const LampGeometry& g = h.lamps;
   const long long firstSample = g.sampleStart[first];
   std::vector<CapLight> light(static_cast<size_t>(g.sampleStart[end] - firstSample));
@@ -222,7 +259,7 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
                               cap.above(n) && cap.above(vec3At(g.geometricNormal, s));
       const bool traced = sight[r] == LampSight::Partly;
       if (!closedForm || traced)
-        l.strataSum = sumStrata(h, cap, s, strata, traced ? &batch : nullptr);
+        l.strataSum = sumStrata(h, cap, s, rays, strata, traced ? &batch : nullptr);
       l.unoccluded = g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
                                                : l.strataSum * cap.solidAngle() / rays);
     }
@@ -241,7 +278,7 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
       else if (l.strataSum > 0)
         sum += l.unoccluded * (l.seen / l.strataSum);
     }
-    acc[r - first] += sum * lamp.emission;
+    acc[r - first] += sum * lamp.radiance;
   }
   return batch.rays();
 }
