@@ -13,6 +13,7 @@
 #include "lighting/lighting.h"
 #include "lighting/lighting_sampler.h"
 #include "lighting/local_light.h"
+#include "lighting/map_sources.h"
 #include "lighting/rotation.h"
 #include "relight/lamp_light.h"
 #include "relight/local_relight.h"
@@ -46,6 +47,9 @@ struct BatchRelightOptions {
   /// Lamps: exact where the file allows (relight/lamp_light.h), or the
   /// lattice's; a sphere lamp's rays per camera sample in a penumbra.
   LampSettings lamps;
+  /// --sun: how each map's compact bright sources are found and split off
+  /// to be lit exactly (lighting/map_sources.h); none: all through the lattice.
+  std::optional<SourceFinding> sources = SourceFinding{};
   /// A light path file (local_light.h, readLightPath): every map x rotation
   /// is relit under each line's lights (with `lights` added), line by line.
   std::string lightPath;

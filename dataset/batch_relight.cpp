@@ -36,6 +36,7 @@
 #include "dataset/frame_files.h"
 #include "dataset/frame_labels.h"
 #include "dataset/image_output.h"
+#include "dataset/map_source_listing.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/lighting.h"
 #include "lighting/sh_lighting.h"
@@ -56,8 +57,15 @@ namespace fs = std::filesystem;
 struct EnvInput {
   std::string spec;
   std::unique_ptr<Environment> env;
-  std::string error;  // non-empty: could not be loaded
+  std::string error;       // non-empty: could not be loaded
+  SplitEnvironment split;  ///< its sources split off (--sun); none when off or none found
 };
+
+/// What a frame's lattice lighting integrates: the map less its sources
+/// where they are lit exactly, else the whole map.
+const Environment& latticeMap(const EnvInput& in, bool exactSources) {
+  return exactSources && in.split.rest ? *in.split.rest : *in.env;
+}
 
 /// One frame of the batch: a lighting under a rotation, and its local lights.
 struct Frame {
@@ -198,6 +206,7 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
 /// the warnings it raised, held for their turn.
 struct LoadedLighting {
   std::unique_ptr<Environment> env;
+  SplitEnvironment split;
   std::exception_ptr error;
   bool userError = false;  ///< the input's fault (a batch skips it)
   std::vector<std::string> warnings;
@@ -206,7 +215,8 @@ struct LoadedLighting {
 /// Every lighting of the batch read at once, each on its own task (decoding
 /// and checking a 2048x1024 map takes tens of milliseconds of one core).
 /// Each task is isolated, so its held warnings are its own.
-std::vector<LoadedLighting> loadLightings(const std::vector<std::string>& specs) {
+std::vector<LoadedLighting> loadLightings(const std::vector<std::string>& specs,
+                                          const std::optional<SourceFinding>& sources) {
   std::vector<LoadedLighting> loaded(specs.size());
   tbb::parallel_for(size_t(0), specs.size(), [&](size_t k) {
     tbb::this_task_arena::isolate([&] {
@@ -214,6 +224,7 @@ std::vector<LoadedLighting> loadLightings(const std::vector<std::string>& specs)
       HeldWarnings held;
       try {
         l.env = loadEnvironment(specs[k]);
+        if (sources) l.split = l.env->splitSources(*sources);
       } catch (const UserError&) {
         l.error = std::current_exception(), l.userError = true;
       } catch (...) {
@@ -235,7 +246,7 @@ std::vector<EnvInput> takeInputs(const std::vector<std::string>& specs,
   for (size_t k = 0; k < specs.size(); ++k) {
     LoadedLighting& l = loaded[k];
     for (const std::string& w : l.warnings) warn(w);
-    EnvInput in{specs[k], std::move(l.env), ""};
+    EnvInput in{specs[k], std::move(l.env), "", std::move(l.split)};
     if (l.error) {
       if (!batch || !l.userError) std::rethrow_exception(l.error);
       try {
@@ -416,7 +427,8 @@ struct BatchView {
   size_t index = 0, count = 1;
   std::string input;
   size_t firstFrame = 0;
-  int indexDigits = 5;  ///< of a frame's index in its file name (frameIndexDigits)
+  int indexDigits = 5;        ///< of a frame's index in its file name (frameIndexDigits)
+  bool exactSources = false;  ///< the maps' sources lit exactly, not through the lattice
   /// "vNN_" before frame names, "_vNN" after label names (several views only).
   std::string label() const { return concat("v", std::setw(2), std::setfill('0'), index); }
 };
@@ -543,8 +555,7 @@ class FrameWriting {
     FrameFiles written;
     if (sh_ || a_.lightingImages) {
       const LatticeLighting lighting = lightingOf(i);
-      if (sh_)
-        for (const Rgb& c : sh_->project(lighting)) written.sh9.push_back({c.x(), c.y(), c.z()});
+      if (sh_) written.sh9 = sh9Json(sh_->project(lighting), sourcesOf(f));
       if (a_.lightingImages) {
         const std::string path = fileStem(i, "lighting") + ".exr";
         // The radiance the lattice (or a light set's cells) holds, before
@@ -625,6 +636,7 @@ class FrameWriting {
                            {"exposure", f.exposure},
                            {"lights", lightSpecs_[f.lights]},
                            {"sh9", written.sh9},
+                           {"sources", sourcesJson(sourcesOf(f))},
                            {"outputs", inDataset(written.frames)}};
     if (view_.count > 1) line["view"] = view_.index;
     if (f.sample >= 0) line["sample"] = f.sample;
@@ -683,7 +695,14 @@ class FrameWriting {
       }
     }
     const Frame& f = frames_[i];
-    return domain_(*f.input->env, f.rotation, a_.rotationMode);
+    return domain_(latticeMap(*f.input, view_.exactSources), f.rotation, a_.rotationMode);
+  }
+
+  /// Frame f's sources lit exactly, turned with it (none where the lattice
+  /// holds them).
+  std::vector<MapSource> sourcesOf(const Frame& f) const {
+    if (!view_.exactSources) return {};
+    return turnedSources(f.input->split.sources, f.rotation);
   }
 
   /// Where a label file of the view goes: the batch's directory, or beside
@@ -756,6 +775,7 @@ std::vector<std::pair<const char*, double>> BatchStages::named() const {
           {"projection", projection},
           {"shading", shading},
           {"local_lights", localLights},
+          {"sources", sources},
           {"background", background},
           {"writing", writing},
           {"waiting_for_writing", waitingForWriting},
@@ -950,6 +970,23 @@ void requireDistinctFrameFiles(const BatchRun& run, size_t views, int indexDigit
       });
 }
 
+/// Whether the view's file lights the maps' sources exactly: --sun on, exact
+/// lamps asked for, and a file that holds its surfaces and direct light
+/// apart. Where it cannot, one warning names the file and why, and the
+/// sources stay in the maps, on the lattice.
+bool sourcesLitExactly(const BatchRun& run, const RelightSource& source, const std::string& path) {
+  const BatchRelightOptions& a = run.a;
+  if (!a.sources || a.lamps.mode != LampMode::Exact) return false;
+  if (source.sourcesUnavailable.empty()) return true;
+  const bool any = std::any_of(run.inputs.begin(), run.inputs.end(),
+                               [](const EnvInput& in) { return !in.split.sources.empty(); });
+  if (any && !source.header.isLightSet())
+    warn(concat(path, ": the maps' suns and bright lamps go through the lattice (their shadows ",
+                "come out soft and shifted by up to a texel): ", source.sourcesUnavailable,
+                "; --sun off asks for it without this warning"));
+  return false;
+}
+
 /// One view's frames relit and (rank 0) written; returns its frame count.
 size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const BatchRelightOptions& a = run.a;
@@ -957,6 +994,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   std::vector<double>& msPerFrame = run.msPerFrame;
   const DomainLighting domain(source.header);
   LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
+  const bool exactSources = view.exactSources = sourcesLitExactly(run, source, view.input);
   const long long raysBefore = source.lampShadowRays();
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<Frame>& frames = run.viewFrames;
@@ -1004,8 +1042,9 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
       std::vector<EnvRotation> rotations;
       for (size_t k = k0; k < k1; ++k) rotations.push_back(frames[mine[first + k]].rotation);
       std::vector<double> shares;
-      std::vector<LatticeLighting> made = domain.lightings(*frames[mine[first + k0]].input->env,
-                                                           rotations, a.rotationMode, &shares);
+      std::vector<LatticeLighting> made =
+          domain.lightings(latticeMap(*frames[mine[first + k0]].input, exactSources), rotations,
+                           a.rotationMode, &shares);
       for (size_t k = k0; k < k1; ++k)
         lightings[k] = std::move(made[k - k0]), uncovered[k] = shares[k - k0];
     });
@@ -1016,6 +1055,16 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
     return lightings;
   };
   const ImageComposer composer(source.header);
+  // A frame's sources, turned with it, lit exactly onto its pixels.
+  const auto addSources = [&](const Frame& f, float* pixels) {
+    if (!exactSources || f.input->split.sources.empty()) return;
+    const Stopwatch watch;
+    const std::vector<float> rows = source.relightSources(
+        turnedSources(f.input->split.sources, f.rotation), a.lamps.sphereRays);
+    composer.addRows(rows.data(), pixels, channels);
+    stages.sources += watch.seconds();
+    run.lampPixels += source.header.rows();
+  };
   relightInGroups(
       mine.size(), lightingsOf,
       [&](size_t g, const std::vector<LatticeLighting>& lightings) {
@@ -1028,6 +1077,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
             msPerFrame, stages, [&](size_t k, std::vector<float>& pixels, double ms) {
               const std::vector<float>& local = localRows.of(frames[mine[g + k]].lights);
               if (!local.empty()) composer.addRows(local.data(), pixels.data(), channels);
+              addSources(frames[mine[g + k]], pixels.data());
               if (rank == 0)
                 ownMs = ms;
               else
@@ -1082,7 +1132,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
   // is reported in the order of old: the model first.
   std::vector<LoadedLighting> loaded;
   tbb::task_group loading;
-  loading.run([&] { loaded = loadLightings(a.envs); });
+  loading.run([&] { loaded = loadLightings(a.envs, a.sources); });
   std::optional<RelightSource> source;
   try {
     source.emplace(openRelightSource(views[0], a.maxRank));
@@ -1101,7 +1151,7 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
   // stops the batch, so that a seed always makes the same frames.
   run.inputs = takeInputs(a.envs, std::move(loaded), batch && a.sampling.count == 0, a.warn);
   // Local lights alone: one frame over a black environment.
-  if (run.inputs.empty()) run.inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), ""});
+  if (run.inputs.empty()) run.inputs.push_back({"", makeConstantEnvironment(Rgb::Zero()), "", {}});
   for (const auto& set : run.sets) run.setSpecs.push_back(canonicalSpecs(set));
   run.viewFrames = batchFrames(a, run.inputs, run.sets.size());
   const int indexDigits =
@@ -1164,6 +1214,11 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
   }
   result.summary += concat("; ", frames, " frame(s) written in ", stages.wall, " s (",
                            stages.wall > 0 ? frames / stages.wall : 0.0, " frames/s)");
+  nlohmann::json sources = nlohmann::json::array();
+  for (const EnvInput& in : run.inputs)
+    if (!in.split.sources.empty())
+      sources.push_back({{"env", in.spec}, {"sources", sourcesJson(in.split.sources)}});
+  result.json["sources"] = std::move(sources);
   result.json["outputs"] = std::move(run.outputs);
   if (!a.aovs.empty()) result.json["labels"] = run.labels;
   if (views.size() > 1) result.json["views"] = views;

@@ -30,6 +30,7 @@ struct BatchStages {
   double projection = 0;   ///< V_g and the bases met by a group's lightings (models)
   double shading = 0;      ///< pixels relit (a transport: its pass over T)
   double localLights = 0;  ///< the local lights relit (once: the same in every frame)
+  double sources = 0;      ///< the maps' sources lit exactly, frame by frame
   double background = 0;   ///< the background composed under each frame
   double writing = 0;      ///< frames encoded and written (writing threads)
   double waitingForWriting = 0;

@@ -44,6 +44,8 @@ nlohmann::json datasetIdentity(const BatchRelightOptions& a) {
                              {"label_format", kLabelFormatNames.name(a.labelFormat)},
                              {"lighting_exr", a.lightingImages},
                              {"keep_negative", a.keepNegative}};
+  // The sources lit exactly change every sunlit pixel: "off", or at most K.
+  identity["sun"] = a.sources ? std::to_string(a.sources->maxSources) : "off";
   if (a.shardSize > 0) identity["shard_size"] = a.shardSize;
   if (a.sampling.count > 0)
     identity["sampling"] = {{"count", a.sampling.count},

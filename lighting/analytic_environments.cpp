@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "lighting/environment.h"
+#include "lighting/map_sources.h"
 
 namespace acpca {
 
@@ -60,6 +61,22 @@ class SunEnvironment : public Environment {
     return d.normalized().dot(centre_) >= cosHalf_ ? radiance_ : Rgb::Zero();
   }
   Rgb energy() const { return radiance_ * 2 * kPi * (1 - cosHalf_); }
+  /// The disc as a distant source, turned by nothing.
+  MapSource source() const {
+    MapSource s;
+    s.direction = centre_;
+    s.radius = 0.5 * toRadians(size_);
+    s.radiance = radiance_;
+    return s;
+  }
+  SplitEnvironment splitSources(const SourceFinding& finding) const override {
+    SplitEnvironment out;
+    if (!discIsSource(0.5 * toRadians(size_), finding)) return out;
+    out.sources = {source()};
+    setEnergyShares(out.sources, 0);
+    out.rest = makeConstantEnvironment(Rgb::Zero());
+    return out;
+  }
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                  LatticeLighting& lighting) const override {
     // Rings of equal solid angle (cos theta uniform), more of them than the
@@ -99,19 +116,36 @@ class SunEnvironment : public Environment {
 class SkyEnvironment : public Environment {
  public:
   static constexpr double kSunTheta = 35, kSunPhi = 60, kSunSize = 2;
-  SkyEnvironment() : sun_(kSunTheta, kSunPhi, kSunSize, Rgb(2000, 1900, 1700)) {
+  /// withSun false: the sky alone, what is left once its sun is split off.
+  explicit SkyEnvironment(bool withSun = true)
+      : sun_(kSunTheta, kSunPhi, kSunSize, Rgb(2000, 1900, 1700)), withSun_(withSun) {
     sunDirection_ = directionFromAngles(toRadians(kSunTheta), toRadians(kSunPhi));
   }
   std::string name() const override { return "sky"; }
   Rgb radiance(const Vec3& d) const override {
-    const Rgb sun = sun_.radiance(d);
+    const Rgb sun = withSun_ ? sun_.radiance(d) : Rgb::Zero();
     return sun.maxCoeff() > 0 ? sun : skyRadiance(d.normalized());
   }
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                  LatticeLighting& lighting) const override {
     integrateSmoothFunction(
         lattice, rotation, [this](const Vec3& d) { return skyRadiance(d); }, 4, lighting);
-    sun_.integrate(lattice, rotation, lighting);
+    if (withSun_) sun_.integrate(lattice, rotation, lighting);
+  }
+  SplitEnvironment splitSources(const SourceFinding& finding) const override {
+    SplitEnvironment out;
+    if (!withSun_ || !discIsSource(0.5 * toRadians(kSunSize), finding)) return out;
+    out.sources = {sun_.source()};
+    out.rest = std::make_unique<SkyEnvironment>(false);
+    // The sky's energy, from its integral over a fine lattice.
+    const CubeLattice lattice(32);
+    LatticeLighting sky(3 * static_cast<size_t>(lattice.size()), 0.0);
+    out.rest->integrate(lattice, Eigen::Matrix3d::Identity(), sky);
+    double energy = 0;
+    for (int j = 0; j < lattice.size(); ++j)
+      energy += 0.2126 * sky[3 * j] + 0.7152 * sky[3 * j + 1] + 0.0722 * sky[3 * j + 2];
+    setEnergyShares(out.sources, energy);
+    return out;
   }
 
  private:
@@ -123,6 +157,7 @@ class SkyEnvironment : public Environment {
     return (1 - t) * zenith + t * horizon + glow * Rgb(1.0, 0.9, 0.7);
   }
   SunEnvironment sun_;
+  bool withSun_;
   Vec3 sunDirection_;
 };
 

@@ -21,6 +21,9 @@ namespace acpca {
 /// solid angle (radiance x dOmega), laid out [texel * 3 + channel].
 using LatticeLighting = std::vector<double>;
 
+struct SourceFinding;     // lighting/map_sources.h
+struct SplitEnvironment;  // lighting/map_sources.h
+
 /// A lat-long map's pixels, looked up by (u, v) = (0.5 + atan2(x, -z) / 2 pi,
 /// acos(y) / pi) (docs/lighting.md, "Conventions").
 struct LatLongPixels {
@@ -76,6 +79,11 @@ class Environment {
   virtual void integrateMany(const CubeLattice& lattice,
                              const std::vector<Eigen::Matrix3d>& rotations,
                              const std::vector<LatticeLighting*>& lightings) const;
+  /// The map's compact bright sources split off as distant discs, and the
+  /// map without them (lighting/map_sources.h, docs/lighting.md "A map's
+  /// sources"): a lat-long map's found regions, a built-in sun. None, and
+  /// no map, where nothing is split off (the default).
+  virtual SplitEnvironment splitSources(const SourceFinding& finding) const;
 };
 
 /// A built-in map's grammar, written once: loadEnvironment parses by it, its

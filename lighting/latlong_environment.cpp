@@ -18,6 +18,7 @@
 #include "imageio/image_file.h"
 #include "lighting/environment.h"
 #include "lighting/latlong_integration.h"
+#include "lighting/map_sources.h"
 
 namespace acpca {
 
@@ -63,6 +64,15 @@ class LatLongEnvironment : public Environment {
     if (!yaws || rotations.size() < 2 || static_cast<long long>(width_) * height_ <= kCachedPixels)
       return Environment::integrateMany(lattice, rotations, lightings);
     integrateLatLongYaws(pixels_, rowSums(), lattice, rotations, lightings);
+  }
+
+  SplitEnvironment splitSources(const SourceFinding& finding) const override {
+    SplitMap split = splitMapSources(pixels_, finding);
+    SplitEnvironment out;
+    if (split.sources.empty()) return out;
+    out.sources = std::move(split.sources);
+    out.rest = makeLatLongEnvironment(name_, width_, height_, std::move(split.residual));
+    return out;
   }
 
  private:

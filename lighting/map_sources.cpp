@@ -40,6 +40,7 @@ struct Region {
   Rgb excess = Rgb::Zero();       ///< sum of (pixel - kept) x solid angle
   Vec3 centre = Vec3::Zero();
   double solidAngle = 0, extent = 0;
+  double peak = 0;  ///< the largest luminance taken per unit solid angle, pixel by pixel
 };
 
 /// The region of bright pixels holding `seed`, marked 2 in `state`.
@@ -81,6 +82,7 @@ void measureRegion(const LatLongPixels& map, const std::vector<unsigned char>& s
       taken[c] = double(map.rgb[3 * p + c]) - double(std::min(map.rgb[3 * p + c], r.fill[c]));
     r.excess += omega * taken;
     r.solidAngle += omega;
+    r.peak = std::max(r.peak, luminance(taken));
     r.centre += omega * luminance(taken) * latLongPixelDirection(int(p % w), int(p / w), w, h);
   }
   if (r.centre.squaredNorm() == 0) return;
@@ -94,6 +96,20 @@ void measureRegion(const LatLongPixels& map, const std::vector<unsigned char>& s
 }
 
 }  // namespace
+
+SplitEnvironment Environment::splitSources(const SourceFinding&) const {
+  return {};
+}
+
+bool discIsSource(double radiusRadians, const SourceFinding& finding) {
+  return finding.maxSources >= 1 && radiusRadians <= finding.maxRadiusDegrees * kPi / 180;
+}
+
+void setEnergyShares(std::vector<MapSource>& sources, double restEnergy) {
+  double total = restEnergy;
+  for (const MapSource& s : sources) total += luminance(s.energy());
+  for (MapSource& s : sources) s.energyShare = total > 0 ? luminance(s.energy()) / total : 0;
+}
 
 double MapSource::solidAngle() const {
   return 2 * kPi * (1 - std::cos(radius));
@@ -159,8 +175,11 @@ SplitMap splitMapSources(const LatLongPixels& map, const SourceFinding& f) {
       for (int c = 0; c < 3; ++c) out.residual[3 * p + c] = std::min(map.rgb[3 * p + c], r.fill[c]);
     MapSource s;
     s.direction = r.centre;
-    s.radius = std::acos(1 - r.solidAngle / (2 * kPi));
-    s.radiance = r.excess / r.solidAngle;
+    // The disc of the region's peak radiance that holds its energy: pixels
+    // the disc's rim covers in part count by what they hold, not whole.
+    const double omega = std::min(r.solidAngle, luminance(r.excess) / r.peak);
+    s.radius = std::acos(1 - omega / (2 * kPi));
+    s.radiance = r.excess / omega;
     s.energyShare = luminance(r.excess) / energy;
     out.sources.push_back(s);
   }

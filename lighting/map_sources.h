@@ -4,6 +4,7 @@
 // direction, an angular radius, an RGB radiance), the map keeps the rest with
 // the sources' pixels filled from their surroundings (docs/lighting.md,
 // "A map's sources").
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,12 +46,27 @@ struct SplitMap {
   LatLongPixels pixels() const { return {width, height, residual.data()}; }
 };
 
+/// An environment's sources, and what is left of it.
+struct SplitEnvironment {
+  std::vector<MapSource> sources;     ///< brightest first; empty: nothing split off
+  std::unique_ptr<Environment> rest;  ///< the map without them (null with no sources)
+};
+
 /// Finds the bright regions (8-connected, across the u = 0/1 seam and around
 /// each pole) and splits off the K brightest that are compact and hold
 /// enough energy; deterministic. Each region's pixels keep min(pixel, fill)
 /// in the residual, fill the mean of the dim pixels bordering the region, and
 /// the source takes the rest: sources plus residual hold the map's energy.
 SplitMap splitMapSources(const LatLongPixels& map, const SourceFinding& finding);
+
+/// A built-in disc (`sun:`, the sky's sun) as a source: split off when K >= 1
+/// and its angular radius is within the finding's limit; false otherwise.
+bool discIsSource(double radiusRadians, const SourceFinding& finding);
+
+/// The sources' energy share of an environment that also holds `rest`,
+/// luminance-weighted: each source's energy over the sum of all of them and
+/// the rest's lattice-free total (restEnergy, luminance x solid angle).
+void setEnergyShares(std::vector<MapSource>& sources, double restEnergy);
 
 /// Solid angle of pixel row `row` of a map `height` rows tall, `width` wide.
 double latLongPixelSolidAngle(int row, int width, int height);

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "core/error.h"
@@ -94,6 +96,16 @@ ShProjector::ShProjector(const DomainLighting& domain) : ShProjector(domain.mapL
   for (int k = 0; k < cells->cells(); ++k)
     if (area[k] > 0)
       for (int b = 0; b < 9; ++b) meanY_[k][b] = sum[k][b] / area[k];
+}
+
+std::array<Rgb, 9> projectDisc(const MapSource& disc) {
+  const double a = disc.radius, sin2 = std::sin(a) * std::sin(a);
+  const double band[3] = {disc.solidAngle(), std::numbers::pi * sin2,
+                          std::numbers::pi * std::cos(a) * sin2};
+  const std::array<double, 9> y = realSh9(disc.direction.normalized());
+  std::array<Rgb, 9> c;
+  for (int k = 0; k < 9; ++k) c[k] = disc.radiance * (y[k] * band[k == 0 ? 0 : k < 4 ? 1 : 2]);
+  return c;
 }
 
 std::array<Rgb, 9> ShProjector::project(const LatticeLighting& lighting) const {

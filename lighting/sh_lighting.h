@@ -8,6 +8,7 @@
 
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
+#include "lighting/map_sources.h"
 #include "transport/cube_lattice.h"
 
 namespace acpca {
@@ -17,6 +18,12 @@ namespace acpca {
 /// (2,2), the usual polynomials in x, y, z taken in our world axes (+Y up):
 /// Y(1,-1) ~ y, Y(1,0) ~ z, Y(1,1) ~ x, Y(2,0) ~ 3 z^2 - 1.
 std::array<double, 9> realSh9(const Vec3& d);
+
+/// A distant disc's nine coefficients in closed form (Funk-Hecke): L Y(d)
+/// times the cap's integral of the band's Legendre polynomial, 2 pi (1 - cos
+/// a), pi sin^2 a and pi cos a sin^2 a for bands 0, 1 and 2: what a map's
+/// source adds to its lattice's coefficients.
+std::array<Rgb, 9> projectDisc(const MapSource& disc);
 
 /// Projects lattice lightings onto realSh9: per band the integral of the
 /// lattice's radiance (each texel's lighting over its solid angle) times Y.

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "dataset/envmap_export.h"
+#include "dataset/map_source_listing.h"
 #include "lighting/map_sources.h"
 #include "lighting/rotation.h"
 #include "tools/cli_common.h"
@@ -19,25 +20,12 @@ struct EnvmapArgs {
   RotationMode rotationMode = RotationMode::Exact;
 };
 
-/// The map's compact bright sources, turned with it (lighting/map_sources.h):
-/// direction, THETA and PHI as `sun:` takes them, angular radius, radiance,
-/// share of the map's energy. Lat-long maps only, for now.
-nlohmann::json sourcesJson(const Environment& env, const std::optional<SourceFinding>& finding,
-                           const EnvRotation& rotation) {
-  nlohmann::json list = nlohmann::json::array();
-  if (!finding || !env.latLong()) return list;
-  const Eigen::Matrix3d turn = rotationMatrix(rotation);
-  for (const MapSource& found : splitMapSources(*env.latLong(), *finding).sources) {
-    const MapSource s = found.turned(turn);
-    constexpr double kDegree = 180 / 3.14159265358979323846;
-    list.push_back({{"direction", {s.direction[0], s.direction[1], s.direction[2]}},
-                    {"theta_deg", s.thetaDegrees()},
-                    {"phi_deg", s.phiDegrees()},
-                    {"radius_deg", s.radius * kDegree},
-                    {"radiance", {s.radiance[0], s.radiance[1], s.radiance[2]}},
-                    {"energy_share", s.energyShare}});
-  }
-  return list;
+/// The map's compact bright sources, turned with it (lighting/map_sources.h,
+/// dataset/map_source_listing.h).
+nlohmann::json sourcesOf(const Environment& env, const std::optional<SourceFinding>& finding,
+                         const EnvRotation& rotation) {
+  if (!finding) return nlohmann::json::array();
+  return sourcesJson(turnedSources(env.splitSources(*finding).sources, rotation));
 }
 
 void run(const EnvmapArgs& a) {
@@ -58,7 +46,7 @@ void run(const EnvmapArgs& a) {
     std::cerr << "wrote " << a.out << (a.cross.empty() ? "" : " and " + a.cross) << ": "
               << env->name() << " on 6x" << a.cubemap << "x" << a.cubemap
               << ", energy (sum of radiance x solid angle) " << energy.transpose() << "\n";
-  const nlohmann::json sources = sourcesJson(*env, finding, rotation);
+  const nlohmann::json sources = sourcesOf(*env, finding, rotation);
   if (!a.common.quiet && !sources.empty())
     std::cerr << sources.size() << " compact bright source(s) found (listed by --json)\n";
   writeJson(a.common.jsonPath, {{"env", a.env},

@@ -6,6 +6,7 @@
 #include "core/resources.h"
 #include "dataset/batch_relight.h"
 #include "lighting/environment.h"
+#include "lighting/map_sources.h"
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -19,6 +20,7 @@ struct RelightArgs {
   std::string background;  ///< empty: env, or black for a captured light set
   std::string lightMode;   ///< empty: exact
   std::string lampRays;    ///< empty: the default
+  std::string sun = "auto";
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -32,6 +34,7 @@ void run(RelightArgs& a) {
   o.background = backgroundFor(a.background, o.input);
   if (!a.lightMode.empty()) o.lamps.mode = kLampModeNames.parse(a.lightMode);
   if (!a.lampRays.empty()) o.lamps.sphereRays = parseSphereLampRays(a.lampRays);
+  o.sources = parseSourceFinding(a.sun);
   const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -83,6 +86,11 @@ void registerRelight(CLI::App& app) {
                          "fall, a square from 4 to ",
                          kMaxSphereLampRays, " (default ", kDefaultSphereLampRays,
                          "; fewer: faster, noisier penumbrae)"));
+  sub->add_option("--sun", args->sun,
+                  "A map's sun and bright lamps: auto (default: found, split off and lit "
+                  "exactly as distant discs by shadow rays where the file holds its surfaces), "
+                  "K (at most K of them) or off (the whole map through the lattice, as before)")
+      ->capture_default_str();
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
@@ -91,7 +99,8 @@ void registerRelight(CLI::App& app) {
   nameParameters(*sub, {{"--frames", {"timing frames"}},
                         {"--max-rank", {"maximum rank"}},
                         {"--light-mode", {"light mode"}},
-                        {"--lamp-rays", {"lamp rays"}}});
+                        {"--lamp-rays", {"lamp rays"}},
+                        {"--sun", {"sources"}}});
   sub->callback([args] { run(*args); });
 }
 

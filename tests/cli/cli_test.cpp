@@ -498,8 +498,8 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   };
   const double wall = seconds("wall");
   double onRelightThread = 0;
-  for (const char* stage :
-       {"open", "lighting", "projection", "shading", "background", "waiting_for_writing"}) {
+  for (const char* stage : {"open", "lighting", "projection", "shading", "sources", "background",
+                            "waiting_for_writing"}) {
     EXPECT_GE(seconds(stage), 0) << stage;
     onRelightThread += seconds(stage);
   }
@@ -509,7 +509,9 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   EXPECT_NEAR(stages["frames_per_second"].get<double>() * wall, 12, 1e-6);
   EXPECT_NEAR(stages["stages"]["shading"]["share_of_wall"].get<double>(), seconds("shading") / wall,
               1e-9);
-  EXPECT_FALSE(stages.contains("lamp_shadow_rays"));  // no lamp, no rays
+  // The sky's sun, split off and lit exactly by shadow rays, frame by frame.
+  EXPECT_GT(seconds("sources"), 0);
+  EXPECT_TRUE(stages.contains("lamp_shadow_rays"));
   // A lamp's shadow rays: at most one per traced camera sample for a point lamp.
   ASSERT_EQ(runCli(relight + "--light point:0.3,3,2,20 --background black --out " +
                    out.file("lamp.exr") + " --json " + out.file("lamp.json"))

@@ -1,6 +1,7 @@
 // The viewer, driven without a person under Xvfb: what it shows is what the
 // batch relight writes, its keys do what they say, and it refuses cleanly
-// where it cannot run.
+// where it cannot run. The viewer lights a map's sun through the lattice
+// (docs/lighting.md, "Lit exactly"), so its batch is run with --sun off.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -81,8 +82,8 @@ TEST_F(Viewer, SelfDrivingScreenshotEqualsTheBatchRelightOfItsLastRotation) {
   const RunResult r = view("--env sky --rotate 10,5 --frames 4 --rotate-step 25 --screenshot " +
                            out.file("shot.png"));
   ASSERT_EQ(r.status, 0) << r.output;
-  const RunResult b = runCli("relight " + model() + " --env sky --rotate 85,5,0 --quiet --out " +
-                             out.file("b.png"));
+  const RunResult b = runCli("relight --sun off " + model() +
+                             " --env sky --rotate 85,5,0 --quiet --out " + out.file("b.png"));
   ASSERT_EQ(b.status, 0) << b.output;
   const Picture shot = readPicture(out.file("shot.png")), batch = readPicture(out.file("b.png"));
   ASSERT_EQ(batch.width, 48);
@@ -91,7 +92,7 @@ TEST_F(Viewer, SelfDrivingScreenshotEqualsTheBatchRelightOfItsLastRotation) {
   EXPECT_EQ(differingPixels(shot, batch), 0);
 
   // A different rotation is visibly different (the comparison can fail).
-  const RunResult other = runCli("relight " + model() +
+  const RunResult other = runCli("relight --sun off " + model() +
                                  " --env sky --rotate 60,5,0 --quiet --out " + out.file("b60.png"));
   ASSERT_EQ(other.status, 0) << other.output;
   EXPECT_GT(differingPixels(shot, readPicture(out.file("b60.png"))), 100);
@@ -149,7 +150,7 @@ TEST_F(Viewer, ScriptedKeysToggleOverlaysAndSaveWritesTheBatchImage) {
   EXPECT_GT(inside, 20);
 
   // The saved frame: yaw 30 + 90, exposure 1.5, half of each cluster's bases.
-  const RunResult b = runCli("relight " + model() +
+  const RunResult b = runCli("relight --sun off " + model() +
                              " --env sun:50,30,4,1000 --rotate 120 --exposure 1.5 --max-rank 50% "
                              "--format both --quiet --out " +
                              out.file("batch.png"));
@@ -200,7 +201,7 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
   EXPECT_NEAR(now.x() - drawn.x(), 6, 1e-6) << spec;
   EXPECT_NEAR(now.y() - drawn.y(), -3, 1e-6) << spec;
 
-  const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
+  const RunResult b = runCli("relight --sun off " + model() + " --env sky --light " + spec +
                              " --quiet --out " + out.file("batch.png"));
   ASSERT_EQ(b.status, 0) << b.output;
   const Picture saved = readPicture(out.file("lamp.png")),
@@ -208,7 +209,7 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
   ASSERT_EQ(saved.width, 48);
   EXPECT_EQ(saved.bytes, batch.bytes);
   const RunResult sky =
-      runCli("relight " + model() + " --env sky --quiet --out " + out.file("sky.png"));
+      runCli("relight --sun off " + model() + " --env sky --quiet --out " + out.file("sky.png"));
   ASSERT_EQ(sky.status, 0) << sky.output;
   EXPECT_GT(differingPixels(saved, readPicture(out.file("sky.png"))), 100);
 }
@@ -243,7 +244,7 @@ TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
   const std::string point = asPoint.canonicalSpec();
   for (const auto& [saved, spec] : {std::pair{std::string("held"), point},
                                     std::pair{std::string("let-go"), moved.canonicalSpec()}}) {
-    const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
+    const RunResult b = runCli("relight --sun off " + model() + " --env sky --light " + spec +
                                " --quiet --out " + out.file(saved + "-batch.png"));
     ASSERT_EQ(b.status, 0) << b.output;
     EXPECT_EQ(readPicture(out.file(saved + ".png")).bytes,

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "lighting/sh_lighting.h"
 
 namespace acpca {
 namespace {
@@ -163,6 +164,53 @@ TEST(MapSources, AMapThatIsAlmostAllOneBrightPixelIsThatSource) {
             1e-9);
   EXPECT_EQ(split.residual[3 * p], 1e-4f);  // the dim pixels about it
   expectEnergyKept(map, split);
+}
+
+/// Each channel's sum of a lighting over the lattice: its energy.
+Rgb latticeEnergy(const Environment& env, const CubeLattice& lattice) {
+  LatticeLighting l(3 * static_cast<size_t>(lattice.size()), 0.0);
+  env.integrate(lattice, Eigen::Matrix3d::Identity(), l);
+  Rgb sum = Rgb::Zero();
+  for (int j = 0; j < lattice.size(); ++j) sum += Rgb(l[3 * j], l[3 * j + 1], l[3 * j + 2]);
+  return sum;
+}
+
+TEST(MapSources, TheBuiltInSunAndTheSkysSunSplitOffWithTheirEnergy) {
+  // `sun:` is all source, the sky keeps its sky: source plus rest hold the
+  // map's energy on the lattice; a disc wider than the limit stays.
+  const CubeLattice lattice(16);
+  for (const char* spec : {"sun:50,30,0.53,40000", "sky"}) {
+    const auto env = loadEnvironment(spec);
+    const SplitEnvironment split = env->splitSources(SourceFinding{});
+    ASSERT_EQ(split.sources.size(), 1u) << spec;
+    ASSERT_TRUE(split.rest) << spec;
+    const Rgb whole = latticeEnergy(*env, lattice);
+    const Rgb parts = latticeEnergy(*split.rest, lattice) + split.sources[0].energy();
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(parts[c] / whole[c], 1, 1e-9) << spec;
+    EXPECT_GT(split.sources[0].energyShare, 0.3) << spec;
+    EXPECT_LE(split.sources[0].energyShare, 1) << spec;
+  }
+  const MapSource sun = loadEnvironment("sun:50,30,0.53,40000")->splitSources({}).sources[0];
+  EXPECT_NEAR(sun.thetaDegrees(), 50, 1e-9);
+  EXPECT_NEAR(sun.phiDegrees(), 30, 1e-9);
+  EXPECT_NEAR(sun.radius / kDegree, 0.265, 1e-12);
+  EXPECT_TRUE(loadEnvironment("sun:50,30,10,4")->splitSources({}).sources.empty());
+  EXPECT_TRUE(loadEnvironment("constant:1")->splitSources({}).sources.empty());
+  SourceFinding none;
+  none.maxSources = 0;
+  EXPECT_TRUE(loadEnvironment("sky")->splitSources(none).sources.empty());
+}
+
+TEST(MapSources, ADiscsShCoefficientsAreTheFineLatticesProjection) {
+  // projectDisc's closed form against the projection of a 4-degree disc
+  // integrated onto a 6x64x64 lattice (texels of 1.4 degrees).
+  const CubeLattice lattice(64);
+  const auto env = loadEnvironment("sun:60,-40,8,100");
+  LatticeLighting l(3 * static_cast<size_t>(lattice.size()), 0.0);
+  env->integrate(lattice, Eigen::Matrix3d::Identity(), l);
+  const std::array<Rgb, 9> fine = ShProjector(lattice).project(l);
+  const std::array<Rgb, 9> closed = projectDisc(env->splitSources({}).sources[0]);
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(closed[k][0], fine[k][0], 2e-3 * fine[0][0]) << k;
 }
 
 TEST(MapSources, SunFlagValuesAreParsedOrRefusedNamingTheChoices) {
