@@ -70,8 +70,8 @@ void registerEnvmap(CLI::App& app) {
   sub->add_option("--rotate", args->rotate, std::string(kRotationGrammar) + " in degrees");
   sub->add_option("--size", args->size, "Lat-long size WxH");
   sub->add_option("--sun", args->sun,
-                  "A lat-long map's compact bright sources listed by --json: auto, off or K "
-                  "(the brightest K)")
+                  "A map's compact bright sources (a lat-long map's, sun:'s disc, sky's sun) "
+                  "listed by --json: auto, off or K (the brightest K)")
       ->capture_default_str();
   addFastRotationFlag(*sub, args->rotationMode);
   args->common.add(*sub, false);
