@@ -8,13 +8,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numbers>
 
 #include "precompute/scene.h"
 #include "precompute/transport_renderer.h"
 #include "relight/lamp_light.h"
 #include "relight/sphere_lamp.h"
+#include "tests/physics/penumbra_profile.h"
 #include "tests/render_support.h"
 #include "tests/temp_dir.h"
 
@@ -46,10 +46,6 @@ MapSource disc(double theta, double radius, double radiance) {
   return d;
 }
 
-Vec3 positionOf(const TransportHeader& h, long long r) {
-  return {h.positions[3 * r], h.positions[3 * r + 1], h.positions[3 * r + 2]};
-}
-
 TEST(DistantDiscs, AnOpenFloorReceivesLPiSinSquaredAlphaCosBeta) {
   // A diffuse floor of albedo a under a disc of angular radius alpha at
   // beta from its normal shows a L sin^2(alpha) cos(beta) (irradiance
@@ -71,39 +67,12 @@ TEST(DistantDiscs, AnOpenFloorReceivesLPiSinSquaredAlphaCosBeta) {
 }
 
 /// A floor under a thin slab whose edge runs along z at (kEdgeX, kEdgeY):
-/// the lit share of the disc per image column, over the middle rows, against
-/// each column's floor x (ascending).
+/// the lit share of the disc per image column, over the middle rows.
 constexpr double kEdgeX = -0.5, kEdgeY = 1.0;
-std::vector<std::pair<double, double>> edgeProfile(const TransportHeader& h,
-                                                   const std::vector<float>& rows,
-                                                   const MapSource& d) {
+test::ShareProfile edgeProfile(const TransportHeader& h, const std::vector<float>& rows,
+                               const MapSource& d) {
   const double whole = kAlbedo * d.radiance.x() * std::pow(std::sin(d.radius), 2) * d.direction.y();
-  std::map<int, std::pair<double, int>> columns;  // column -> (share sum, count)
-  std::map<int, double> xOfColumn;
-  const int width = h.camera.size.width;
-  for (long long r = 0; r < h.rows(); ++r) {
-    const Vec3 p = positionOf(h, r);
-    if (std::abs(p.z()) > 0.1 || p.y() > 0.5) continue;  // the floor's middle rows only
-    auto& [sum, count] = columns[h.pixels[r] % width];
-    sum += rows[3 * r] / whole, ++count;
-    xOfColumn[h.pixels[r] % width] = p.x();
-  }
-  std::vector<std::pair<double, double>> profile;
-  for (const auto& [column, sc] : columns)
-    profile.push_back({xOfColumn[column], sc.first / sc.second});
-  std::sort(profile.begin(), profile.end());
-  return profile;
-}
-
-/// The first x where the profile (rising) passes `share`, between columns.
-double crossing(const std::vector<std::pair<double, double>>& profile, double share) {
-  for (size_t i = 1; i < profile.size(); ++i)
-    if (profile[i].second >= share) {
-      const auto [x0, s0] = profile[i - 1];
-      const auto [x1, s1] = profile[i];
-      return x0 + (share - s0) / (s1 - s0) * (x1 - x0);
-    }
-  return profile.back().first;
+  return test::floorColumnProfile(h, rows, 0.1, [&](const Vec3&) { return whole; });
 }
 
 Scene slabScene(int size) {
@@ -133,15 +102,10 @@ TEST(DistantDiscs, AStraightEdgesPenumbraIsAsWideAsTheDiscAndTheDistanceGive) {
     const Eigen::Vector2d normal = Eigen::Vector2d(toEdge.y(), -toEdge.x()).normalized();
     const double t = std::asin(normal.dot(Eigen::Vector2d(d.direction.x(), d.direction.y()))) /
                      d.radius;  // > 0: the centre on the lit side
-    const double c = std::clamp(t, -1.0, 1.0);
-    return 1 - (std::acos(c) - c * std::sqrt(1 - c * c)) / kPi;
+    return test::visibleShare(t);
   };
-  const auto closedCrossing = [&](double s) {  // bisection: the share grows with x
-    double lo = -0.5, hi = 1.0;
-    for (int i = 0; i < 60; ++i) (share(0.5 * (lo + hi)) < s ? lo : hi) = 0.5 * (lo + hi);
-    return 0.5 * (lo + hi);
-  };
-  const double measured = crossing(profile, 0.9) - crossing(profile, 0.1);
+  const auto closedCrossing = [&](double s) { return test::risingCrossing(share, s, -0.5, 1.0); };
+  const double measured = test::profileCrossing(profile, 0.9) - test::profileCrossing(profile, 0.1);
   const double expected = closedCrossing(0.9) - closedCrossing(0.1);
   EXPECT_NEAR(measured / expected, 1, 0.05) << measured << " against " << expected;
   RecordProperty("penumbra_width_10_90", std::to_string(measured));
@@ -161,7 +125,7 @@ TEST(DistantDiscs, ASunsShadowEdgeFallsWhereItsDirectionPutsItToAQuarterPixel) {
   const auto profile = edgeProfile(t.header(), rows, d);
   const double pixel = (profile.back().first - profile.front().first) / (profile.size() - 1);
   const double expected = kEdgeX + kEdgeY * std::tan(40 * kDegree);
-  const double measured = crossing(profile, 0.5);
+  const double measured = test::profileCrossing(profile, 0.5);
   EXPECT_LT(std::abs(measured - expected) / pixel, 0.25)
       << measured << " against " << expected << ", a pixel " << pixel;
   RecordProperty("shadow_edge_offset_px", std::to_string((measured - expected) / pixel));

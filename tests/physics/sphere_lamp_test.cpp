@@ -20,6 +20,7 @@
 #include "relight/local_relight.h"
 #include "relight/relight_source.h"
 #include "relight/sphere_lamp.h"
+#include "tests/physics/penumbra_profile.h"
 #include "tests/render_support.h"
 #include "tests/temp_dir.h"
 
@@ -85,13 +86,6 @@ TEST(SphereLamps, AnOpenFloorIsTheClosedFormWithNoRayPastTheProbes) {
   }
 }
 
-/// The visible share of a disc cut by a line at signed distance t radii from
-/// its centre (t > 0: the centre on the visible side): 1 - segment / disc.
-double visibleShare(double t) {
-  t = std::clamp(t, -1.0, 1.0);
-  return 1 - (std::acos(t) - t * std::sqrt(1 - t * t)) / kPi;
-}
-
 TEST(SphereLamps, APenumbraOnAFloorIsAsWideAsItsClosedForm) {
   // A thin slab whose edge runs along z at (-0.5, kEdgeY) shades the floor
   // from a sphere up to the left. A floor point sees the part of the lamp
@@ -117,44 +111,21 @@ TEST(SphereLamps, APenumbraOnAFloorIsAsWideAsItsClosedForm) {
       return (along.y() * toCentre.x() - along.x() * toCentre.y()) / along.norm() / kRadius;
     };
     // The lit share per image column over the middle rows (|z| < 0.06).
-    std::map<int, std::pair<double, int>> columns;  // column -> (share sum, count), x
-    std::map<int, double> xOfColumn;
-    const int width = t.header().camera.size.width;
-    for (long long r = 0; r < t.rows(); ++r) {
-      const Vec3 p = positionOf(t.header(), r);
-      if (std::abs(p.z()) > 0.06 || p.y() > 0.5) continue;  // the floor only
-      const Vec3 toLight = centre - p;
-      const double d = toLight.norm();
-      const double whole = kAlbedo * 50 * std::pow(kRadius / d, 2) * toLight.y() / d;
-      auto& [sum, count] = columns[t.header().pixels[r] % width];
-      sum += rows[3 * r] / whole, ++count;
-      xOfColumn[t.header().pixels[r] % width] = p.x();
-    }
-    std::vector<std::pair<double, double>> profile;  // x, share
-    for (const auto& [column, sc] : columns)
-      profile.push_back({xOfColumn[column], sc.first / sc.second});
-    std::sort(profile.begin(), profile.end());
+    const test::ShareProfile profile =
+        test::floorColumnProfile(t.header(), rows, 0.06, [&](const Vec3& p) {
+          const Vec3 toLight = centre - p;
+          const double d = toLight.norm();
+          return kAlbedo * 50 * std::pow(kRadius / d, 2) * toLight.y() / d;
+        });
     ASSERT_GT(profile.size(), 100u);
-    EXPECT_LT(profile.front().second, 1e-6);      // the umbra, every ray blocked
-    EXPECT_NEAR(profile.back().second, 1, 1e-5);  // the whole lamp, in closed form
-    const auto crossing = [&](double share) {     // first x where the profile passes `share`
-      for (size_t i = 1; i < profile.size(); ++i)
-        if (profile[i].second >= share) {
-          const auto [x0, s0] = profile[i - 1];
-          const auto [x1, s1] = profile[i];
-          return x0 + (share - s0) / (s1 - s0) * (x1 - x0);
-        }
-      return profile.back().first;
+    EXPECT_LT(profile.front().second, 1e-6);         // the umbra, every ray blocked
+    EXPECT_NEAR(profile.back().second, 1, 1e-5);     // the whole lamp, in closed form
+    const auto closedCrossing = [&](double share) {  // the share grows with x
+      return test::risingCrossing([&](double x) { return test::visibleShare(signedT(x)); }, share,
+                                  -0.5, 1.5);
     };
-    const auto closedCrossing = [&](double share) {  // bisection: the share grows with x
-      double lo = -0.5, hi = 1.5;
-      for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (visibleShare(signedT(mid)) < share ? lo : hi) = mid;
-      }
-      return 0.5 * (lo + hi);
-    };
-    const double measured = crossing(0.9) - crossing(0.1);
+    const double measured =
+        test::profileCrossing(profile, 0.9) - test::profileCrossing(profile, 0.1);
     const double expected = closedCrossing(0.9) - closedCrossing(0.1);
     EXPECT_NEAR(measured / expected, 1, 0.05)
         << measured << " against " << expected << ", " << rays << " rays";
