@@ -1,6 +1,8 @@
 #include "core/text.h"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 #include <vector>
@@ -49,6 +51,12 @@ std::vector<std::string> splitText(const std::string& text, char separator) {
     pieces.push_back(text.substr(start, end - start));
   pieces.push_back(text.substr(start));
   return pieces;
+}
+
+std::string shortestNumberText(double v) {
+  std::array<char, 32> text;
+  const auto end = std::to_chars(text.data(), text.data() + text.size(), v).ptr;
+  return std::string(text.data(), end);
 }
 
 }  // namespace acpca

@@ -16,6 +16,10 @@ size_t editDistance(const std::string& a, const std::string& b);
 /// b); empty text gives no piece.
 std::vector<std::string> splitText(const std::string& text, char separator);
 
+/// The shortest text that reads back as the same double (std::to_chars): a
+/// number written into a spec or a manifest gives the very number again.
+std::string shortestNumberText(double v);
+
 /// Human-readable byte count (e.g. "1.20 GiB").
 std::string formatBytes(double bytes);
 

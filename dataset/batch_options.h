@@ -8,15 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "dataset/image_output.h"
 #include "dataset/pixel_labels.h"
+#include "imageio/image_output.h"
 #include "lighting/lighting.h"
 #include "lighting/lighting_sampler.h"
 #include "lighting/local_light.h"
 #include "lighting/map_sources.h"
 #include "lighting/rotation.h"
+#include "relight/image_composer.h"
 #include "relight/lamp_light.h"
 #include "relight/local_relight.h"
+#include "relight/rank_limit.h"
 
 namespace acpca {
 
@@ -79,7 +81,7 @@ struct BatchRelightOptions {
   long long shardSize = 0;
   /// COLMAP's text model (sparse/0) beside transforms.json (dataset/camera_files.h).
   bool colmap = false;
-  std::string maxRank;  ///< see applyRankLimit; models only
+  RankLimit maxRank;  ///< models only
   /// Write the raw reconstruction, negative values and all, instead of
   /// clamping frames and shading at zero (docs/design.md, section 6).
   bool keepNegative = false;

@@ -31,19 +31,20 @@
 #include "dataset/batch_shards.h"
 #include "dataset/camera_files.h"
 #include "dataset/dataset_identity.h"
-#include "dataset/envmap_export.h"
 #include "dataset/file_hash.h"
 #include "dataset/frame_files.h"
 #include "dataset/frame_labels.h"
-#include "dataset/image_output.h"
 #include "dataset/map_source_listing.h"
+#include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
+#include "lighting/envmap_export.h"
 #include "lighting/lighting.h"
 #include "lighting/sh_lighting.h"
 #include "lighting/spec_parsing.h"
 #include "model/model.h"
 #include "model/model_file.h"
 #include "relight/dense_relight.h"
+#include "relight/image_composer.h"
 #include "relight/model_relighter.h"
 #include "relight/relight_source.h"
 
@@ -183,11 +184,9 @@ void requireFrameSpace(const BatchRelightOptions& a, ImageSize size,
   const long long pixels = static_cast<long long>(size.width) * size.height;
   const int channels = a.background == Background::Alpha ? 4 : 3;
   long long frameBytes = 0;
-  for (ImageFormat f : formats)
-    frameBytes += pixels * channels *
-                  (f == ImageFormat::Png                                            ? 1
-                   : f == ImageFormat::Npy || (f == ImageFormat::Exr && a.exrFloat) ? 4
-                                                                                    : 2);
+  ImageEncoding encoding;
+  encoding.exrFloat = a.exrFloat;
+  for (ImageFormat f : formats) frameBytes += pixels * channels * storedBytesPerValue(f, encoding);
   ResourceNeed need;
   const size_t frames =
       (a.sampling.count > 0 ? static_cast<size_t>(a.sampling.count)
@@ -794,34 +793,19 @@ nlohmann::json BatchStages::json(long long frames) const {
 std::vector<ImageFormat> imageFormatsFor(const std::string& format, const std::string& out,
                                          bool batch) {
   ++specParseCounts().formats;
-  if (format.empty()) {
-    if (batch) return {ImageFormat::Exr};
-    const std::string ext = fs::path(out).extension().string();
-    if (ext == ".exr") return {ImageFormat::Exr};
-    if (ext == ".png") return {ImageFormat::Png};
-    if (ext == ".npy") return {ImageFormat::Npy};
-    throw ParameterError("output path", out,
-                         "cannot tell the format from the extension; use .exr/.png/.npy or a "
-                         "format");
+  if (!format.empty()) return parseImageFormatList(format == "both" ? "exr,png" : format);
+  if (batch) return {ImageFormat::Exr};
+  const ImageFormatRow* row = imageFormatOfExtension(fs::path(out).extension().string());
+  if (!row) {
+    std::string extensions;
+    for (const ImageFormatRow& r : kImageFormats)
+      if (extensions.find(r.extension) == std::string::npos)
+        extensions += (extensions.empty() ? "" : "/") + std::string(r.extension);
+    throw ParameterError(
+        "output path", out,
+        concat("cannot tell the format from the extension; use ", extensions, " or a format"));
   }
-  // A comma-separated list, each format once; "both" is exr,png.
-  std::vector<ImageFormat> formats;
-  for (const std::string& name : splitText(format == "both" ? "exr,png" : format, ',')) {
-    ImageFormat f;
-    try {
-      f = kImageFormatNames.parse(name);
-    } catch (const ParameterError&) {
-      throw ParameterError("image format", format,
-                           concat("is not a list of ", kImageFormatNames.list(), ", or both"));
-    }
-    if (std::find(formats.begin(), formats.end(), f) != formats.end() ||
-        (f == ImageFormat::Png && std::count(formats.begin(), formats.end(), ImageFormat::Png16)) ||
-        (f == ImageFormat::Png16 && std::count(formats.begin(), formats.end(), ImageFormat::Png)))
-      throw ParameterError("image format", format,
-                           "names a format twice (png and png16 share the extension)");
-    formats.push_back(f);
-  }
-  return formats;
+  return {row->format};
 }
 
 BatchPlan planBatchRelight(const BatchRelightOptions& a) {

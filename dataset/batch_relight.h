@@ -11,7 +11,8 @@
 #include <vector>
 
 #include "dataset/batch_options.h"
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
+#include "relight/image_composer.h"
 
 namespace acpca {
 

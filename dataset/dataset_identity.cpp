@@ -39,7 +39,7 @@ nlohmann::json datasetIdentity(const BatchRelightOptions& a) {
                              {"image_format", a.format.empty() ? "exr" : a.format},
                              {"exr_float", a.exrFloat},
                              {"tone", kToneCurveNames.name(a.tone)},
-                             {"max_rank", a.maxRank},
+                             {"max_rank", a.maxRank.text()},
                              {"aovs", aovs},
                              {"label_format", kLabelFormatNames.name(a.labelFormat)},
                              {"lighting_exr", a.lightingImages},

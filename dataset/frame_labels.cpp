@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dataset/npy_file.h"
+#include "imageio/npy_file.h"
 
 namespace acpca {
 

@@ -7,9 +7,10 @@
 #include <vector>
 
 #include "core/atomic_file.h"
-#include "dataset/image_output.h"
 #include "dataset/pixel_labels.h"
+#include "imageio/image_output.h"
 #include "lighting/environment.h"
+#include "relight/image_composer.h"
 
 namespace acpca {
 

@@ -7,9 +7,10 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
-#include "dataset/image_output.h"
-#include "dataset/npy_file.h"
 #include "imageio/image_file.h"
+#include "imageio/image_output.h"
+#include "imageio/npy_file.h"
+#include "relight/image_composer.h"
 
 namespace acpca {
 

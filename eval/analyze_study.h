@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "eval/study_output.h"
+#include "core/study_output.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

@@ -10,9 +10,9 @@
 #include "core/statistics.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
-#include "dataset/image_output.h"
 #include "imageio/codecs_library.h"
 #include "imageio/image_file.h"
+#include "imageio/image_output.h"
 #include "relight/memory_bandwidth.h"
 
 namespace acpca {

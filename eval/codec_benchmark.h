@@ -5,7 +5,7 @@
 // read: the per-frame cost a batch's writing threads pay, as ms and ratios.
 #include <string>
 
-#include "eval/study_output.h"
+#include "core/study_output.h"
 
 namespace acpca {
 

@@ -3,7 +3,7 @@
 // cluster/symmetric_eigen.h) against the same LAPACK solve unchecked, on a
 // Gram matrix of the global basis's size, beside the machine's streaming read:
 // what checking every answer costs, as seconds and a ratio measured in one run.
-#include "eval/study_output.h"
+#include "core/study_output.h"
 
 namespace acpca {
 

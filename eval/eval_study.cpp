@@ -13,6 +13,7 @@
 #include "eval/sh_transport.h"
 #include "eval/sparse_transport.h"
 #include "pictures/pictures.h"
+#include "relight/image_composer.h"
 
 namespace acpca {
 

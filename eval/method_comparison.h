@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/study_output.h"
 #include "core/table.h"
 #include "eval/method_sweep.h"
-#include "eval/study_output.h"
 
 namespace acpca {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/study_output.h"
+#include "core/study_output.h"
 
 namespace acpca {
 

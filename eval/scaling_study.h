@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/study_output.h"
+#include "core/study_output.h"
 
 namespace acpca {
 

@@ -4,63 +4,15 @@
 // "Local lights"). Visibility in the transport was traced to infinity, so a
 // local light is exact only where nothing lies between it and infinity along
 // each pixel's ray to it.
-#include <array>
+#include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
-#include "core/enum_names.h"
 #include "lighting/environment.h"
+#include "lighting/light_kinds.h"
 
 namespace acpca {
 
-enum class LocalLightKind { Point, Sphere, Spot };
-inline constexpr EnumNames<LocalLightKind, 3> kLocalLightKindNames{
-    "light kind",
-    {{{LocalLightKind::Point, "point"},
-      {LocalLightKind::Sphere, "sphere"},
-      {LocalLightKind::Spot, "spot"}}}};
-
-/// Spot lights fall smoothly to zero over this outer share of the half angle.
-inline constexpr double kSpotFalloffShare = 0.1;
-/// Bounds on a light's numbers: coordinates and radii, and emission, such that
-/// every relit value stays finite in float.
-inline constexpr double kMaxLightCoordinate = 1e15;
-inline constexpr double kMaxLightEmission = 1e20;
-/// A point seen closer than 1e-8 units (per unit intensity) counts as touching.
-inline constexpr double kMaxIrradiancePerIntensity = 1e16;
-
-/// A point light: all of it at its position.
-struct PointLight {};
-/// A sphere light of uniform surface radiance.
-struct SphereLight {
-  double radius = 0;
-};
-/// A spot light: a point light inside a cone that falls smoothly to zero.
-struct SpotLight {
-  Vec3 axis = Vec3(0, -1, 0);    ///< unit direction the cone opens along
-  double halfAngleDegrees = 45;  ///< in (0, 90]
-};
-/// What only some kinds have, in the order of LocalLightKind.
-using LightShape = std::variant<PointLight, SphereLight, SpotLight>;
-
-/// Each kind's grammar, written once: the parser counts numbers by it, its
-/// errors quote it, and the CLI's help, Python's docstrings and
-/// docs/lighting.md are made from it or checked against it.
-struct LightGrammar {
-  LocalLightKind kind;
-  size_t numbersBeforeEmission;  ///< then I (grey) or R,G,B
-  const char* grammar;
-  const char* meaning;
-};
-inline constexpr std::array<LightGrammar, 3> kLightGrammars{{
-    {LocalLightKind::Point, 3, "point:X,Y,Z,I or point:X,Y,Z,R,G,B",
-     "a point light at X,Y,Z of radiant intensity I (or R,G,B)"},
-    {LocalLightKind::Sphere, 4, "sphere:X,Y,Z,RADIUS,L or sphere:X,Y,Z,RADIUS,R,G,B",
-     "a sphere of that radius whose surface has radiance L (or R,G,B)"},
-    {LocalLightKind::Spot, 7, "spot:X,Y,Z,DX,DY,DZ,HALF_ANGLE_DEG,I or ...,HALF_ANGLE_DEG,R,G,B",
-     "a point light shining along DX,DY,DZ within HALF_ANGLE_DEG of it"},
-}};
 /// Every kind's grammar, one per line (help texts and docstrings).
 std::string lightGrammarLines(const std::string& indent = "  ");
 
@@ -73,9 +25,13 @@ struct LocalLight {
   Rgb emission = Rgb::Ones();
   std::string spec;  ///< the text it came from (messages, manifests)
 
-  LocalLightKind kind() const { return static_cast<LocalLightKind>(shape.index()); }
-  const SphereLight* sphere() const { return std::get_if<SphereLight>(&shape); }
-  const SpotLight* spot() const { return std::get_if<SpotLight>(&shape); }
+  /// Its kind's name, as its spec starts.
+  const char* kindName() const { return kLightGrammars[shape.index()].kind; }
+  /// What only kind `Kind` has, or nullptr for a light of another kind.
+  template <typename Kind>
+  const Kind* as() const {
+    return std::get_if<Kind>(&shape);
+  }
   /// The light as the CLI grammar writes it (point:X,Y,Z,R,G,B, ...).
   std::string canonicalSpec() const;
 };
@@ -104,16 +60,13 @@ std::vector<std::string> expandLightSweep(const std::string& spec);
 std::vector<std::vector<LocalLight>> readLightPath(const std::string& path);
 
 /// Checks a light built in code (Python) as the parser checks text:
-/// finite values, emission >= 0, radius > 0, a non-zero spot axis (normalised
-/// here), a half angle in (0, 90]. Throws ParameterError ("light").
+/// finite values, emission >= 0, and its kind's own checks (a radius > 0, a
+/// non-zero spot axis, normalised here, a half angle in (0, 90]). Throws
+/// ParameterError ("light").
 void validateLocalLight(LocalLight& light);
-
-/// One texel's share of a light seen from a point: the lattice lighting
-/// (radiance x solid angle, per unit of the light's emission) it adds there.
-struct LightTap {
-  int texel = 0;
-  double weight = 0;
-};
+/// The light lit as a point lamp of the same power while a viewer drags it
+/// (a sphere's exact light costs many rays), or nullopt: lit as it is.
+std::optional<LocalLight> heldAsPoint(const LocalLight& light);
 
 /// What a light adds to the lattice lighting at `point`, per unit emission,
 /// appended to `taps` (texels may repeat). A point or spot light: its

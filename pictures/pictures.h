@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "transport/transport_file.h"
 
 namespace acpca {

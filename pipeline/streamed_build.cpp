@@ -25,7 +25,7 @@
 #include "core/resources.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "model/model_file.h"
 #include "pipeline/ground_truth.h"
 #include "pipeline/kept_transport.h"
@@ -35,6 +35,7 @@
 #include "pipeline/tile_plan.h"
 #include "precompute/precompute_report.h"
 #include "precompute/scene_views.h"
+#include "relight/image_composer.h"
 
 namespace acpca {
 

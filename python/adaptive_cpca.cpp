@@ -17,9 +17,9 @@
 #include "core/warning.h"
 #include "dataset/batch_relight.h"
 #include "dataset/file_info.h"
-#include "dataset/image_output.h"
 #include "dataset/pixel_labels.h"
 #include "imageio/image_file.h"
+#include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
@@ -30,6 +30,7 @@
 #include "python/long_calls.h"
 #include "python/opening_file.h"
 #include "python/to_python.h"
+#include "relight/image_composer.h"
 #include "relight/local_relight.h"
 #include "relight/relight_source.h"
 
@@ -47,7 +48,7 @@ using OutArray = py::array_t<float, py::array::c_style>;
 using OutArgument = std::optional<py::array>;
 /// A rank limit as Python gives it: None, a rank (int), a fraction (float) or
 /// the CLI's text ("50%").
-using RankLimit = std::optional<std::variant<int, double, std::string>>;
+using PyRankLimit = std::optional<std::variant<int, double, std::string>>;
 
 /// An environment and the name it goes by.
 struct PyEnvironment {
@@ -132,11 +133,13 @@ std::string domainName(const TransportHeader& h) {
                         : concat("6x", h.cubemapResolution, "x", h.cubemapResolution);
 }
 
-std::string rankText(const RankLimit& limit) {
-  if (!limit) return "";
-  if (const int* k = std::get_if<int>(&*limit)) return std::to_string(*k);
-  if (const double* f = std::get_if<double>(&*limit)) return concat(*f);
-  return std::get<std::string>(*limit);
+/// Python's max_rank (None, a rank, a fraction or the CLI's text) parsed
+/// once, as the CLI parses --max-rank.
+RankLimit rankLimitOf(const PyRankLimit& limit) {
+  if (!limit) return {};
+  if (const int* k = std::get_if<int>(&*limit)) return RankLimit::ofNumber(*k);
+  if (const double* f = std::get_if<double>(&*limit)) return RankLimit::ofNumber(*f);
+  return RankLimit::parse(std::get<std::string>(*limit));
 }
 
 /// A model or transport file opened for relighting.
@@ -225,7 +228,7 @@ class Relighter {
   }
 
   py::array_t<float> relight(const std::optional<PyEnvironment>& env, double yaw, double pitch,
-                             double roll, const RankLimit& maxRank, double exposure,
+                             double roll, const PyRankLimit& maxRank, double exposure,
                              const std::string& background, bool fastRotation, OutArgument out,
                              const std::vector<LocalLight>& lights, double anchorSpread,
                              bool keepNegative) {
@@ -236,7 +239,7 @@ class Relighter {
         exposure, background, std::move(out), lights, anchorSpread, keepNegative);
   }
 
-  py::array_t<float> relightLighting(const PyLighting& lighting, const RankLimit& maxRank,
+  py::array_t<float> relightLighting(const PyLighting& lighting, const PyRankLimit& maxRank,
                                      double exposure, const std::string& background,
                                      OutArgument out, const std::vector<LocalLight>& lights,
                                      double anchorSpread, bool keepNegative) {
@@ -268,7 +271,7 @@ class Relighter {
   /// batches): N x H x W x C. A transport relights them in one pass over T.
   py::array_t<float> relightBatch(const std::vector<PyEnvironment>& envs,
                                   const std::vector<std::tuple<double, double, double>>& rotations,
-                                  const RankLimit& maxRank, double exposure,
+                                  const PyRankLimit& maxRank, double exposure,
                                   const std::string& background, bool fastRotation, OutArgument out,
                                   const std::vector<LocalLight>& lights, double anchorSpread,
                                   const std::optional<DoubleArray>& lightPositions,
@@ -371,15 +374,16 @@ class Relighter {
   void setLampRays(int rays) { lamps_.sphereRays = parseSphereLampRays(std::to_string(rays)); }
 
  private:
-  void setRank(const RankLimit& maxRank) {
+  void setRank(const PyRankLimit& maxRank) {
+    const RankLimit limit = rankLimitOf(maxRank);
     if (!source_.model) {
-      if (maxRank)
-        throw ParameterError("maximum rank", rankText(maxRank),
+      if (limit.limited())
+        throw ParameterError("maximum rank", limit.text(),
                              concat(path_, " is a transport file, which has no ranks"));
       return;
     }
     source_.model->setMaxRank(-1);
-    applyRankLimit(rankText(maxRank), *source_.model);
+    limit.applyTo(*source_.model);
   }
 
   /// The caller's array, written in place, or a new one. Anything the
@@ -496,8 +500,7 @@ void registerLights(py::module_& m) {
       .def(py::init(&parseLocalLight), py::arg("spec"),
            ("A light from its spec:\n" + lightGrammarLines()).c_str())
       .def_property_readonly("spec", &LocalLight::canonicalSpec)
-      .def_property_readonly(
-          "kind", [](const LocalLight& l) { return kLocalLightKindNames.name(l.kind()); })
+      .def_property_readonly("kind", [](const LocalLight& l) { return std::string(l.kindName()); })
       .def_property_readonly("position",
                              [](const LocalLight& l) {
                                return Point3{l.position.x(), l.position.y(), l.position.z()};

@@ -7,19 +7,11 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "imageio/image.h"
 #include "lighting/environment.h"
 #include "transport/transport_file.h"
 
 namespace acpca {
-
-struct Image {
-  int width = 0, height = 0, channels = 3;
-  std::vector<float> pixels;  ///< row-major, row 0 at the top
-  float* at(int x, int y) { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
-  const float* at(int x, int y) const {
-    return &pixels[(static_cast<size_t>(y) * width + x) * channels];
-  }
-};
 
 enum class Background { Env, Black, Alpha };
 inline constexpr EnumNames<Background, 3> kBackgroundNames{

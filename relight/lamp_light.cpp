@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "core/overloaded.h"
 #include "relight/shadow_ray_batch.h"
 #include "relight/sphere_lamp.h"
 
@@ -112,9 +113,16 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, in
   std::vector<float> out(3 * static_cast<size_t>(rows), 0.0f);
   if (lights.empty() && discs.empty()) return out;
   // The lamps in order, then the discs: a cap each, or a point lamp's index.
+  // Every kind named: a kind added without its exact light does not compile.
   std::vector<std::optional<CapLamp>> caps;
   for (const LocalLight& light : lights)
-    caps.push_back(light.sphere() ? std::optional(CapLamp::sphere(light)) : std::nullopt);
+    caps.push_back(std::visit(
+        Overloaded{[](const PointLight&) -> std::optional<CapLamp> { return std::nullopt; },
+                   [](const SpotLight&) -> std::optional<CapLamp> { return std::nullopt; },
+                   [&](const SphereLight& sphere) -> std::optional<CapLamp> {
+                     return CapLamp::sphere(light, sphere);
+                   }},
+        light.shape));
   for (const MapSource& disc : discs) caps.push_back(CapLamp::distant(disc));
   // Caps probe first: a row's rays depend on its neighbours' probes.
   std::vector<std::vector<LampSight>> sight(caps.size());

@@ -322,9 +322,9 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
                      : "precompute it again"));
   for (const LocalLight& light : lights) {
     long long inside = 0, first = -1;
+    const double reach = std::visit([](const auto& kind) { return kind.reach(); }, light.shape);
     for (long long row = 0; row < header.rows(); ++row) {
       const Vec3 d = light.position - positionOf(header, row);
-      const double reach = light.sphere() ? light.sphere()->radius : 0.0;
       if (d.squaredNorm() <= reach * reach) {
         if (inside++ == 0) first = row;
       }
@@ -332,10 +332,10 @@ void requireLocalLightsApply(const TransportHeader& header, const std::string& p
     if (inside > 0)
       throw ParameterError(
           "light", light.spec,
-          concat(light.sphere() ? "encloses " : "sits on ", inside, " pixel position(s) of ", path,
+          concat(reach > 0 ? "encloses " : "sits on ", inside, " pixel position(s) of ", path,
                  ", the first at pixel ", pixelName(header, first),
                  ": a local light must lie off the surfaces it lights; move it",
-                 light.sphere() ? " or make it smaller" : ""));
+                 reach > 0 ? " or make it smaller" : ""));
   }
 }
 

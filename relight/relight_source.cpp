@@ -16,25 +16,6 @@
 
 namespace acpca {
 
-void applyRankLimit(const std::string& text, ModelRelighter& relighter) {
-  if (text.empty()) return;
-  const bool percent = text.back() == '%';
-  const double value =
-      parseFiniteNumber(percent ? text.substr(0, text.size() - 1) : text, "maximum rank", text);
-  if (percent) {
-    if (value < 0 || value > 100)
-      throw ParameterError("maximum rank", text, "a percentage is 0..100");
-    relighter.setRankFraction(value / 100);
-  } else if (value == std::floor(value)) {
-    if (value < 0) throw ParameterError("maximum rank", text, "a rank is >= 0");
-    relighter.setMaxRank(static_cast<int>(std::min(value, 1e9)));
-  } else {
-    if (value < 0 || value > 1)
-      throw ParameterError("maximum rank", text, "a fraction is in (0, 1)");
-    relighter.setRankFraction(value);
-  }
-}
-
 namespace {
 
 /// A file's exact lamps where it can light them (null otherwise), and the
@@ -90,14 +71,14 @@ void attachLamps(RelightSource& s, const LampsOfFile& lamps) {
 
 }  // namespace
 
-RelightSource openRelightSource(const std::string& path, const std::string& maxRank) {
+RelightSource openRelightSource(const std::string& path, const RankLimit& maxRank) {
   RelightSource s;
   if (isModelFile(path)) {
     // Read cluster by cluster into the relighter's layout: no copy of the file's arrays.
     const std::shared_ptr<const PackedModel> packed = readPackedModel(path);
     s.method = packed->method;
     s.model = std::make_shared<ModelRelighter>(packed);
-    applyRankLimit(maxRank, *s.model);
+    maxRank.applyTo(*s.model);
     s.header = s.model->geometry();
     s.bytesPerPass = s.model->bytesPerFrame();
     s.relight = [relighter = s.model](const std::vector<LatticeLighting>& l,
@@ -133,8 +114,8 @@ RelightSource openRelightSource(const std::string& path, const std::string& maxR
     };
     return s;
   }
-  if (!maxRank.empty())
-    throw ParameterError("maximum rank", maxRank,
+  if (maxRank.limited())
+    throw ParameterError("maximum rank", maxRank.text(),
                          concat(path, " is a transport file, which has no ranks"));
   auto transport = std::make_shared<TransportReader>(path);
   s.header = transport->header();

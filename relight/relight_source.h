@@ -11,14 +11,10 @@
 #include "lighting/local_light.h"
 #include "relight/lamp_light.h"
 #include "relight/model_relighter.h"
+#include "relight/rank_limit.h"
 #include "transport/transport_file.h"
 
 namespace acpca {
-
-/// A limit on each cluster's rank: "K" keeps the first K bases, a fraction in
-/// (0, 1) or a percentage ("50%") that share of each cluster's. Throws a
-/// ParameterError ("maximum rank") for anything else.
-void applyRankLimit(const std::string& text, ModelRelighter& relighter);
 
 struct RelightSource {
   TransportHeader header;
@@ -78,8 +74,8 @@ void relightInGroups(
     const std::function<void(size_t first, const std::vector<LatticeLighting>&)>& relightGroup,
     double* lightingSeconds = nullptr);
 
-/// Opens a model or transport file; maxRank as applyRankLimit (models only:
-/// a ParameterError for a transport).
-RelightSource openRelightSource(const std::string& path, const std::string& maxRank = "");
+/// Opens a model or transport file under a rank limit (models only: a
+/// ParameterError for a transport that is given one).
+RelightSource openRelightSource(const std::string& path, const RankLimit& maxRank = {});
 
 }  // namespace acpca

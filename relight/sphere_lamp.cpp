@@ -161,11 +161,10 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, in
 
 }  // namespace
 
-CapLamp CapLamp::sphere(const LocalLight& lamp) {
-  ACPCA_CHECK(lamp.sphere(), "a ", kLocalLightKindNames.name(lamp.kind()), " lamp has no cap");
+CapLamp CapLamp::sphere(const LocalLight& lamp, const SphereLight& shape) {
   CapLamp cap;
   cap.centre = lamp.position;
-  cap.radius = lamp.sphere()->radius;
+  cap.radius = shape.radius;
   cap.radiance = lamp.emission;
   return cap;
 }

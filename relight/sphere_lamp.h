@@ -23,7 +23,7 @@ namespace acpca {
 /// or a distant disc, the same cap from every point (a sphere at infinity:
 /// no 1/d^2, and nothing beyond the scene casts a shadow).
 struct CapLamp {
-  static CapLamp sphere(const LocalLight& lamp);
+  static CapLamp sphere(const LocalLight& lamp, const SphereLight& shape);
   static CapLamp distant(const MapSource& disc);
   Vec3 centre = Vec3::Zero();  ///< the sphere's centre, or the unit direction to the disc
   double radius = 0;           ///< the sphere's, or the disc's angular radius (radians)

@@ -37,11 +37,12 @@ build_cli() {
   (
     cd "$src"
     source scripts/compiler-cache.sh
-    cmake -S . -B "$scratch/build-$name" -DCMAKE_BUILD_TYPE=Release -DACPCA_BUILD_TESTS=OFF -DACPCA_PYTHON=OFF \
-      "${compiler_cache_flags[@]}" >/dev/null
-    cmake --build "$scratch/build-$name" -j "$(nproc)" --target adaptive-cpca >/dev/null
+    # Inside the tree, as build/ is: the compiler cache sees the same
+    # relative paths and reuses what any earlier build of these sources made.
+    cmake -S . -B build-identical -DCMAKE_BUILD_TYPE=Release "${compiler_cache_flags[@]}" >/dev/null
+    cmake --build build-identical -j "$(nproc)" --target adaptive-cpca >/dev/null
   )
-  echo "$scratch/build-$name/tools/adaptive-cpca"
+  echo "$src/build-identical/tools/adaptive-cpca"
 }
 
 before_cli=${ACPCA_BEFORE_CLI:-}

@@ -5,7 +5,10 @@ Reads every CMakeLists.txt for the project's targets (acpca_NAME libraries,
 the adaptive-cpca executable, the adaptive_cpca Python module) and the
 acpca:: targets each links (PUBLIC or PRIVATE), and compares them with the
 "links" block of docs/architecture.md: one line per target, `NAME ──▶ A, B`.
-Prints each difference and exits 1 if there is any.
+Also holds the libraries that only show or judge pictures off the batch
+relighter: pictures, viewer and eval reach no `dataset`, directly or through
+another library, so writing a PNG does not pull in batches. Prints each
+difference and exits 1 if there is any.
 """
 import os
 import re
@@ -51,6 +54,23 @@ def drawn():
     return graph
 
 
+# Libraries and what they must not reach, directly or through another library.
+UNREACHABLE = {"pictures": "dataset", "viewer": "dataset", "eval": "dataset"}
+
+
+def reaches(graph, start, goal):
+    seen, todo = set(), [start]
+    while todo:
+        name = todo.pop()
+        for n in graph.get(name, ()):
+            if n == goal:
+                return True
+            if n not in seen:
+                seen.add(n)
+                todo.append(n)
+    return False
+
+
 def main():
     cmake, doc = declared(), drawn()
     if doc is None:
@@ -64,6 +84,9 @@ def main():
             problems.append(f"{name}: drawn in docs/architecture.md, not a CMake target")
         elif cmake[name] != doc[name]:
             problems.append(f"{name}: CMake links {sorted(cmake[name])}, the doc draws {sorted(doc[name])}")
+    for name, goal in sorted(UNREACHABLE.items()):
+        if reaches(cmake, name, goal):
+            problems.append(f"{name}: reaches {goal} through CMake's links; it must not")
     for p in problems:
         print(p)
     print(f"check_architecture: {len(cmake)} targets, {len(problems)} difference(s)")

@@ -23,8 +23,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
                  concat(kRotationGrammar, " in degrees or a yaw sweep ", kRotationSweepGrammar,
                         " (repeatable)"));
   sub.add_option("--format", o.format,
-                 "exr, png (8-bit), png16, npy, a comma-separated list of them, or both (exr,png); "
-                 "default: from --out, exr in a batch");
+                 concat(kImageFormatNames.list(),
+                        " (png: 8-bit, png16: 16-bit), a comma-separated list of them, or both "
+                        "(exr,png); default: from --out, exr in a batch"));
   sub.add_option("--tone", tone,
                  "PNG tone curve: clamp (default) or aces (Narkowicz's ACES filmic fit)");
   sub.add_option("--exr-compression", exrCompression,

@@ -11,13 +11,14 @@
 #include "core/error.h"
 #include "core/progress_line.h"
 #include "core/resources.h"
+#include "core/study_output.h"
 #include "core/text.h"
 #include "core/thread_limit.h"
-#include "dataset/image_output.h"
-#include "eval/study_output.h"
+#include "imageio/image_output.h"
 #include "lighting/lighting.h"
 #include "model/model.h"
 #include "precompute/scene.h"
+#include "relight/image_composer.h"
 
 namespace acpca::cli {
 

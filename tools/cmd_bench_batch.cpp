@@ -1,6 +1,6 @@
 // `adaptive-cpca bench batch`: a relight batch end to end, stage by stage,
-// against the streaming read and the relight alone (eval/batch_benchmark.h).
-#include "eval/batch_benchmark.h"
+// against the streaming read and the relight alone (dataset/batch_benchmark.h).
+#include "dataset/batch_benchmark.h"
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"

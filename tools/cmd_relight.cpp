@@ -21,6 +21,7 @@ struct RelightArgs {
   std::string lightMode;   ///< empty: exact
   std::string lampRays;    ///< empty: the default
   std::string sun = "auto";
+  std::string maxRank;  ///< empty: every basis
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -35,6 +36,7 @@ void run(RelightArgs& a) {
   if (!a.lightMode.empty()) o.lamps.mode = kLampModeNames.parse(a.lightMode);
   if (!a.lampRays.empty()) o.lamps.sphereRays = parseSphereLampRays(a.lampRays);
   o.sources = parseSourceFinding(a.sun);
+  o.maxRank = RankLimit::parse(a.maxRank);
   const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
   ThreadLimit limit(a.common.threads);
@@ -71,7 +73,7 @@ void registerRelight(CLI::App& app) {
                   "env, black or alpha (default: env; black for a captured light set)");
   sub->add_option("--frames", args->options.timingRepeats,
                   "Timing mode: after a warm-up, repeat the relight K times and report ms/frame");
-  sub->add_option("--max-rank", args->options.maxRank,
+  sub->add_option("--max-rank", args->maxRank,
                   "Models: use each cluster's first K bases, or a fraction (0.5 or 50%)");
   sub->add_option("--anchor-spread", args->options.anchorSpread,
                   "Models, local lights: texels of direction within which a cluster's pixels "

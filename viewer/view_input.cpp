@@ -49,11 +49,7 @@ LocalLight keyLightFor(const TransportHeader& g) {
 std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights) {
   std::vector<LocalLight> lit = lights;
   for (LocalLight& light : lit)
-    if (const SphereLight* sphere = light.sphere()) {
-      light.emission *= std::numbers::pi * sphere->radius * sphere->radius;
-      light.shape = PointLight{};
-      light.spec = light.canonicalSpec();
-    }
+    if (std::optional<LocalLight> point = heldAsPoint(light)) light = std::move(*point);
   return lit;
 }
 

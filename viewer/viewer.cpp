@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "core/warning.h"
-#include "dataset/envmap_export.h"
+#include "lighting/envmap_export.h"
 #include "model/model.h"
 #include "pictures/pictures.h"
 #include "relight/lamp_light.h"
@@ -226,7 +226,9 @@ void Viewer::drawStatus(const ViewState& state, cv::Mat& canvas) const {
                                              : std::string(),
                     localProblem_.empty() ? "" : concat(" not shown: ", localProblem_),
                     state.lampHeld && std::any_of(state.lights.begin(), state.lights.end(),
-                                                  [](const LocalLight& l) { return l.sphere(); })
+                                                  [](const LocalLight& l) {
+                                                    return heldAsPoint(l).has_value();
+                                                  })
                         ? " (held: sphere lamps lit as points)"
                         : "");
   char text[1024];

@@ -12,10 +12,11 @@
 #include <thread>
 #include <vector>
 
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
+#include "relight/image_composer.h"
 #include "relight/lamp_light.h"
 #include "relight/local_columns.h"
 #include "relight/model_relighter.h"

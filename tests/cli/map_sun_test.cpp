@@ -14,7 +14,7 @@
 #include <numbers>
 
 #include "core/error.h"
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "tests/cli/image_pixels.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"

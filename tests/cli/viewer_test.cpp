@@ -234,7 +234,7 @@ TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
   ASSERT_NE(at, std::string::npos) << r.output;
   const LocalLight moved =
       parseLocalLight(r.output.substr(at + 15, r.output.find('\n', at) - at - 15));
-  ASSERT_TRUE(moved.sphere()) << r.output;
+  ASSERT_TRUE(moved.as<SphereLight>()) << r.output;
   Eigen::Vector2d now;
   ASSERT_TRUE(camera.project(moved.position, now, depth));
   EXPECT_NEAR(now.x() - drawn.x(), 6, 1e-6);

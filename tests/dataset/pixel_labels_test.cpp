@@ -8,7 +8,7 @@
 #include <iterator>
 
 #include "core/error.h"
-#include "dataset/npy_file.h"
+#include "imageio/npy_file.h"
 #include "tests/temp_dir.h"
 
 namespace acpca {

@@ -50,22 +50,22 @@ void expectRefused(const std::function<void(const std::string&)>& read,
 
 TEST(LocalLightSpec, EveryKindParsesGreyAndRgbAndPrintsBack) {
   const LocalLight p = parseLocalLight("point:1,2,-3,5");
-  EXPECT_EQ(p.kind(), LocalLightKind::Point);
+  EXPECT_STREQ(p.kindName(), "point");
   EXPECT_EQ(p.position, Vec3(1, 2, -3));
   EXPECT_EQ(p.emission, Rgb(5, 5, 5));
   EXPECT_EQ(p.canonicalSpec(), "point:1,2,-3,5");
   const LocalLight s = parseLocalLight("sphere:0,4,0,0.5,10,20,30");
-  EXPECT_EQ(s.kind(), LocalLightKind::Sphere);
-  ASSERT_TRUE(s.sphere());
-  EXPECT_EQ(s.sphere()->radius, 0.5);
-  EXPECT_FALSE(s.spot()) << "a sphere has no axis";
+  EXPECT_STREQ(s.kindName(), "sphere");
+  ASSERT_TRUE(s.as<SphereLight>());
+  EXPECT_EQ(s.as<SphereLight>()->radius, 0.5);
+  EXPECT_FALSE(s.as<SpotLight>()) << "a sphere has no axis";
   EXPECT_EQ(s.emission, Rgb(10, 20, 30));
   EXPECT_EQ(parseLocalLight(s.canonicalSpec()).canonicalSpec(), s.canonicalSpec());
   const LocalLight spot = parseLocalLight("spot:0,3,0,0,-2,0,30,7");
-  EXPECT_EQ(spot.kind(), LocalLightKind::Spot);
-  ASSERT_TRUE(spot.spot());
-  EXPECT_EQ(spot.spot()->axis, Vec3(0, -1, 0)) << "the direction is normalised";
-  EXPECT_EQ(spot.spot()->halfAngleDegrees, 30);
+  EXPECT_STREQ(spot.kindName(), "spot");
+  ASSERT_TRUE(spot.as<SpotLight>());
+  EXPECT_EQ(spot.as<SpotLight>()->axis, Vec3(0, -1, 0)) << "the direction is normalised";
+  EXPECT_EQ(spot.as<SpotLight>()->halfAngleDegrees, 30);
   EXPECT_EQ(spot.canonicalSpec(), "spot:0,3,0,0,-1,0,30,7");
 }
 

@@ -50,8 +50,8 @@ TEST(LocalLights, ASphereOverAFloorGivesTheClosedFormOfASphericalSource) {
     for (long long r = 0; r < t.rows(); ++r) {
       const Vec3 toLight = light.position - positionOf(t.header(), r);
       const double d = toLight.norm(), cosTheta = toLight.y() / d;
-      const double expected =
-          kAlbedo * light.emission.x() * std::pow(light.sphere()->radius / d, 2) * cosTheta;
+      const double expected = kAlbedo * light.emission.x() *
+                              std::pow(light.as<SphereLight>()->radius / d, 2) * cosTheta;
       worst = std::max(worst, std::abs(rgb[3 * r] / expected - 1));
     }
     EXPECT_LT(worst, 0.01) << spec;

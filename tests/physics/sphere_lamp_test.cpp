@@ -66,8 +66,8 @@ TEST(SphereLamps, AnOpenFloorIsTheClosedFormWithNoRayPastTheProbes) {
     for (long long r = 0; r < t.rows(); ++r) {
       const Vec3 toLight = light.position - positionOf(t.header(), r);
       const double d = toLight.norm();
-      const double expected =
-          kAlbedo * light.emission.x() * std::pow(light.sphere()->radius / d, 2) * toLight.y() / d;
+      const double expected = kAlbedo * light.emission.x() *
+                              std::pow(light.as<SphereLight>()->radius / d, 2) * toLight.y() / d;
       ASSERT_NEAR(exact[3 * r] / expected, 1, 1e-5) << spec << " row " << r;
       exactSum += exact[3 * r], latticeSum += lattice[3 * r];
     }
@@ -75,8 +75,9 @@ TEST(SphereLamps, AnOpenFloorIsTheClosedFormWithNoRayPastTheProbes) {
     RecordProperty(concat("energy exact / lattice ", spec), std::to_string(exactSum / latticeSum));
     const SceneOccluder occluder(t.header().lamps);
     std::atomic<long long> probes{0};
-    const auto sight = sphereLampSight(t.header(), occluder, CapLamp::sphere(light),
-                                       rowsOfPixels(t.header()), probes);
+    const auto sight =
+        sphereLampSight(t.header(), occluder, CapLamp::sphere(light, *light.as<SphereLight>()),
+                        rowsOfPixels(t.header()), probes);
     EXPECT_EQ(std::count(sight.begin(), sight.end(), LampSight::Whole), t.rows()) << spec;
     // One ray a sample, the probe, and no more.
     const ExactLamps lamps(t.header());

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "core/srgb.h"
 #include "pictures/pictures.h"
 #include "tests/temp_dir.h"
 

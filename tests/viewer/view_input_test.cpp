@@ -230,7 +230,7 @@ TEST(ViewInput, AHeldLampLightsSpheresAsPointsOfTheSamePower) {
   EXPECT_FALSE(s == released);
   const std::vector<LocalLight> lit = litLights(s);
   ASSERT_EQ(lit.size(), 3u);
-  ASSERT_EQ(lit[0].kind(), LocalLightKind::Point);
+  ASSERT_STREQ(lit[0].kindName(), "point");
   EXPECT_EQ(lit[0].position, s.lights[0].position);
   EXPECT_EQ(parseLocalLight(lit[0].spec).canonicalSpec(), lit[0].canonicalSpec());
   const Vec3 far = s.lights[0].position + Vec3(0, -1000, 0);  // 10^4 radii below

@@ -16,7 +16,8 @@
 #include <iterator>
 
 #include "core/error.h"
-#include "dataset/image_output.h"
+#include "core/srgb.h"
+#include "imageio/image_output.h"
 #include "tests/temp_dir.h"
 
 namespace acpca {

@@ -8,8 +8,8 @@
 // threads sharing the cores.
 #include <optional>
 
+#include "core/study_output.h"
 #include "dataset/batch_relight.h"
-#include "eval/study_output.h"
 
 namespace acpca {
 

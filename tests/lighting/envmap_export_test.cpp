@@ -1,13 +1,13 @@
 // What the lattice sees, exported as pictures (lat-long and cube cross) and
 // read back as environments: continuity, exact energy, round trips.
-#include "dataset/envmap_export.h"
+#include "lighting/envmap_export.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "lighting/environment.h"
 #include "lighting/rotation.h"
 #include "tests/test_support.h"

@@ -1,4 +1,4 @@
-#include "eval/batch_benchmark.h"
+#include "dataset/batch_benchmark.h"
 
 #include <algorithm>
 #include <memory>

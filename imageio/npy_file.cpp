@@ -1,4 +1,4 @@
-#include "dataset/npy_file.h"
+#include "imageio/npy_file.h"
 
 #include <bit>
 #include <fstream>

@@ -1,28 +1,14 @@
 #pragma once
-// Relit images written: linear EXR, tone-mapped sRGB PNG, 16-bit PNG or NumPy
-// (always to a temporary name, then renamed).
-#include <algorithm>
+// Linear values to the 8- and 16-bit sRGB codes PNG output writes, exactly and
+// fast, after an exposure and a tone curve.
 #include <array>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "core/enum_names.h"
-#include "core/srgb.h"
-#include "relight/image_composer.h"
+#include "imageio/image.h"
 
 namespace acpca {
-
-/// EXR (linear, half or float), PNG (sRGB, 8 or 16 bits, tone mapped) or
-/// NumPy .npy (linear float32, H x W x C).
-enum class ImageFormat { Exr, Png, Png16, Npy };
-inline constexpr EnumNames<ImageFormat, 4> kImageFormatNames{"image format",
-                                                             {{{ImageFormat::Exr, "exr"},
-                                                               {ImageFormat::Png, "png"},
-                                                               {ImageFormat::Png16, "png16"},
-                                                               {ImageFormat::Npy, "npy"}}}};
-/// A format's file extension, dot included (png16 writes .png).
-const char* imageExtension(ImageFormat format);
 
 /// How PNG output maps linear values (after exposure) into [0, 1] before the
 /// sRGB transfer function: clamp, or the ACES filmic curve as fitted by
@@ -33,42 +19,6 @@ inline constexpr EnumNames<ToneCurve, 2> kToneCurveNames{
     "tone curve", {{{ToneCurve::Clamp, "clamp"}, {ToneCurve::Aces, "aces"}}}};
 /// The curve's value of a linear value, in [0, 1].
 double toneMapped(double linear, ToneCurve tone);
-
-/// EXR codecs (all lossless), by OpenEXR's names.
-enum class ExrCompression { None, Rle, Zips, Zip, Piz };
-inline constexpr EnumNames<ExrCompression, 5> kExrCompressionNames{
-    "EXR compression",
-    {{{ExrCompression::None, "none"},
-      {ExrCompression::Rle, "rle"},
-      {ExrCompression::Zips, "zips"},
-      {ExrCompression::Zip, "zip"},
-      {ExrCompression::Piz, "piz"}}}};
-
-/// How an image file is encoded: EXR values in half or float and their codec,
-/// PNG's deflate level (0-9; zlib's 6 unless told) and tone curve.
-struct ImageEncoding {
-  bool exrFloat = false;
-  ExrCompression exrCompression = ExrCompression::Zips;
-  int pngLevel = 6;
-  ToneCurve tone = ToneCurve::Clamp;
-};
-
-/// Writes EXR (linear, half by default) or PNG (x 2^exposure, sRGB, 8-bit).
-/// EXR output is also scaled by 2^exposure. Throws UserError naming the path.
-void writeImage(const Image& image, const std::string& path, ImageFormat format, double exposureEv,
-                bool exrFloat = false);
-/// The same into `file` (a temporary name the caller renames; errors name
-/// `path`), encoded as told.
-void encodeImage(const Image& image, const std::string& file, const std::string& path,
-                 ImageFormat format, double exposureEv, const ImageEncoding& encoding);
-
-/// 8-bit values (rows top to bottom, channels interleaved) as PNG into
-/// `file` (a temporary name the caller renames; errors name `path`).
-void encodePng8(int width, int height, int channels, const unsigned char* values,
-                const std::string& file, const std::string& path, int level);
-/// Writes 8-bit values as PNG, atomically; throws UserError naming the path.
-void writePng8(int width, int height, int channels, const unsigned char* values,
-               const std::string& path);
 
 /// 8-bit sRGB of linear values times 2^exposure, as PNG output writes them:
 /// round(255 * linearToSrgb(tone(v * scale))). Exact and fast: the code is found

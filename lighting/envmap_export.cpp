@@ -1,4 +1,4 @@
-#include "dataset/envmap_export.h"
+#include "lighting/envmap_export.h"
 
 #include <cmath>
 #include <functional>

@@ -1,7 +1,7 @@
 #pragma once
 // What the lattice sees of a lighting, as pictures: a lat-long image and a
 // horizontal cube cross, piecewise constant per texel.
-#include "dataset/image_output.h"
+#include "imageio/image_output.h"
 #include "lighting/cube_cross.h"
 #include "lighting/lighting.h"
 
