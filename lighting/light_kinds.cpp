@@ -30,12 +30,16 @@ void appendBilinearShares(const CubeLattice& lattice, const Vec3& toLight,
     if (tap.weight != 0) taps.push_back({tap.texel, tap.weight});
 }
 
-/// Each kind made from its numbers, in LightShape's order.
+/// Kind K of LightShape made from its numbers.
+template <size_t K>
+LightShape shapeOf(const double* v) {
+  return std::variant_alternative_t<K, LightShape>::fromNumbers(v);
+}
+
+/// Each kind's maker, in LightShape's order.
 using ShapeMaker = LightShape (*)(const double*);
 constexpr auto kShapeMakers = []<size_t... K>(std::index_sequence<K...>) {
-  return std::array<ShapeMaker, sizeof...(K)>{[](const double* v) -> LightShape {
-    return std::variant_alternative_t<K, LightShape>::fromNumbers(v);
-  }...};
+  return std::array<ShapeMaker, sizeof...(K)>{&shapeOf<K>...};
 }
 (std::make_index_sequence<std::variant_size_v<LightShape>>());
 

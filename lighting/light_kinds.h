@@ -6,6 +6,7 @@
 // overload set, so a kind added to LightShape without all of them does not
 // compile (docs/architecture.md, "Where new things go").
 #include <array>
+#include <concepts>
 #include <optional>
 #include <string>
 #include <utility>
@@ -120,6 +121,26 @@ struct SpotLight {
 
 /// The kind of a light, and what only it has.
 using LightShape = std::variant<PointLight, SphereLight, SpotLight>;
+
+/// What every kind answers (the list above): a kind added to LightShape
+/// without one of them fails the static_assert below.
+template <typename Kind>
+concept LightKind = requires(Kind kind, const Kind& seen, const Vec3& toLight,
+                             const CubeLattice& lattice, std::vector<LightTap>& taps,
+                             std::vector<double>& numbers, const double* v) {
+  { Kind::kGrammar } -> std::convertible_to<LightGrammar>;
+  { Kind::kEmission } -> std::convertible_to<const char*>;
+  { Kind::fromNumbers(v) } -> std::same_as<Kind>;
+  seen.appendNumbers(numbers);
+  { kind.problem() } -> std::same_as<std::string>;
+  { seen.reach() } -> std::same_as<double>;
+  { seen.irradiance(toLight) } -> std::same_as<double>;
+  seen.appendDirectionShares(lattice, toLight, taps);
+  { seen.heldPointScale() } -> std::same_as<std::optional<double>>;
+};
+static_assert([]<size_t... K>(std::index_sequence<K...>) {
+  return (LightKind<std::variant_alternative_t<K, LightShape>> && ...);
+}(std::make_index_sequence<std::variant_size_v<LightShape>>()));
 
 /// Every kind's grammar, in LightShape's order.
 inline constexpr auto kLightGrammars = []<size_t... K>(std::index_sequence<K...>) {

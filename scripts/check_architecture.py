@@ -7,9 +7,12 @@ acpca:: targets each links (PUBLIC or PRIVATE), and compares them with the
 "links" block of docs/architecture.md: one line per target, `NAME ──▶ A, B`.
 Also holds the libraries that only show or judge pictures off the batch
 relighter: pictures, viewer and eval reach no `dataset`, directly or through
-another library, so writing a PNG does not pull in batches. Prints each
-difference and exits 1 if there is any.
+another library, so writing a PNG does not pull in batches. And every file
+the recipes of "Where new things go" name (a path in backticks) exists, so
+that the recipes cannot outlive a move. Prints each difference and exits 1 if
+there is any.
 """
+import glob
 import os
 import re
 import sys
@@ -71,6 +74,21 @@ def reaches(graph, start, goal):
     return False
 
 
+def recipe_paths_missing():
+    """Paths named in backticks under "Where new things go" that do not exist."""
+    text = open(os.path.join(ROOT, "docs", "architecture.md"), encoding="utf-8").read()
+    section = re.search(r"## Where new things go\n(.*?)\n## ", text, re.S)
+    if not section:
+        return ["docs/architecture.md has no \"Where new things go\" section"]
+    missing = []
+    for path in re.findall(r"`([^`\s]+/[^`\s]*)`", section.group(1)):
+        if "<" in path or "NAME" in path or path.startswith("--"):
+            continue  # a placeholder, not a path
+        if not glob.glob(os.path.join(ROOT, path)):
+            missing.append(f"docs/architecture.md, \"Where new things go\": {path} does not exist")
+    return missing
+
+
 def main():
     cmake, doc = declared(), drawn()
     if doc is None:
@@ -84,6 +102,7 @@ def main():
             problems.append(f"{name}: drawn in docs/architecture.md, not a CMake target")
         elif cmake[name] != doc[name]:
             problems.append(f"{name}: CMake links {sorted(cmake[name])}, the doc draws {sorted(doc[name])}")
+    problems += recipe_paths_missing()
     for name, goal in sorted(UNREACHABLE.items()):
         if reaches(cmake, name, goal):
             problems.append(f"{name}: reaches {goal} through CMake's links; it must not")
