@@ -19,7 +19,8 @@ PyEnvironment environmentFromSpec(const std::string& spec) {
   const bool analytic = isAnalyticEnvironment(spec);
   return openingFile(analytic ? std::string() : spec, [&] {
     py::gil_scoped_release release;
-    return PyEnvironment{std::shared_ptr<const Environment>(loadEnvironment(spec))};
+    return PyEnvironment{std::shared_ptr<const Environment>(loadEnvironment(spec)),
+                         newSourceSplits()};
   });
 }
 
@@ -33,7 +34,7 @@ PyEnvironment environmentFromArray(const FloatArray& array, const std::string& n
     py::gil_scoped_release release;
     env = makeEnvironmentFromPixels(name, name, width, height, channels, array.data());
   }
-  return {std::move(env)};
+  return {std::move(env), newSourceSplits()};
 }
 
 /// The map under each (yaw, pitch, roll) on a 6 x R x R lattice, B x l x 3:
@@ -81,6 +82,27 @@ LocalLight madeLight(LocalLight light) {
   validateLocalLight(light);
   light.spec = light.canonicalSpec();
   return light;
+}
+
+std::vector<std::vector<LocalLight>> lightSetsAlong(const std::vector<LocalLight>& lights,
+                                                    const std::optional<DoubleArray>& positions) {
+  if (!positions) return {lights};
+  const DoubleArray& p = *positions;
+  if (p.ndim() != 3 || p.shape(1) != static_cast<py::ssize_t>(lights.size()) || p.shape(2) != 3)
+    throw py::value_error(concat("light_positions must be F x ", lights.size(),
+                                 " x 3: a position for each of the lights in each frame"));
+  std::vector<std::vector<LocalLight>> sets;
+  for (py::ssize_t f = 0; f < p.shape(0); ++f) {
+    std::vector<LocalLight> set = lights;
+    for (size_t k = 0; k < set.size(); ++k) {
+      set[k].position = Vec3(p.at(f, k, 0), p.at(f, k, 1), p.at(f, k, 2));
+      set[k].spec.clear();
+      set[k] = madeLight(set[k]);
+    }
+    sets.push_back(std::move(set));
+  }
+  if (sets.empty()) throw py::value_error("light_positions holds no frames");
+  return sets;
 }
 
 void registerEnvironments(py::module_& m) {

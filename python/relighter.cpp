@@ -6,34 +6,29 @@
 
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "core/error.h"
-#include "core/version.h"
 #include "core/warning.h"
 #include "dataset/batch_relight.h"
 #include "dataset/file_info.h"
-#include "dataset/pixel_labels.h"
-#include "imageio/image_file.h"
-#include "imageio/image_output.h"
+#include "dataset/map_source_listing.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
-#include "lighting/lighting_sampler.h"
 #include "lighting/local_light.h"
 #include "lighting/rotation.h"
 #include "lighting/spec_parsing.h"
-#include "python/long_calls.h"
+#include "python/module_parts.h"
 #include "python/opening_file.h"
 #include "python/to_python.h"
 #include "relight/image_composer.h"
 #include "relight/local_relight.h"
 #include "relight/relight_source.h"
-
-#include "python/module_parts.h"
 
 namespace acpca::python {
 
@@ -57,6 +52,13 @@ RankLimit rankLimitOf(const PyRankLimit& limit) {
 /// A model or transport file opened for relighting.
 class Relighter {
  public:
+  /// Rows added onto a frame after its relight, in the CLI's order: the
+  /// local lights', then the map's sources' (empty: none).
+  struct AddedRows {
+    const std::vector<float>& local;
+    const std::vector<float>& sources;
+  };
+
   explicit Relighter(const std::string& path) : path_(path) {
     openingFile(path, [&] {
       py::gil_scoped_release release;
@@ -74,68 +76,31 @@ class Relighter {
   bool isModel() const { return !source_.dense; }
   py::object info() const { return toPython(describeFile(path_).json); }
 
-  /// Coverage of every pixel, H x W (0 for background).
-  py::array_t<float> coverage() const {
-    py::array_t<float> out({height(), width()});
-    float* p = out.mutable_data();
-    std::fill(p, p + out.size(), 0.0f);
-    for (long long r = 0; r < source_.header.rows(); ++r)
-      p[source_.header.pixels[r]] = source_.header.coverage[r];
-    return out;
-  }
-
-  /// The view's per-pixel labels by AOV name: H x W (x C) float32, object
-  /// int32; the very values `relight --aov ... --label-format npy` writes.
+  py::array_t<float> coverage() const { return coverageImage(source_.header); }
   py::dict labels(const std::string& aovs) const {
-    const std::vector<Aov> chosen = parseAovList(aovs);
-    requireAovs(source_.header, chosen, path_, isModel());
-    py::dict out;
-    for (const LabelLayer& layer : viewLabels(source_.header, chosen)) {
-      std::vector<py::ssize_t> shape{height(), width()};
-      if (layer.channels.size() > 1)
-        shape.push_back(static_cast<py::ssize_t>(layer.channels.size()));
-      if (layer.aov == Aov::Object) {
-        py::array_t<std::int32_t> ids(shape);
-        std::copy(layer.values.begin(), layer.values.end(), ids.mutable_data());
-        out[kAovNames.name(layer.aov)] = ids;
-      } else {
-        py::array_t<float> values(shape);
-        std::copy(layer.values.begin(), layer.values.end(), values.mutable_data());
-        out[kAovNames.name(layer.aov)] = values;
-      }
-    }
-    return out;
+    return labelArrays(source_.header, path_, isModel(), aovs);
   }
 
   /// Each object's name, by the id the "object" label holds.
   const std::vector<std::string>& objectNames() const { return source_.header.objectNames; }
 
-  /// The shading of a frame relit over a black or transparent background:
-  /// frame / albedo label, 0 where the albedo is 0 (H x W x 3), as the CLI's
-  /// FRAME_shading files hold it.
   py::array_t<float> shading(const py::array_t<float, py::array::c_style>& frame,
                              bool keepNegative) const {
-    const py::ssize_t channels = frame.ndim() == 3 ? frame.shape(2) : 0;
-    if (frame.ndim() != 3 || frame.shape(0) != height() || frame.shape(1) != width() ||
-        (channels != 3 && channels != 4))
-      throw ParameterError("frame", concat(frame.ndim(), " dimensions"),
-                           concat("is not ", height(), " x ", width(), " x 3 or 4"));
-    py::array_t<float> out(std::vector<py::ssize_t>{height(), width(), 3});
-    const std::vector<float> background(static_cast<size_t>(frame.size()), 0.0f);
-    frameShading(source_.header, frame.data(), background.data(), static_cast<int>(channels),
-                 out.mutable_data(), keepNegative);
-    return out;
+    return frameShadingArray(source_.header, frame, keepNegative);
   }
 
   /// An environment under a rotation, integrated onto this file's lattice once
   /// (to relight it several times, or to time the relight alone).
   PyLighting lighting(const PyEnvironment& env, double yaw, double pitch, double roll,
-                      bool fastRotation) const {
-    PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, domainName(source_.header)};
+                      bool fastRotation, const PySun& sun) const {
+    PyLighting l{env.env, EnvRotation{yaw, pitch, roll}, {}, domainName(source_.header), {}};
     validateRotation(l.rotation);
+    std::vector<MapSource> sources;
+    const Environment& lattice = latticePart(env, sun, sources);
     py::gil_scoped_release release;
-    l.values = (*domain_)(*env.env, l.rotation,
+    l.values = (*domain_)(lattice, l.rotation,
                           fastRotation ? RotationMode::FastLattice : RotationMode::Exact);
+    l.sources = turnedSources(sources, l.rotation);
     return l;
   }
 
@@ -143,12 +108,13 @@ class Relighter {
                              double roll, const PyRankLimit& maxRank, double exposure,
                              const std::string& background, bool fastRotation, OutArgument out,
                              const std::vector<LocalLight>& lights, double anchorSpread,
-                             bool keepNegative) {
+                             bool keepNegative, const PySun& sun) {
     if (!env && lights.empty())
       throw ParameterError("environment", "None", "give an environment, lights, or both");
-    return relightLighting(
-        lighting(env ? *env : PyEnvironment{darkness()}, yaw, pitch, roll, fastRotation), maxRank,
-        exposure, background, std::move(out), lights, anchorSpread, keepNegative);
+    return relightLighting(lighting(env ? *env : PyEnvironment{darkness(), nullptr}, yaw, pitch,
+                                    roll, fastRotation, sun),
+                           maxRank, exposure, background, std::move(out), lights, anchorSpread,
+                           keepNegative);
   }
 
   py::array_t<float> relightLighting(const PyLighting& lighting, const PyRankLimit& maxRank,
@@ -166,14 +132,16 @@ class Relighter {
       py::gil_scoped_release release;
       setRank(maxRank);
       const std::vector<float> local = localRows(lights, anchorSpread);
+      const std::vector<float> sources = sourceRows(lighting.sources);
+      const AddedRows added{local, sources};
       float* pixels = image.mutable_data();
       if (source_.model) {
-        relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, local,
+        relightModelInto(lighting.values, *lighting.env, lighting.rotation, bg, exposure, added,
                          keepNegative, pixels);
       } else {
         std::vector<double> ms;
         finish(source_.relight({lighting.values}, ms)[0].data(), *lighting.env, lighting.rotation,
-               bg, exposure, local, keepNegative, pixels);
+               bg, exposure, added, keepNegative, pixels);
       }
     }
     return image;
@@ -187,16 +155,21 @@ class Relighter {
                                   const std::string& background, bool fastRotation, OutArgument out,
                                   const std::vector<LocalLight>& lights, double anchorSpread,
                                   const std::optional<DoubleArray>& lightPositions,
-                                  bool keepNegative) {
+                                  bool keepNegative, const PySun& sun) {
     requireFinite(exposure, "exposure");
     for (const auto& [yaw, pitch, roll] : rotations) validateRotation({yaw, pitch, roll});
     const Background bg = backgroundOf(background);
     if (envs.empty() || rotations.empty())
       throw ParameterError("batch", "", "give at least one environment and one rotation");
-    const std::vector<std::vector<LocalLight>> sets = lightSets(lights, lightPositions);
+    const std::vector<std::vector<LocalLight>> sets = lightSetsAlong(lights, lightPositions);
     const size_t perSet = envs.size() * rotations.size();
     const py::ssize_t frames = static_cast<py::ssize_t>(perSet * sets.size());
     OutArray images = outputArray(out, {frames}, bg);
+    // Each map split once: what its lattice integrates, and its sources.
+    std::vector<const Environment*> latticeParts;
+    std::vector<std::vector<MapSource>> mapSources(envs.size());
+    for (size_t e = 0; e < envs.size(); ++e)
+      latticeParts.push_back(&latticePart(envs[e], sun, mapSources[e]));
     {
       py::gil_scoped_release release;
       setRank(maxRank);
@@ -207,8 +180,11 @@ class Relighter {
         return std::pair{envs[i / rotations.size()].env.get(), EnvRotation{yaw, pitch, roll}};
       };
       const auto lightingOf = [&](size_t i) {
-        const auto [env, rotation] = frameOf(i);
-        return (*domain_)(*env, rotation, mode);
+        const auto& [yaw, pitch, roll] = rotations[i % rotations.size()];
+        return (*domain_)(*latticeParts[i / rotations.size()], EnvRotation{yaw, pitch, roll}, mode);
+      };
+      const auto sourcesOf = [&](size_t i) {
+        return sourceRows(turnedSources(mapSources[i / rotations.size()], frameOf(i).second));
       };
       for (size_t set = 0; set < sets.size(); ++set) {
         const std::vector<float> local = localRows(sets[set], anchorSpread);
@@ -219,8 +195,9 @@ class Relighter {
                 source_.model->lightGroup(lightings);
                 for (size_t k = 0; k < lightings.size(); ++k) {
                   const auto [env, rotation] = frameOf(first + k);
-                  shadeModelFrameInto(k, *env, rotation, bg, exposure, local, keepNegative,
-                                      setImages + (first + k) * frameValues);
+                  const std::vector<float> sources = sourcesOf(first + k);
+                  shadeModelFrameInto(k, *env, rotation, bg, exposure, {local, sources},
+                                      keepNegative, setImages + (first + k) * frameValues);
                 }
                 return;
               }
@@ -228,7 +205,8 @@ class Relighter {
               const auto rows = source_.relight(lightings, ms);
               for (size_t k = 0; k < rows.size(); ++k) {
                 const auto [env, rotation] = frameOf(first + k);
-                finish(rows[k].data(), *env, rotation, bg, exposure, local, keepNegative,
+                const std::vector<float> sources = sourcesOf(first + k);
+                finish(rows[k].data(), *env, rotation, bg, exposure, {local, sources}, keepNegative,
                        setImages + (first + k) * frameValues);
               }
             });
@@ -246,29 +224,6 @@ class Relighter {
         kBackgroundNames.parse(name.empty() ? (captured ? "black" : "env") : name);
     requireBackgroundShown(source_.header, bg, path_);
     return bg;
-  }
-
-  /// The batch's light sets: the lights as given, or, with positions (F x K
-  /// x 3 for K lights), F sets of those lights moved to each row's positions.
-  static std::vector<std::vector<LocalLight>> lightSets(
-      const std::vector<LocalLight>& lights, const std::optional<DoubleArray>& positions) {
-    if (!positions) return {lights};
-    const DoubleArray& p = *positions;
-    if (p.ndim() != 3 || p.shape(1) != static_cast<py::ssize_t>(lights.size()) || p.shape(2) != 3)
-      throw py::value_error(concat("light_positions must be F x ", lights.size(),
-                                   " x 3: a position for each of the lights in each frame"));
-    std::vector<std::vector<LocalLight>> sets;
-    for (py::ssize_t f = 0; f < p.shape(0); ++f) {
-      std::vector<LocalLight> set = lights;
-      for (size_t k = 0; k < set.size(); ++k) {
-        set[k].position = Vec3(p.at(f, k, 0), p.at(f, k, 1), p.at(f, k, 2));
-        set[k].spec.clear();
-        set[k] = madeLight(set[k]);
-      }
-      sets.push_back(std::move(set));
-    }
-    if (sets.empty()) throw py::value_error("light_positions holds no frames");
-    return sets;
   }
 
   /// The local lights alone, per occupied row (empty without lights).
@@ -328,35 +283,58 @@ class Relighter {
   /// One frame of a model, relit straight into its image.
   void relightModelInto(const LatticeLighting& lighting, const Environment& env,
                         const EnvRotation& rotation, Background bg, double exposure,
-                        const std::vector<float>& local, bool keepNegative, float* pixels) const {
+                        const AddedRows& added, bool keepNegative, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->relightInto(lighting, pixels, ImageComposer::channels(bg));
-    addLocal(local, bg, pixels);
+    addRows(added, bg, pixels);
     finishPixels(exposure, keepNegative, bg, pixels);
   }
 
   /// Frame k of the group the model's relighter last lit, into its image.
   void shadeModelFrameInto(size_t k, const Environment& env, const EnvRotation& rotation,
-                           Background bg, double exposure, const std::vector<float>& local,
+                           Background bg, double exposure, const AddedRows& added,
                            bool keepNegative, float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     source_.model->shadeFrameInto(k, pixels, ImageComposer::channels(bg));
-    addLocal(local, bg, pixels);
+    addRows(added, bg, pixels);
     finishPixels(exposure, keepNegative, bg, pixels);
   }
 
   /// One frame from per-row values (the dense path) into its image.
   void finish(const float* rowRgb, const Environment& env, const EnvRotation& rotation,
-              Background bg, double exposure, const std::vector<float>& local, bool keepNegative,
+              Background bg, double exposure, const AddedRows& added, bool keepNegative,
               float* pixels) const {
     composer_->background(bg, env, rotationMatrix(rotation), pixels);
     composer_->addRows(rowRgb, pixels, ImageComposer::channels(bg));
-    addLocal(local, bg, pixels);
+    addRows(added, bg, pixels);
     finishPixels(exposure, keepNegative, bg, pixels);
   }
 
-  void addLocal(const std::vector<float>& local, Background bg, float* pixels) const {
-    if (!local.empty()) composer_->addRows(local.data(), pixels, ImageComposer::channels(bg));
+  void addRows(const AddedRows& added, Background bg, float* pixels) const {
+    for (const std::vector<float>* rows : {&added.local, &added.sources})
+      if (!rows->empty()) composer_->addRows(rows->data(), pixels, ImageComposer::channels(bg));
+  }
+
+  /// What a frame of `env` integrates onto the lattice; its sources, to be lit
+  /// exactly, into `sources` (relight --sun; map_suns.cpp).
+  const Environment& latticePart(const PyEnvironment& env, const PySun& sun,
+                                 std::vector<MapSource>& sources) const {
+    const auto warnOnce = [&] {
+      if (source_.header.isLightSet()) return;  // its cells hold them, as the CLI's
+      std::call_once(*sunWarned_, [&] {
+        warn(concat(path_, ": the maps' suns and bright lamps go through the lattice (their ",
+                    "shadows come out soft and shifted by up to a texel): ",
+                    source_.sourcesUnavailable, "; sun='off' asks for it without this warning"));
+      });
+    };
+    return latticePartOf(env, sun, lamps_.mode == LampMode::Exact, source_.sourcesUnavailable,
+                         warnOnce, sources);
+  }
+
+  /// The sources' light on every row, lit exactly (empty with none).
+  std::vector<float> sourceRows(const std::vector<MapSource>& sources) const {
+    if (sources.empty()) return {};
+    return source_.relightSources(sources, lamps_.sphereRays);
   }
 
   /// As the CLI writes images: clamped at zero unless kept, colour scaled by
@@ -374,6 +352,7 @@ class Relighter {
   std::string path_;
   RelightSource source_;
   LampSettings lamps_;
+  std::shared_ptr<std::once_flag> sunWarned_ = std::make_shared<std::once_flag>();
   std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
   std::unique_ptr<ImageComposer> composer_;
 };
@@ -413,11 +392,14 @@ void registerRelighter(py::module_& m) {
            py::arg("exposure") = 0.0, py::arg("background") = "", py::arg("fast_rotation") = false,
            py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("keep_negative") = false,
+           py::arg("sun") = "auto",
            "One image, H x W x 3 (x 4 with background='alpha'), as `relight` writes it; "
            "lights (Light, PointLight, ...) are added, and light it alone when env is None. "
            "background: 'env' (default; 'black' for a captured light set), 'black' or 'alpha'. "
            "Values below zero (a model's reconstruction can undershoot) are clamped to 0 "
-           "unless keep_negative.")
+           "unless keep_negative. sun: 'auto' (default), 'off' or K, as relight --sun: the "
+           "map's sun and bright lamps split off and lit exactly by shadow rays where the "
+           "file holds its surfaces.")
       .def("relight", &Relighter::relightLighting, py::arg("lighting"), py::kw_only(),
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",
            py::arg("out") = py::none(), py::arg("lights") = std::vector<LocalLight>{},
@@ -425,14 +407,16 @@ void registerRelighter(py::module_& m) {
            "The same from a Lighting made by lighting(): the integration is not repeated.")
       .def("lighting", &Relighter::lighting, py::arg("env"), py::kw_only(), py::arg("yaw") = 0.0,
            py::arg("pitch") = 0.0, py::arg("roll") = 0.0, py::arg("fast_rotation") = false,
-           "The environment under a rotation, integrated onto this file's lattice: a Lighting.")
+           py::arg("sun") = "auto",
+           "The environment under a rotation, integrated onto this file's lattice: a Lighting "
+           "(without the sources sun= splits off, which it keeps to light exactly).")
       .def("relight_batch", &Relighter::relightBatch, py::arg("envs"), py::kw_only(),
            py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",
            py::arg("fast_rotation") = false, py::arg("out") = py::none(),
            py::arg("lights") = std::vector<LocalLight>{},
            py::arg("anchor_spread") = kAnchorSpreadTexels, py::arg("light_positions") = py::none(),
-           py::arg("keep_negative") = false,
+           py::arg("keep_negative") = false, py::arg("sun") = "auto",
            "Every environment under every (yaw, pitch, roll): N x H x W x C, environment-major; "
            "the lights are added to every frame. light_positions (F x K x 3, K lights): F "
            "times that, the lights moved to row f's positions for the f-th (light-major, as "

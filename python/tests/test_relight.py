@@ -27,10 +27,7 @@ SCENE_WITH_MESH = """{"camera": {"eye": [0, 0, 4], "target": [0, 0, 0], "up": [0
 
 
 def cli(*args):
-    # Python lights a map's sun and lamps through the lattice, as `--sun off`
-    # does, until it lights them exactly as the CLI does by default.
-    sun = ["--sun", "off"] if args[0] == "relight" and "--sun" not in args else []
-    subprocess.run([CLI, *args, *sun, "--quiet"], check=True)
+    subprocess.run([CLI, *args, "--quiet"], check=True)
 
 
 @pytest.fixture(scope="module")
@@ -64,6 +61,34 @@ def test_a_transport_relights_densely_as_the_cli_does(tmp_path):
     theirs = cli_image(tmp_path, TRANSPORT, "--env", "sun:50,30,4,1000", "--rotate", "45",
                        "--background", "black")
     assert np.array_equal(mine, theirs)
+
+
+def test_a_maps_sun_is_lit_as_the_cli_lights_it(tmp_path, model):
+    # sun= means what relight --sun means: 'auto' (the default) splits the
+    # map's sun off and lights it by shadow rays from the camera samples, 'off'
+    # leaves it on the lattice, K keeps at most K sources.
+    sun = "sun:40,30,0.53,40000"
+    for source in (model, TRANSPORT):
+        r = ac.open(source)
+        frames = {}
+        for choice, flags in (("auto", []), ("off", ["--sun", "off"]), (1, ["--sun", "1"])):
+            mine = r.relight(ac.Environment(sun), yaw=30, background="black", sun=choice)
+            theirs = cli_image(tmp_path, source, "--env", sun, "--rotate", "30",
+                               "--background", "black", *flags)
+            assert np.array_equal(mine, theirs), (source, choice)  # bit for bit
+            frames[choice] = mine
+        # Lit exactly, the sun's shadow is not the lattice's; the light is the same.
+        assert not np.array_equal(frames["auto"], frames["off"])
+        assert abs(frames["auto"].sum() / frames["off"].sum() - 1) < 0.05
+        # A batch lights each frame's sun as one relight does (a model's group
+        # projection rounds apart from one frame's, in the last bits).
+        envs = [ac.Environment(sun), ac.Environment("sky")]
+        batch = r.relight_batch(envs, rotations=[(0, 0, 0), (30, 0, 0)], background="black")
+        for k, (env, yaw) in enumerate([(e, y) for e in envs for y in (0, 30)]):
+            one = r.relight(env, yaw=yaw, background="black")
+            assert np.abs(batch[k] - one).max() <= 1e-6 * np.abs(one).max(), k
+    with pytest.raises(ac.Error, match="sometimes"):
+        ac.open(model).relight(ac.Environment(sun), sun="sometimes")
 
 
 def test_a_rank_limit_is_the_clis(tmp_path, model):
@@ -271,7 +296,8 @@ def test_an_output_that_is_the_input_is_refused(tmp_path):
 
 def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path, model):
     h5py = pytest.importorskip("h5py")
-    current = ac.Relighter(model).relight(ac.Environment("sky"))
+    # Compared on the lattice: a file without surfaces lights the sky's sun there.
+    current = ac.Relighter(model).relight(ac.Environment("sky"), sun="off")
     with h5py.File(model, "r") as f:
         assert f.attrs["version"] == 7
         assert f["lamp_sample_start"].shape == (f["albedo"].shape[0] + 1,)
@@ -286,19 +312,22 @@ def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path,
         for name in [n for n in f if n.startswith(("lamp_", "scene_"))]:
             del f[name]
         del f.attrs["lamp_ray_epsilon"]
-    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky"), sun="off"),
+                          current)
     # Version 5 could not hold a captured light set: a lattice model of it
     # reads as it did.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 5
-    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky"), sun="off"),
+                          current)
     # Version 4 had no normals or objects: read and relit as before, and the
     # labels that need them are refused naming what to run again.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 4
         del f["normal"], f["object"]
         del f.attrs["object_names"]
-    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky"), sun="off"),
+                          current)
     assert set(ac.Relighter(str(old)).labels("albedo,depth,mask")) == {"albedo", "depth", "mask"}
     for aov in ("normal", "object"):
         with pytest.raises(ac.Error, match=f"'{aov}' label.*compress"):
@@ -307,13 +336,15 @@ def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path,
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 3
         del f["position"]
-    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky"), sun="off"),
+                          current)
     # Version 2 also held the compress's time and peak memory: read, those ignored.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 2
         f.attrs["compress_seconds"] = 12.5
         f.attrs["peak_memory_bytes"] = 1 << 30
-    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")), current)
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky"), sun="off"),
+                          current)
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 1
     with pytest.raises(ac.Error, match="version 1.*compress"):

@@ -120,7 +120,7 @@ def test_frames_labels_and_cameras_are_the_modules(models):
         r = ac.open(models[batch["view"]])
         for k in range(len(batch["draw"])):
             spec = MAPS[int(batch["map"][k])]
-            theirs = r.relight(ac.Environment(spec), yaw=float(batch["yaw"][k]),
+            theirs = r.relight(ac.Environment(spec), sun="off", yaw=float(batch["yaw"][k]),
                                pitch=float(batch["pitch"][k]), roll=float(batch["roll"][k]),
                                exposure=float(batch["exposure"][k]), background="env")
             mine = batch["images"][k].permute(1, 2, 0).numpy()
