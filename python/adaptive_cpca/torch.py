@@ -5,7 +5,7 @@ exactly as docs/formats.md ("Model file") documents them, so it runs where
 the compiled module was not built for the Python at hand (a GPU machine's).
 Works on torch 1.13 (Debian 12's) and 2.x.
 
-    from adaptive_cpca.torch import TorchRelighter
+    from adaptive_cpca.torch import TorchRelighter, RelightDataset
     r = TorchRelighter("plant-model.h5", device="cuda")
     sky = r.environment("sky")                  # or a map file, or a [H, 2H, 3] tensor
     lighting = r.lighting(sky, yaw=30)          # [l, 3], made on the device
@@ -27,7 +27,7 @@ from .torch_domain import LightingDomain
 from .torch_lighting import Environment, rotation_matrix
 from .torch_model import DeviceModel
 
-__all__ = ["TorchRelighter", "Environment"]
+__all__ = ["TorchRelighter", "Environment", "RelightDataset"]
 
 # model/model_file.h: kOldestModelVersion and kModelVersion.
 OLDEST_MODEL_VERSION, MODEL_VERSION = 2, 7
@@ -430,3 +430,13 @@ class TorchRelighter:
         if background == "env":
             background = self.view(env, yaw, pitch, roll, exposure, layout)
         return self.relight(lighting, background, keep_negative, layout)[0]
+
+
+def __getattr__(name):
+    """RelightDataset where users look for it, here: it lives in torch_dataset,
+    which imports this module, so it is fetched on first use (PEP 562)."""
+    if name == "RelightDataset":
+        from .torch_dataset import RelightDataset
+
+        return RelightDataset
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -29,8 +29,7 @@ import time
 
 import torch
 
-from adaptive_cpca.torch import TorchRelighter
-from adaptive_cpca.torch_dataset import RelightDataset
+from adaptive_cpca.torch import RelightDataset, TorchRelighter
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
 import train_sh9  # noqa: E402

@@ -36,9 +36,8 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "examples"))
 
 import model_layout  # noqa: E402
-from adaptive_cpca.torch import TorchRelighter  # noqa: E402
+from adaptive_cpca.torch import RelightDataset, TorchRelighter  # noqa: E402
 from bench_torch import timed as timed_ms  # noqa: E402
-from adaptive_cpca.torch_dataset import RelightDataset  # noqa: E402
 
 
 def streaming_read(device, gib):

@@ -18,7 +18,7 @@ import sys
 
 import torch
 
-from adaptive_cpca.torch_dataset import RelightDataset
+from adaptive_cpca.torch import RelightDataset
 
 
 def network(height, width):

@@ -37,6 +37,16 @@ def models(tmp_path_factory):
     return out
 
 
+def test_the_dataset_is_where_users_look_for_it():
+    # adaptive_cpca.torch holds both classes, whichever module is imported first.
+    for first in ("adaptive_cpca.torch", "adaptive_cpca.torch_dataset"):
+        code = (f"import {first}\n"
+                "from adaptive_cpca.torch import TorchRelighter, RelightDataset\n"
+                "from adaptive_cpca.torch_dataset import RelightDataset as Same\n"
+                "assert RelightDataset is Same and TorchRelighter.__name__ == 'TorchRelighter'\n")
+        subprocess.run([sys.executable, "-c", code], check=True, env=os.environ)
+
+
 def test_draws_are_the_clis(models):
     for rotation in ("yaw", "sphere"):
         for seed in (0, 12345, 2**64 - 1):
