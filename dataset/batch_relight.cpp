@@ -224,6 +224,12 @@ BatchRelightResult relightBatch(const BatchRelightOptions& a, const BatchPlan& p
                                        {"per_covered_pixel", perPixel}};
     result.summary += concat("; lamps: ", perPixel, " shadow rays per covered pixel");
   }
+  if (run.sourceShadowRays > 0) {
+    const double perSource = double(run.sourceShadowRays) / double(std::max(1LL, run.sourcePixels));
+    result.json["source_shadow_rays"] = {{"total", run.sourceShadowRays},
+                                         {"per_source_per_covered_pixel", perSource}};
+    result.summary += concat("; sources: ", perSource, " shadow rays per covered pixel each");
+  }
   result.summary += concat("; ", frames, " frame(s) written in ", stages.wall, " s (",
                            stages.wall > 0 ? frames / stages.wall : 0.0, " frames/s)");
   nlohmann::json sources = nlohmann::json::array();

@@ -178,11 +178,15 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const auto addSources = [&](const BatchFrame& f, float* pixels) {
     if (!exactSources || f.input->split.sources.empty()) return;
     const Stopwatch watch;
+    const long long raysBefore = source.lampShadowRays();  // frames light one at a time
     const std::vector<float> rows = source.relightSources(
         turnedSources(f.input->split.sources, f.rotation), a.lamps.sphereRays);
     composer.addRows(rows.data(), pixels, channels);
     stages.sources += watch.seconds();
     run.lampPixels += source.header.rows();
+    run.sourceShadowRays += source.lampShadowRays() - raysBefore;
+    run.sourcePixels +=
+        source.header.rows() * static_cast<long long>(f.input->split.sources.size());
   };
   relightInGroups(
       mine.size(), lightingsOf,

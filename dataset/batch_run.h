@@ -60,6 +60,8 @@ struct BatchRun {
   NegativeClamp negatives;
   /// This rank's lamps: shadow rays traced, and covered pixels relit (rows x light sets).
   long long lampShadowRays = 0, lampPixels = 0;
+  /// Of those, the maps' sources': rays, and covered pixels relit per source.
+  long long sourceShadowRays = 0, sourcePixels = 0;
 };
 
 /// Refuses, before any frame, what a captured light set cannot do: show the

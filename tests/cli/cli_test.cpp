@@ -512,6 +512,18 @@ TEST_F(Cli, RelightAModelInBatchTimingModeAndWithFewerRanks) {
   // The sky's sun, split off and lit exactly by shadow rays, frame by frame.
   EXPECT_GT(seconds("sources"), 0);
   EXPECT_TRUE(stages.contains("lamp_shadow_rays"));
+  // Its own rays, part of the lamps' total: a probe per camera sample that
+  // faces it, and strata where a penumbra may fall.
+  const nlohmann::json& sunRays = stages.at("source_shadow_rays");
+  EXPECT_GT(sunRays["total"].get<long long>(), 0);
+  EXPECT_LE(sunRays["total"].get<long long>(),
+            stages["lamp_shadow_rays"]["total"].get<long long>());
+  const Model sunlit = readModel(model);
+  const double samplesPerRow =
+      double(sunlit.geometry.lamps.samples()) / double(sunlit.geometry.rows());
+  EXPECT_GT(sunRays["per_source_per_covered_pixel"].get<double>(), 0);
+  EXPECT_LE(sunRays["per_source_per_covered_pixel"].get<double>(),
+            (1 + 64) * samplesPerRow);  // --lamp-rays 64, the default
   // A lamp's shadow rays: at most one per traced camera sample for a point lamp.
   ASSERT_EQ(runCli(relight + "--light point:0.3,3,2,20 --background black --out " +
                    out.file("lamp.exr") + " --json " + out.file("lamp.json"))
