@@ -27,6 +27,7 @@ class EnumNames {
       if (text == n) return v;
     throw ParameterError(parameter_, text, concat("is not one of ", list()));
   }
+  const std::array<Entry, Count>& entries() const { return entries_; }
   std::string list() const {
     std::string out;
     for (const auto& [v, n] : entries_) out += (out.empty() ? "" : ", ") + std::string(n);

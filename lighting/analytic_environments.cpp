@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "lighting/builtin_maps.h"
 #include "lighting/environment.h"
 #include "lighting/map_sources.h"
 
@@ -15,6 +16,10 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 double toRadians(double degrees) {
   return degrees * kPi / 180.0;
+}
+
+Rgb rgbOf(const std::array<double, 3>& v) {
+  return {v[0], v[1], v[2]};
 }
 
 std::string formatNumber(double v) {
@@ -83,7 +88,8 @@ class SunEnvironment : public Environment {
     // disc spans texels so that its footprint is resolved.
     const double texelAngle = 0.5 * kPi / lattice.resolution();
     const int rings =
-        std::clamp(static_cast<int>(std::ceil(16 * toRadians(size_) / texelAngle)), 8, 512);
+        std::clamp(static_cast<int>(std::ceil(kDiscRingsPerTexel * toRadians(size_) / texelAngle)),
+                   kMinDiscRings, kMaxDiscRings);
     const int segments = 2 * rings;
     const Vec3 axis = rotation * centre_;
     const Vec3 helper = std::abs(axis.y()) < 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
@@ -115,11 +121,10 @@ class SunEnvironment : public Environment {
 /// shows about 0.8 at exposure 0. Documented in docs/lighting.md.
 class SkyEnvironment : public Environment {
  public:
-  static constexpr double kSunTheta = 35, kSunPhi = 60, kSunSize = 2;
   /// withSun false: the sky alone, what is left once its sun is split off.
   explicit SkyEnvironment(bool withSun = true)
-      : sun_(kSunTheta, kSunPhi, kSunSize, Rgb(2000, 1900, 1700)), withSun_(withSun) {
-    sunDirection_ = directionFromAngles(toRadians(kSunTheta), toRadians(kSunPhi));
+      : sun_(kSkySunTheta, kSkySunPhi, kSkySunSize, rgbOf(kSkySunRadiance)), withSun_(withSun) {
+    sunDirection_ = directionFromAngles(toRadians(kSkySunTheta), toRadians(kSkySunPhi));
   }
   std::string name() const override { return "sky"; }
   Rgb radiance(const Vec3& d) const override {
@@ -129,12 +134,13 @@ class SkyEnvironment : public Environment {
   void integrate(const CubeLattice& lattice, const Eigen::Matrix3d& rotation,
                  LatticeLighting& lighting) const override {
     integrateSmoothFunction(
-        lattice, rotation, [this](const Vec3& d) { return skyRadiance(d); }, 4, lighting);
+        lattice, rotation, [this](const Vec3& d) { return skyRadiance(d); }, kSkySubCells,
+        lighting);
     if (withSun_) sun_.integrate(lattice, rotation, lighting);
   }
   SplitEnvironment splitSources(const SourceFinding& finding) const override {
     SplitEnvironment out;
-    if (!withSun_ || !discIsSource(0.5 * toRadians(kSunSize), finding)) return out;
+    if (!withSun_ || !discIsSource(0.5 * toRadians(kSkySunSize), finding)) return out;
     out.sources = {sun_.source()};
     out.rest = std::make_unique<SkyEnvironment>(false);
     // The sky's energy, from its integral over a fine lattice.
@@ -150,11 +156,11 @@ class SkyEnvironment : public Environment {
 
  private:
   Rgb skyRadiance(const Vec3& d) const {
-    if (d.y() < 0) return {0.10, 0.09, 0.08};  // ground
-    const Rgb zenith(0.16, 0.30, 0.64), horizon(0.60, 0.66, 0.76);
-    const double t = std::pow(1 - d.y(), 4);
-    const double glow = 0.5 * std::exp(-40 * (1 - d.dot(sunDirection_)));
-    return (1 - t) * zenith + t * horizon + glow * Rgb(1.0, 0.9, 0.7);
+    if (d.y() < 0) return rgbOf(kSkyGround);
+    const double t = std::pow(1 - d.y(), kSkyHorizonPower);
+    const double glow =
+        kSkyGlowStrength * std::exp(-kSkyGlowSharpness * (1 - d.dot(sunDirection_)));
+    return (1 - t) * rgbOf(kSkyZenith) + t * rgbOf(kSkyHorizon) + glow * rgbOf(kSkyGlowColour);
   }
   SunEnvironment sun_;
   bool withSun_;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "lighting/builtin_maps.h"
 #include "lighting/cube_cross.h"
 #include "lighting/environment.h"
 
@@ -63,7 +64,8 @@ class CubeCrossEnvironment : public Environment {
                  LatticeLighting& lighting) const override {
     ACPCA_CHECK(lighting.size() == 3u * lattice.size(), "lighting size ", lighting.size());
     // Sub-cells at most 1/8 of a texel across.
-    const int sub = std::max(1, (8 * lattice.resolution() + faceSize_ - 1) / faceSize_);
+    const int sub =
+        std::max(1, (kMapSubCellsPerTexel * lattice.resolution() + faceSize_ - 1) / faceSize_);
     const int cells = faceSize_ * sub;
     const double cell = 2.0 / cells;
     // Per face its own partial sums, added in order: thread-count independent.

@@ -105,7 +105,7 @@ namespace {
 bool isImageFile(const std::filesystem::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  return ext == ".exr" || ext == ".hdr" || ext == ".pfm" || ext == ".tif" || ext == ".tiff";
+  return std::ranges::find(kMapFileExtensions, ext) != kMapFileExtensions.end();
 }
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/vectors.h"
@@ -122,8 +123,11 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path);
 /// True if spec names an analytic map rather than a file.
 bool isAnalyticEnvironment(const std::string& spec);
 
+/// The extensions (lower case) of the files a directory of maps gives.
+inline constexpr std::array<std::string_view, 5> kMapFileExtensions{".exr", ".hdr", ".pfm", ".tif",
+                                                                    ".tiff"};
 /// Lighting specs with each directory replaced by the lighting images it holds
-/// (.exr, .hdr, .pfm, .tif; sorted); analytic specs and files pass through.
+/// (kMapFileExtensions, any case; sorted); analytic specs and files pass through.
 /// Throws ParameterError for a directory without any.
 std::vector<std::string> expandEnvironmentSpecs(const std::vector<std::string>& specs);
 

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/warning.h"
 #include "imageio/image_file.h"
+#include "lighting/builtin_maps.h"
 #include "lighting/environment.h"
 #include "lighting/latlong_integration.h"
 #include "lighting/map_sources.h"
@@ -25,7 +26,6 @@ namespace acpca {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr long long kMaxPixels = 1LL << 28;  // 16k x 16k
 /// Maps up to this size are integrated one yaw at a time (integrateMany).
 constexpr long long kCachedPixels = 1LL << 20;
 
@@ -218,7 +218,7 @@ std::vector<float> rgbOf(const float* values, size_t pixels, int channels) {
 std::unique_ptr<Environment> makeEnvironmentFromPixels(const std::string& where, std::string name,
                                                        int width, int height, int channels,
                                                        const float* values) {
-  if (width < 2 || height < 1 || static_cast<long long>(width) * height > kMaxPixels)
+  if (width < 2 || height < 1 || static_cast<long long>(width) * height > kMaxMapPixels)
     throw UserError(
         concat(where, ": environment map size ", width, "x", height, " is out of range"));
   if (channels < 1) throw UserError(concat(where, ": the environment map has no channels"));
@@ -232,7 +232,7 @@ std::unique_ptr<Environment> loadEnvironmentImage(const std::string& path) {
   if (!in) throw UserError(concat(path, ": cannot read the environment map: ", error));
   const ImageHeader& spec = in->header();
   if (spec.width < 2 || spec.height < 1 || spec.depth != 1 ||
-      static_cast<long long>(spec.width) * spec.height > kMaxPixels)
+      static_cast<long long>(spec.width) * spec.height > kMaxMapPixels)
     throw UserError(
         concat(path, ": environment map size ", spec.width, "x", spec.height, " is out of range"));
   if (spec.channels < 1) throw UserError(concat(path, ": the environment map has no channels"));

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "lighting/builtin_maps.h"
 
 namespace acpca {
 
@@ -142,7 +143,8 @@ std::shared_ptr<const RowArcs> rowArcs(const CubeLattice& lattice, int subW, int
 
 int latLongSubCells(const LatLongPixels& map, const CubeLattice& lattice) {
   const double texelAngle = 0.5 * kPi / lattice.resolution();
-  return std::max(1, static_cast<int>(std::ceil(8 * (kPi / map.height) / texelAngle)));
+  return std::max(
+      1, static_cast<int>(std::ceil(kMapSubCellsPerTexel * (kPi / map.height) / texelAngle)));
 }
 
 bool isYawOnly(const Eigen::Matrix3d& rotation) {

@@ -16,9 +16,7 @@ namespace {
 /// moments: w the weights' sum, first the sum of w d, second of w d d^T.
 /// Each band is a polynomial of degree at most 2 in d.
 std::array<double, 9> sh9OfMoments(double w, const Vec3& first, const Eigen::Matrix3d& second) {
-  // sqrt(1 / 4 pi), sqrt(3 / 4 pi), sqrt(15 / 4 pi), sqrt(5 / 16 pi), sqrt(15 / 16 pi)
-  constexpr double c0 = 0.28209479177387814, c1 = 0.4886025119029199, c2 = 1.0925484305920792,
-                   c3 = 0.31539156525252005, c4 = 0.5462742152960396;
+  const auto [c0, c1, c2, c3, c4] = kSh9Normalisations;
   return {c0 * w,
           c1 * first.y(),
           c1 * first.z(),
@@ -36,7 +34,8 @@ std::array<double, 9> realSh9(const Vec3& d) {
   return sh9OfMoments(1, d, d * d.transpose());
 }
 
-ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
+std::vector<std::array<double, 9>> texelSh9Means(const CubeLattice& lattice, bool threads) {
+  std::vector<std::array<double, 9>> meanY(lattice.size());
   constexpr int kCells = 16;
   const int r = lattice.resolution();
   const double step = 2.0 / r, cell = step / kCells;
@@ -53,7 +52,7 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
     Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
   };
   std::vector<Moments> places(static_cast<size_t>(r) * r);
-  tbb::parallel_for(0, r * r, [&](int place) {
+  const auto addPlace = [&](int place) {
     const int row = place / r, col = place % r;
     Moments& m = places[place];
     for (int i = 0; i < kCells; ++i)
@@ -65,7 +64,11 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
         m.first += w * n;
         m.second += w * n * n.transpose();
       }
-  });
+  };
+  if (threads)
+    tbb::parallel_for(0, r * r, addPlace);
+  else
+    for (int place = 0; place < r * r; ++place) addPlace(place);
   for (int texel = 0; texel < lattice.size(); ++texel) {
     const TexelCoord t = lattice.texelCoord(texel);
     const Vec3 origin = CubeLattice::faceDirection(t.face, 0, 0);
@@ -74,9 +77,12 @@ ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(lattice.size()) {
         CubeLattice::faceDirection(t.face, 0, 1) - origin, origin;
     const Moments& m = places[static_cast<size_t>(t.row) * r + t.col];
     const std::array<double, 9> sum = sh9OfMoments(m.w, a * m.first, a * m.second * a.transpose());
-    for (int b = 0; b < 9; ++b) meanY_[texel][b] = sum[b] / m.w;
+    for (int b = 0; b < 9; ++b) meanY[texel][b] = sum[b] / m.w;
   }
+  return meanY;
 }
+
+ShProjector::ShProjector(const CubeLattice& lattice) : meanY_(texelSh9Means(lattice)) {}
 
 ShProjector::ShProjector(const DomainLighting& domain) : ShProjector(domain.mapLattice()) {
   const LightCells* cells = domain.cells();

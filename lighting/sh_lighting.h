@@ -13,6 +13,13 @@
 
 namespace acpca {
 
+/// The bands' normalisations: sqrt(1 / 4 pi), sqrt(3 / 4 pi), sqrt(15 / 4 pi),
+/// sqrt(5 / 16 pi), sqrt(15 / 16 pi); realSh9 is c0, c1 y, c1 z, c1 x, c2 x y,
+/// c2 y z, c3 (3 z^2 - 1), c2 x z, c4 (x^2 - y^2).
+inline constexpr std::array<double, 5> kSh9Normalisations{0.28209479177387814, 0.4886025119029199,
+                                                          1.0925484305920792, 0.31539156525252005,
+                                                          0.5462742152960396};
+
 /// Real orthonormal spherical harmonics of bands 0 to 2 at the unit direction
 /// d, in the order (0,0), (1,-1), (1,0), (1,1), (2,-2), (2,-1), (2,0), (2,1),
 /// (2,2), the usual polynomials in x, y, z taken in our world axes (+Y up):
@@ -24,6 +31,11 @@ std::array<double, 9> realSh9(const Vec3& d);
 /// a), pi sin^2 a and pi cos a sin^2 a for bands 0, 1 and 2: what a map's
 /// source adds to its lattice's coefficients.
 std::array<Rgb, 9> projectDisc(const MapSource& disc);
+
+/// Per texel of `lattice`, the mean of each realSh9 band over it (16 x 16
+/// cells of exact solid angle). threads false: on the calling thread alone
+/// (where TBB may not start threads: a forked Python DataLoader worker).
+std::vector<std::array<double, 9>> texelSh9Means(const CubeLattice& lattice, bool threads = true);
 
 /// Projects lattice lightings onto realSh9: per band the integral of the
 /// lattice's radiance (each texel's lighting over its solid angle) times Y.

@@ -150,7 +150,8 @@ double defaultCellCapDegrees(const std::vector<Vec3>& directions) {
 int cellLatticeResolution(int lights) {
   // 90 / R degrees a texel <= (114.6 / sqrt(n)) / 4: R >= pi sqrt(n).
   const int r = static_cast<int>(std::ceil(std::numbers::pi * std::sqrt(std::max(1, lights))));
-  return std::clamp((r + 15) / 16 * 16, 32, 256);
+  return std::clamp((r + kCellLatticeStep - 1) / kCellLatticeStep * kCellLatticeStep,
+                    kMinCellLattice, kMaxCellLattice);
 }
 
 LightCells::LightCells(const std::vector<Vec3>& directions, double capDegrees,
@@ -158,7 +159,9 @@ LightCells::LightCells(const std::vector<Vec3>& directions, double capDegrees,
     : lattice_(latticeResolution > 0 ? latticeResolution
                                      : cellLatticeResolution(static_cast<int>(directions.size()))),
       cells_(static_cast<int>(directions.size())) {
-  if (sub <= 0) sub = std::max(1, (512 + lattice_.resolution() - 1) / lattice_.resolution());
+  if (sub <= 0)
+    sub =
+        std::max(1, (kCellSamplesPerFaceSide + lattice_.resolution() - 1) / lattice_.resolution());
   ACPCA_CHECK(cells_ >= 1, "cells ", cells_);
   const double capCosine =
       capDegrees <= 0 || capDegrees >= 180 ? -2 : std::cos(capDegrees * kDegree);

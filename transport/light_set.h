@@ -61,6 +61,11 @@ double defaultCellCapDegrees(const std::vector<Vec3>& directions);
 /// texel split between cells is rare and small, in steps of 16 from 32 to
 /// 256 (64 for 331 lights). Integrating a map costs with the texels.
 int cellLatticeResolution(int lights);
+/// cellLatticeResolution's bounds and step: R rounded up to a multiple of
+/// kCellLatticeStep within kMinCellLattice .. kMaxCellLattice.
+inline constexpr int kCellLatticeStep = 16, kMinCellLattice = 32, kMaxCellLattice = 256;
+/// A light set's parts: enough for this many samples along a face's side.
+inline constexpr int kCellSamplesPerFaceSide = 512;
 
 /// Where each part of the sphere belongs: every texel of a fine cube lattice,
 /// split into sub x sub parts of exact solid angle, goes to the nearest light
@@ -77,7 +82,8 @@ class LightCells {
   };
 
   /// capDegrees <= 0 or >= 180: uncapped. latticeResolution 0: cellLattice's
-  /// for the number of lights; sub 0: enough parts for 512 samples a face side.
+  /// for the number of lights; sub 0: enough parts for kCellSamplesPerFaceSide
+  /// samples a face side.
   LightCells(const std::vector<Vec3>& directions, double capDegrees, int latticeResolution = 0,
              int sub = 0);
 

@@ -52,6 +52,27 @@ TEST(LightingDraws, DependOnTheSeedAloneAndCoverEveryMap) {
   EXPECT_NE(drawLightings(s, 5)[0].rotation.yaw, a[0].rotation.yaw);
 }
 
+TEST(LightingDraws, AnyDrawIsMadeAloneAsTheStreamMakesIt) {
+  // Draw k alone, from the state k draws on (seed + 5k increments), is the
+  // stream's draw k, whatever the rotation, jitter and seed (2^64 - 1 wraps).
+  for (const std::uint64_t seed : {std::uint64_t{0}, std::uint64_t{7}, ~std::uint64_t{0}}) {
+    LightingSampling s;
+    s.count = 300;
+    s.seed = seed;
+    s.rotation = SampledRotation::Sphere;
+    s.exposureJitter = 2;
+    const std::vector<LightingDraw> stream = drawLightings(s, 3);
+    for (const size_t k : {size_t{0}, size_t{1}, size_t{150}, size_t{299}}) {
+      const LightingDraw alone = drawLightingAt(s, 3, k);
+      EXPECT_EQ(alone.map, stream[k].map) << k;
+      EXPECT_EQ(alone.rotation.yaw, stream[k].rotation.yaw) << k;
+      EXPECT_EQ(alone.rotation.pitch, stream[k].rotation.pitch) << k;
+      EXPECT_EQ(alone.rotation.roll, stream[k].rotation.roll) << k;
+      EXPECT_EQ(alone.exposureOffset, stream[k].exposureOffset) << k;
+    }
+  }
+}
+
 TEST(LightingDraws, SphereRotationsTurnAnyDirectionUniformlyOverTheSphere) {
   LightingSampling s;
   s.count = 20000;
