@@ -27,7 +27,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import render_cycles as rc  # noqa: E402  (the scene building and comparison)
+import cycles_scene as scene  # noqa: E402  (the scene building)
+import render_cycles as rc  # noqa: E402  (the arguments every render takes)
 
 
 def parse_args():
@@ -54,7 +55,7 @@ def add_sun(index, direction, irradiance):
     data.energy = peak
     data.color = [c / peak for c in irradiance]
     obj = bpy.data.objects.new(f"sun{index}", data)
-    obj.rotation_euler = rc.direction(direction).to_track_quat("Z", "Y").to_euler()
+    obj.rotation_euler = scene.direction(direction).to_track_quat("Z", "Y").to_euler()
     bpy.context.scene.collection.objects.link(obj)
     return obj
 
@@ -78,9 +79,9 @@ def render_olat(a):
 
 def main():
     a = parse_args()
-    rc.build_scene(a.scene, a.width, a.height)
-    rc.add_world(os.path.abspath(a.hdri) if a.hdri else None)
-    rc.configure_cycles(a.samples, a.seed, 0)
+    scene.build_scene(a.scene, a.width, a.height)
+    scene.add_world(os.path.abspath(a.hdri) if a.hdri else None)
+    scene.configure_cycles(a.samples, a.seed, 0)
     if a.olat:
         render_olat(a)
         return
