@@ -51,6 +51,7 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("path"), "What a transport or model file holds (as `info --json`).");
   registerFiles(m);
+  registerShared(m);
 
   registerEnvironments(m);
   registerLights(m);

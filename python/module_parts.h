@@ -98,8 +98,11 @@ py::array_t<float> frameShadingArray(const TransportHeader& header,
 void registerEnvironments(py::module_& m);
 /// Light, PointLight, SphereLight and SpotLight (bind_lighting.cpp).
 void registerLights(py::module_& m);
-/// read_image, draw_lightings, image_channel_names (bind_files.cpp).
+/// read_image, image_channel_names (bind_files.cpp).
 void registerFiles(py::module_& m);
+/// draw_lightings, draw_lighting, cube_lattice, texel_sh9_means: what the
+/// pure-Python side takes from here where the module loads (bind_shared.cpp).
+void registerShared(py::module_& m);
 /// adaptive_cpca.Relighter and open (relighter.cpp).
 void registerRelighter(py::module_& m);
 

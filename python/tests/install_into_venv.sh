@@ -26,12 +26,19 @@ with open("pixel.ppm", "wb") as ppm:  # a 2x1 binary PPM, written by hand
 assert ac.read_image("pixel.ppm").shape == (1, 2, 3)
 codecs = mapped("libacpca_image_codecs")
 assert codecs and all(c.startswith(sys.prefix) for c in codecs), codecs
+# The generated contract ships with the package, and the draws use it.
+from adaptive_cpca import _contract, sampling
+assert _contract.__file__.startswith(sys.prefix), _contract.__file__
+assert _contract.VERSION == ac.__version__, (_contract.VERSION, ac.__version__)
+assert sampling.draw(3, 2, seed=1) == sampling.pure_draw(3, 2, seed=1)
 try:
     import torch
 except ImportError:
     torch = None
 if torch is not None:  # the pure-Python part, installed beside the compiled one
     import adaptive_cpca.torch as act
+    from adaptive_cpca.torch import RelightDataset, TorchRelighter  # noqa: F401
     assert act.__file__.startswith(sys.prefix), act.__file__
+    assert act.lattice.CubeLattice(2).size == 24
 print("installed module relit", sys.argv[1], "from", ac.__file__, "with", codecs[0])
 PY

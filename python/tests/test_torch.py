@@ -17,6 +17,7 @@ import pytest
 torch = pytest.importorskip("torch")
 
 import adaptive_cpca as ac  # noqa: E402
+from adaptive_cpca._contract import MODEL_VERSION, OLDEST_MODEL_VERSION  # noqa: E402
 from adaptive_cpca.torch import TorchRelighter  # noqa: E402
 
 CLI = os.environ["ACPCA_CLI"]
@@ -156,12 +157,12 @@ def test_lightings_made_in_torch_equal_the_modules(tmp_path_factory, tmp_path):
         views = t.view(env, yaws, pitches, rolls, stops)
         assert torch.equal(views, torch.stack([t.view(env, *a) for a in ROTATIONS])), spec
     # A map given as a tensor is the same map as its file.
-    from adaptive_cpca.image_reading import read_image
+    from adaptive_cpca.io import read_image
     pfm = [s for s in specs if s.endswith(".pfm")][0]
     given = torch.from_numpy(read_image(pfm).copy())
     assert torch.equal(t.lighting(given, 30), t.lighting(pfm, 30))
-    from adaptive_cpca import torch_lighting
-    assert torch_lighting.ENVIRONMENT_GRAMMARS in ac.Environment.__init__.__doc__
+    from adaptive_cpca.torch import lighting
+    assert lighting.ENVIRONMENT_GRAMMARS in ac.Environment.__init__.__doc__
 
 
 def test_the_compiled_lighting_on_the_cpu_is_torchs(tmp_path_factory, tmp_path):
@@ -315,7 +316,7 @@ def test_the_relit_rows_are_the_formats_definition(tmp_path_factory, monkeypatch
             expected[rows[offsets[c]:offsets[c + 1]]] = value
             first += k
     # Whole spans, and spans of 1,000 values (clusters split into pieces).
-    import adaptive_cpca.torch_model as torch_model
+    import adaptive_cpca.torch.model as torch_model
     for span in (torch_model._SPAN_ENTRIES, 1000):
         monkeypatch.setattr(torch_model, "_SPAN_ENTRIES", span)
         for kernel in ("clusters", "sparse"):
@@ -402,11 +403,12 @@ def test_bad_input_is_refused_in_words(tmp_path_factory, tmp_path, monkeypatch):
     newer = str(tmp_path / "newer.h5")
     shutil.copy(path, newer)
     with h5py.File(newer, "r+") as f:
-        f.attrs["version"] = 8
-    with pytest.raises(ValueError, match="model format version 8; this reader reads 2 to 7: "
+        f.attrs["version"] = MODEL_VERSION + 1
+    with pytest.raises(ValueError, match=f"model format version {MODEL_VERSION + 1}; this reader "
+                                         f"reads {OLDEST_MODEL_VERSION} to {MODEL_VERSION}: "
                                          "written by a newer adaptive-cpca"):
         TorchRelighter(newer)
-    import adaptive_cpca.torch as acpca_torch
+    import adaptive_cpca.torch.relighter as acpca_torch
     monkeypatch.setattr(acpca_torch, "_free_bytes", lambda device: 1000)
     with pytest.raises(MemoryError, match=r"the model needs 0\.\d+ GiB on cpu, which has 0\.00 GiB free"):
         TorchRelighter(path)
@@ -418,10 +420,8 @@ def test_the_torch_module_imports_and_relights_without_the_compiled_part(tmp_pat
     # Python the compiled module was not built for.
     import shutil
     path = compress(tmp_path_factory, PLANT, "--method", "adaptive-quad")
-    package = tmp_path / "adaptive_cpca"
-    package.mkdir()
-    for name in glob.glob(os.path.join(os.path.dirname(ac.__file__), "*.py")):
-        shutil.copy(name, package / os.path.basename(name))
+    shutil.copytree(os.path.dirname(ac.__file__), tmp_path / "adaptive_cpca",
+                    ignore=shutil.ignore_patterns("*.so", "__pycache__"))
     # Its map: a Blender world EXR read through OpenImageIO's binding, where
     # both are installed; else the built-in sky.
     worlds = sorted(glob.glob(os.path.join(BLENDER_WORLDS, "*.exr")))

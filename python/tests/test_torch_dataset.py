@@ -16,7 +16,7 @@ torch = pytest.importorskip("torch")
 
 import adaptive_cpca as ac  # noqa: E402
 from adaptive_cpca import sampling  # noqa: E402
-from adaptive_cpca.torch_dataset import RelightDataset  # noqa: E402
+from adaptive_cpca.torch import RelightDataset  # noqa: E402
 
 CLI = os.environ["ACPCA_CLI"]
 FIXTURES = os.environ["ACPCA_FIXTURE_DIR"]
@@ -39,10 +39,10 @@ def models(tmp_path_factory):
 
 def test_the_dataset_is_where_users_look_for_it():
     # adaptive_cpca.torch holds both classes, whichever module is imported first.
-    for first in ("adaptive_cpca.torch", "adaptive_cpca.torch_dataset"):
+    for first in ("adaptive_cpca.torch", "adaptive_cpca.torch.dataset"):
         code = (f"import {first}\n"
                 "from adaptive_cpca.torch import TorchRelighter, RelightDataset\n"
-                "from adaptive_cpca.torch_dataset import RelightDataset as Same\n"
+                "from adaptive_cpca.torch.dataset import RelightDataset as Same\n"
                 "assert RelightDataset is Same and TorchRelighter.__name__ == 'TorchRelighter'\n")
         subprocess.run([sys.executable, "-c", code], check=True, env=os.environ)
 
@@ -51,8 +51,14 @@ def test_draws_are_the_clis(models):
     for rotation in ("yaw", "sphere"):
         for seed in (0, 12345, 2**64 - 1):
             theirs = ac.draw_lightings(3, 500, seed=seed, rotation=rotation, exposure_jitter=2.5)
-            mine = sampling.draw_lightings(3, 500, seed, rotation, 2.5)
-            assert [tuple(d) for d in mine] == theirs, (rotation, seed)
+            # The pure-Python copy, the compiled part's draws through the
+            # package, and each draw made alone, in any order.
+            pure = [sampling.pure_draw(i, 3, seed, rotation, 2.5) for i in range(500)]
+            assert [tuple(d) for d in pure] == theirs, (rotation, seed)
+            through = sampling.draw_lightings(3, 500, seed, rotation, 2.5)
+            assert [tuple(d) for d in through] == theirs, (rotation, seed)
+            alone = [sampling.draw(i, 3, seed, rotation, 2.5) for i in (499, 0, 250)]
+            assert [tuple(d) for d in alone] == [theirs[i] for i in (499, 0, 250)]
     # The dataset's frames carry those draws, batch after batch.
     data = RelightDataset(models[0], MAPS, batch_size=4, seed=9, draws=10, rotation="sphere",
                           exposure=-1.0, exposure_jitter=1.5)

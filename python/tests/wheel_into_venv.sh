@@ -28,12 +28,19 @@ assert ac.read_image("pixel.ppm").shape == (1, 2, 3)
 with open("/proc/self/maps") as maps:
     codecs = [line.split()[-1] for line in maps if "libacpca_image_codecs" in line]
 assert codecs and all(c.startswith(sys.prefix) for c in codecs), codecs
+# The generated contract ships with the package, and the draws use it.
+from adaptive_cpca import _contract, sampling
+assert _contract.__file__.startswith(sys.prefix), _contract.__file__
+assert _contract.VERSION == ac.__version__, (_contract.VERSION, ac.__version__)
+assert sampling.draw(3, 2, seed=1) == sampling.pure_draw(3, 2, seed=1)
 try:
     import torch
 except ImportError:
     torch = None
 if torch is not None:
     import adaptive_cpca.torch as act
+    from adaptive_cpca.torch import RelightDataset, TorchRelighter  # noqa: F401
     assert act.__file__.startswith(sys.prefix), act.__file__
+    assert act.lattice.CubeLattice(2).size == 24
 print("wheel", sys.argv[2], "installed and relit", sys.argv[1], "with", codecs[0])
 PY

@@ -1,20 +1,8 @@
-"""Relighting in PyTorch: a model file held on any torch device.
+"""TorchRelighter: a model file held on a torch device, relit in batches.
 
-Pure Python over PyTorch and h5py (no compiled part), reading model files
-exactly as docs/formats.md ("Model file") documents them, so it runs where
-the compiled module was not built for the Python at hand (a GPU machine's).
-Works on torch 1.13 (Debian 12's) and 2.x.
-
-    from adaptive_cpca.torch import TorchRelighter, RelightDataset
-    r = TorchRelighter("plant-model.h5", device="cuda")
-    sky = r.environment("sky")                  # or a map file, or a [H, 2H, 3] tensor
-    lighting = r.lighting(sky, yaw=30)          # [l, 3], made on the device
-    images = r.relight(torch.stack([lighting, r.lighting(sky, yaw=60)]))  # [2, 3, H, W]
-
-A lattice lighting holds, per column (a cube-lattice texel, or a captured
-set's light), the radiance integrated over its solid angle, as the CLI and
-`Relighter.lighting(env).values` make it; `lighting()` integrates it here
-with the lattice's exact texel solid angles (adaptive_cpca.torch_lighting).
+Pure Python over PyTorch and h5py, reading model files exactly as
+docs/formats.md ("Model file") documents them; the versions it reads come
+from the generated contract (adaptive_cpca._contract).
 """
 
 import math
@@ -23,14 +11,12 @@ import h5py
 import numpy as np
 import torch
 
-from .torch_domain import LightingDomain
-from .torch_lighting import Environment, rotation_matrix
-from .torch_model import DeviceModel
+from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION
+from .domain import LightingDomain
+from .lighting import Environment, rotation_matrix
+from .model import DeviceModel
 
-__all__ = ["TorchRelighter", "Environment", "RelightDataset"]
-
-# model/model_file.h: kOldestModelVersion and kModelVersion.
-OLDEST_MODEL_VERSION, MODEL_VERSION = 2, 7
+__all__ = ["TorchRelighter"]
 # The datasets held on the device.
 _HELD = ("global_basis", "pixels", "albedo", "coverage", "cluster_rows", "bases", "means",
          "coefficients", "coefficient_scale")
@@ -431,12 +417,3 @@ class TorchRelighter:
             background = self.view(env, yaw, pitch, roll, exposure, layout)
         return self.relight(lighting, background, keep_negative, layout)[0]
 
-
-def __getattr__(name):
-    """RelightDataset where users look for it, here: it lives in torch_dataset,
-    which imports this module, so it is fetched on first use (PEP 562)."""
-    if name == "RelightDataset":
-        from .torch_dataset import RelightDataset
-
-        return RelightDataset
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
