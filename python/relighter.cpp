@@ -147,6 +147,21 @@ class Relighter {
     return image;
   }
 
+  /// The light of a lighting's sources, lit exactly, per occupied row in
+  /// the file's order (albedo applied, before coverage and exposure): P x 3;
+  /// None where it holds none. What adaptive_cpca.torch adds to its relight.
+  std::optional<py::array_t<float>> sourceLight(const PyLighting& lighting) const {
+    if (lighting.sources.empty()) return std::nullopt;
+    std::vector<float> rows;
+    {
+      py::gil_scoped_release release;
+      rows = sourceRows(lighting.sources);
+    }
+    py::array_t<float> out({static_cast<py::ssize_t>(rows.size() / 3), py::ssize_t{3}});
+    std::copy(rows.begin(), rows.end(), out.mutable_data());
+    return out;
+  }
+
   /// Every environment under every rotation, environment-major (as the CLI's
   /// batches): N x H x W x C. A transport relights them in one pass over T.
   py::array_t<float> relightBatch(const std::vector<PyEnvironment>& envs,
@@ -410,6 +425,10 @@ void registerRelighter(py::module_& m) {
            py::arg("sun") = "auto",
            "The environment under a rotation, integrated onto this file's lattice: a Lighting "
            "(without the sources sun= splits off, which it keeps to light exactly).")
+      .def("source_light", &Relighter::sourceLight, py::arg("lighting"),
+           "The light of lighting's sources (what sun= split off), lit exactly: per occupied "
+           "row in the file's order, albedo applied, before coverage and exposure, P x 3 "
+           "float32; None where it holds none.")
       .def("relight_batch", &Relighter::relightBatch, py::arg("envs"), py::kw_only(),
            py::arg("rotations") = std::vector<std::tuple<double, double, double>>{{0, 0, 0}},
            py::arg("max_rank") = py::none(), py::arg("exposure") = 0.0, py::arg("background") = "",

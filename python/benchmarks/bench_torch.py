@@ -69,7 +69,7 @@ def dataset_figures(model, t, batch, workers, batches=8):
     optimiser = torch.optim.Adam(net.parameters(), lr=1e-3)
     for w in workers:
         data = RelightDataset(model, maps, batch_size=batch, seed=3, draws=batch * batches,
-                              rotation="sphere", labels=None)
+                              rotation="sphere", labels=None, sun="off")  # any worker count
         start = time.perf_counter()
         for b in torch.utils.data.DataLoader(data, batch_size=None, num_workers=w):
             loss = torch.nn.functional.mse_loss(net(b["images"]), b["sh9"].reshape(-1, 27))

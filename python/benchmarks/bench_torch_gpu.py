@@ -90,7 +90,7 @@ def lighting_figures(t, device, figures):
 def training_figures(path, device, figures, steps=30, batch=256):
     import train_sh9
     data = RelightDataset(path, [seeded_map(device), "sky"], batch_size=batch, seed=1,
-                          rotation="sphere", device=device, labels=None)
+                          rotation="sphere", device=device, labels=None, sun="off")
     frames = iter(data)
     first = next(frames)
     net = train_sh9.network(*first["images"].shape[2:]).to(device)

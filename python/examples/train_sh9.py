@@ -44,10 +44,11 @@ def main():
     a = p.parse_args()
     maps = a.env or ["sky", "sun:40,30,8,300", "sun:80,200,20,40"]
     torch.manual_seed(a.seed)
-    dataset = RelightDataset(a.models, maps, batch_size=a.batch, seed=a.seed,
-                             draws=a.steps * a.batch, rotation="yaw",
-                             device=a.device, labels=None)
     workers = 0 if torch.device(a.device).type == "cuda" else a.workers
+    # Suns lit exactly need the compiled part, in the main process alone.
+    dataset = RelightDataset(a.models, maps, batch_size=a.batch, seed=a.seed,
+                             draws=a.steps * a.batch, rotation="yaw", device=a.device,
+                             labels=None, sun="auto" if workers == 0 else "off")
     loader = torch.utils.data.DataLoader(dataset, batch_size=None, num_workers=workers)
     model, optimiser = None, None
     brightness, mean, scale, losses = None, None, None, []

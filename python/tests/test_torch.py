@@ -33,8 +33,8 @@ def compress(tmp_path_factory, source, *args):
     return path
 
 
-# TorchRelighter lights a whole map through the lattice: it is compared with
-# the compiled relighter's sun="off" (docs/datasets.md, "PyTorch").
+# A whole map through the lattice is compared with the compiled relighter's
+# sun="off"; exact suns in test_torch_sun.py.
 
 def lightings_for(path, specs=("sky", "sun:50,30,4,1000", "constant:0.5")):
     """The compiled relighter, its Lightings of environment specs (turned 15
@@ -189,12 +189,13 @@ def test_frames_over_the_map_equal_the_modules(tmp_path_factory, tmp_path):
     r, t = ac.open(path), TorchRelighter(path)
     for spec in ["sky", "sun:60,40,25,20"] + map_files(tmp_path):
         for yaw, pitch, roll, exposure in ROTATIONS:
-            mine = t.relight_map(spec, yaw, pitch, roll, exposure, layout="hwc").numpy()
+            mine = t.relight_map(spec, yaw, pitch, roll, exposure, layout="hwc",
+                                 sun="off").numpy()
             theirs = r.relight(ac.Environment(spec), sun="off", yaw=yaw, pitch=pitch, roll=roll,
                                exposure=exposure, background="env")
             error = relative_l2(mine, theirs)
             assert error <= F32_BOUND, f"{spec} at {yaw, pitch, roll}: relative L2 {error:.2e}"
-    alpha = t.relight_map("sky", 20, background="alpha", layout="hwc").numpy()
+    alpha = t.relight_map("sky", 20, background="alpha", layout="hwc", sun="off").numpy()
     theirs = r.relight(ac.Environment("sky"), sun="off", yaw=20, background="alpha")
     assert relative_l2(alpha, theirs) <= F32_BOUND
 

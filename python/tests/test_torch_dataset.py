@@ -86,7 +86,7 @@ def expect_equal_streams(a, b):
 def test_any_worker_count_gives_the_same_stream_and_a_seed_the_same_tensors(models):
     def data(**kwargs):
         return RelightDataset(models, MAPS, batch_size=3, seed=4, draws=14, rotation="sphere",
-                              exposure_jitter=1.0, **kwargs)
+                              exposure_jitter=1.0, sun="off", **kwargs)
     alone = stream(data(), 0)
     assert [b["view"] for b in alone] == [0, 1, 0, 1, 0]  # views alternate by batch
     assert [len(b["draw"]) for b in alone] == [3, 3, 3, 3, 2]
@@ -101,7 +101,7 @@ def test_any_worker_count_gives_the_same_stream_and_a_seed_the_same_tensors(mode
     expect_equal_streams(alone, stream(d, 2))
     # Endless: as many batches as asked for, the same draws as the finite stream.
     endless = iter(RelightDataset(models, MAPS, batch_size=3, seed=4, rotation="sphere",
-                                  exposure_jitter=1.0))
+                                  exposure_jitter=1.0, sun="off"))
     for k in range(4):
         assert torch.equal(next(endless)["images"], alone[k]["images"])
 
@@ -118,7 +118,7 @@ def test_map_files_and_forked_workers_after_the_compiled_part_ran(models, tmp_pa
 
     def data():
         return RelightDataset(models[0], maps, batch_size=4, seed=2, draws=12,
-                              rotation="sphere", labels=None)
+                              rotation="sphere", labels=None, sun="off")
     alone = list(torch.utils.data.DataLoader(data(), batch_size=None, num_workers=0))
     forked = list(torch.utils.data.DataLoader(data(), batch_size=None, num_workers=2,
                                               timeout=120))
@@ -129,14 +129,17 @@ def test_map_files_and_forked_workers_after_the_compiled_part_ran(models, tmp_pa
         assert error <= 1e-6, float(error)  # compiled there, torch here: equal to rounding
 
 
-def test_frames_labels_and_cameras_are_the_modules(models):
+@pytest.mark.parametrize("sun", ["off", "auto"])
+def test_frames_labels_and_cameras_are_the_modules(models, sun):
+    # sun="auto": the maps' suns lit exactly by the compiled part, as its own
+    # relight lights them.
     data = RelightDataset(models, MAPS, batch_size=2, seed=3, draws=4, rotation="sphere",
-                          exposure=0.5, exposure_jitter=1.0, background="env")
+                          exposure=0.5, exposure_jitter=1.0, background="env", sun=sun)
     for batch in data:
         r = ac.open(models[batch["view"]])
         for k in range(len(batch["draw"])):
             spec = MAPS[int(batch["map"][k])]
-            theirs = r.relight(ac.Environment(spec), sun="off", yaw=float(batch["yaw"][k]),
+            theirs = r.relight(ac.Environment(spec), sun=sun, yaw=float(batch["yaw"][k]),
                                pitch=float(batch["pitch"][k]), roll=float(batch["roll"][k]),
                                exposure=float(batch["exposure"][k]), background="env")
             mine = batch["images"][k].permute(1, 2, 0).numpy()

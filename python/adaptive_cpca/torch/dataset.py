@@ -20,6 +20,7 @@ from ..io import read_image
 from ..sampling import draw, epoch_seed
 from .lighting import Environment
 from .relighter import TorchRelighter
+from .sources import check_sun
 
 __all__ = ["RelightDataset"]
 
@@ -61,11 +62,17 @@ class RelightDataset(torch.utils.data.IterableDataset):
     a directory among the maps stands for the maps it holds (.exr, .hdr,
     .pfm, .tif, sorted), as for --env. device: where the models are held and frames made
     (CUDA only with num_workers=0: CUDA does not run in forked workers).
+    sun: 'auto', 'off' or K, as `relight --sun`: each map's sun and bright
+    lamps lit exactly by the compiled part on the CPU, the frame composed on
+    the device (adaptive_cpca.torch.sources); 'auto' needs num_workers=0, as
+    the compiled part does not run in forked workers, and 'off' lights the
+    whole map through the lattice under any worker count. `sh9` is the whole
+    map's either way.
     """
 
     def __init__(self, models, maps, batch_size=8, seed=0, draws=None, rotation="yaw",
                  exposure=0.0, exposure_jitter=0.0, background="black", keep_negative=False,
-                 layout="chw", dtype=torch.float32, device="cpu", labels="all"):
+                 layout="chw", dtype=torch.float32, device="cpu", labels="all", sun="auto"):
         super().__init__()
         self.models = [models] if isinstance(models, str) else list(models)
         self.maps = _expanded([maps] if isinstance(maps, str) or torch.is_tensor(maps) else maps)
@@ -85,6 +92,7 @@ class RelightDataset(torch.utils.data.IterableDataset):
             raise ValueError(f"exposure {exposure} and jitter {exposure_jitter}: finite, "
                              f"jitter in 0..{MAX_EXPOSURE_JITTER:g} stops")
         draw(0, len(self.maps), seed, rotation)  # refuses an unknown rotation now
+        self.sun = check_sun(sun)
         self.batch_size, self.seed, self.draws = batch_size, seed, draws
         self.rotation, self.exposure, self.exposure_jitter = rotation, exposure, exposure_jitter
         self.background, self.keep_negative, self.layout = background, keep_negative, layout
@@ -146,6 +154,7 @@ class RelightDataset(torch.utils.data.IterableDataset):
         stops = torch.tensor([self.exposure + d.exposure for d in drawn], dtype=torch.float64,
                              device=self.device)
         lightings *= (2.0 ** stops)[:, None, None]
+        light = self._source_light(r, drawn, stops, lightings)
         background = self.background
         if background == "env":
             background = torch.empty((count, 3, r.height, r.width) if self.layout == "chw" else
@@ -155,7 +164,8 @@ class RelightDataset(torch.utils.data.IterableDataset):
                 angles = [[drawn[k][a] for k in mine] for a in (1, 2, 3)]
                 background[mine] = r.view(self._environments[m], *angles, stops[mine],
                                           self.layout)
-        images = r.relight(lightings, background, self.keep_negative, self.layout)
+        images = r.relight(lightings, background, self.keep_negative, self.layout,
+                           source_light=light)
 
         def column(index):
             return torch.tensor([d[index] for d in drawn], dtype=torch.float64)
@@ -165,6 +175,24 @@ class RelightDataset(torch.utils.data.IterableDataset):
                 "yaw": column(1), "pitch": column(2), "roll": column(3),
                 "exposure": self.exposure + column(4), "view": view, "labels": labels,
                 "camera": camera}
+
+    def _source_light(self, r, drawn, stops, lightings):
+        """Each frame's sources lit exactly ([B, P, 3], None where none is):
+        the lattice lightings of those frames replaced by the rest's."""
+        if self.sun == "off":
+            return None
+        light = None
+        for m in sorted({d.map for d in drawn}):
+            mine = [k for k, d in enumerate(drawn) if d.map == m]
+            angles = [[drawn[k][a] for k in mine] for a in (1, 2, 3)]
+            rest, rows = r.split_lighting(self._environments[m], *angles, stops[mine].cpu(),
+                                          sun=self.sun, dtype=torch.float64)
+            if rows is None:
+                continue
+            if light is None:
+                light = torch.zeros(len(drawn), r.rows, 3, device=self.device)
+            lightings[mine], light[mine] = rest, rows
+        return light
 
     def __iter__(self):
         info = torch.utils.data.get_worker_info()

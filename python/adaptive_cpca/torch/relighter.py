@@ -15,6 +15,7 @@ from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION
 from .domain import LightingDomain
 from .lighting import Environment, rotation_matrix
 from .model import DeviceModel
+from .sources import SourceLighting, check_sun
 
 __all__ = ["TorchRelighter"]
 # The datasets held on the device.
@@ -80,6 +81,7 @@ class TorchRelighter:
         self._domain = None
         self._rays = None
         self._coverage = None
+        self._sources = SourceLighting(self.path, self.device)
 
     def _require_memory(self, f):
         self.model_bytes = sum(f[name].size * f[name].dtype.itemsize for name in _HELD)
@@ -179,6 +181,27 @@ class TorchRelighter:
         scale = torch.as_tensor(2.0 ** stops, dtype=torch.float64, device=self.device)
         values = values * scale.reshape(-1, 1, 1)
         return (values[0] if one else values).to(dtype)
+
+    def split_lighting(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, sun="auto",
+                       dtype=torch.float32):
+        """lighting() with the map's sun and bright lamps split off to be lit
+        exactly (sun= as `relight --sun` takes it; adaptive_cpca.torch.sources):
+        (the lattice lighting of the rest, the sources' light per row or
+        None), for relight(lighting, source_light=light). Where the split
+        cannot be made (no compiled part, a map given as pixels, a captured
+        light set, sun='off'): (lighting(), None)."""
+        check_sun(sun)
+        env = self.environment(env)
+        stops = np.asarray(torch.as_tensor(exposure).cpu(), dtype=np.float64)
+        angles = [np.asarray(torch.as_tensor(a).cpu(), dtype=np.float64) for a in (yaw, pitch, roll)]
+        one = all(a.ndim == 0 for a in angles) and stops.ndim == 0
+        *angles, stops = np.broadcast_arrays(*(np.atleast_1d(a) for a in angles + [stops]))
+        split = None if self.is_light_set else self._sources.split(
+            env, list(zip(*(a.tolist() for a in angles))), stops.tolist(), sun, dtype)
+        if split is None:
+            return self.lighting(env, yaw, pitch, roll, exposure, dtype), None
+        values, light = split
+        return (values[0], None if light is None else light[0]) if one else split
 
     def _compiled_lighting(self, env):
         """On the CPU, with lighting='auto', where the compiled part loaded: the
@@ -331,7 +354,7 @@ class TorchRelighter:
         return lightings
 
     def relight(self, lightings, background="black", keep_negative=False, layout="chw",
-                out=None):
+                out=None, source_light=None):
         """Images of a batch of lattice lightings [B, l, 3] (or one, [l, 3]).
 
         background: 'black' (3 channels), 'alpha' (4, the fourth each pixel's
@@ -341,6 +364,8 @@ class TorchRelighter:
         keep_negative, as the CLI does. layout: 'chw' gives [B, C, H, W],
         'hwc' gives [B, H, W, C]. out: a float32 tensor of that shape on the
         device to write into (a training loop's buffer: no fresh images).
+        source_light: the light of the maps' sources per row ([B, P, 3] or [P,
+        3]), as split_lighting gives it with the lightings of the rest.
         """
         if layout not in ("chw", "hwc"):
             raise ValueError(f"layout {layout!r}: 'chw' or 'hwc'")
@@ -350,7 +375,12 @@ class TorchRelighter:
         elif background not in ("black", "alpha"):
             raise ValueError(f"background {background!r}: 'black', 'alpha' or a tensor of "
                              "radiance (view(env) makes the map's; relight_map composes it)")
-        rows = self._cluster_rows(lightings).mul_(self.coverage)  # [B, 3, P]
+        rows = self._cluster_rows(lightings)  # [B, 3, P]
+        if source_light is not None:  # file order: row i is cluster position file_order[i]
+            light = torch.as_tensor(source_light).to(device=self.device, dtype=torch.float32)
+            light = light.reshape(-1, self.rows, 3).expand(rows.shape[0], -1, -1)
+            rows.index_add_(2, self.file_order, light.permute(0, 2, 1).contiguous())
+        rows.mul_(self.coverage)
         batch, channels = rows.shape[0], 4 if background == "alpha" else 3
         image = self._image(out, batch, channels, layout)
         colour = image[:, :3]
@@ -407,13 +437,14 @@ class TorchRelighter:
         return b.reshape(b.shape[0], 3, -1)
 
     def relight_map(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0, background="env",
-                    keep_negative=False, layout="chw"):
-        """One frame of a map, as `relight --env ENV --rotate ... --exposure`
-        writes it: [C, H, W] (or [H, W, C]) over the map ('env'), 'black' or
-        'alpha'."""
+                    keep_negative=False, layout="chw", sun="auto"):
+        """One frame of a map, as `relight --env ENV --rotate ... --exposure
+        --sun` writes it: [C, H, W] (or [H, W, C]) over the map ('env'),
+        'black' or 'alpha'; its sun lit exactly where the compiled part
+        loads (split_lighting)."""
         env = self.environment(env)
-        lighting = self.lighting(env, yaw, pitch, roll, exposure)
+        lighting, light = self.split_lighting(env, yaw, pitch, roll, exposure, sun)
         if background == "env":
             background = self.view(env, yaw, pitch, roll, exposure, layout)
-        return self.relight(lighting, background, keep_negative, layout)[0]
+        return self.relight(lighting, background, keep_negative, layout, source_light=light)[0]
 
