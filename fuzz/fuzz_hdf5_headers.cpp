@@ -194,7 +194,7 @@ void writeSmallModel(const std::string& path, FuzzedDataProvider& in) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
   using namespace acpca;
   FuzzedDataProvider in(data, size);
-  const std::string path = "/tmp/acpca-fuzz-" + std::to_string(::getpid()) + "-headers.h5";
+  const std::string path = fuzz::inputPath("-headers.h5");
   std::remove(path.c_str());
   const bool model = in.ConsumeBool();
   if (model) {

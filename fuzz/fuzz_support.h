@@ -15,9 +15,20 @@
 
 namespace acpca::fuzz {
 
-/// A file in /tmp holding `size` bytes of `data`, with the given extension.
+/// This process's input file, in $TMPDIR (scripts/fuzz.sh gives each run a
+/// directory it removes afterwards) or /tmp: acpca-fuzz-PID then `suffix`.
+inline std::string inputPath(const std::string& suffix) {
+  const char* folder = std::getenv("TMPDIR");
+  std::string path = folder && *folder ? folder : "/tmp";
+  path += "/acpca-fuzz-";
+  path += std::to_string(::getpid());
+  path += suffix;
+  return path;
+}
+
+/// This process's input file holding `size` bytes of `data`, with the given extension.
 inline std::string writeInput(const std::uint8_t* data, size_t size, const std::string& extension) {
-  const std::string path = "/tmp/acpca-fuzz-" + std::to_string(::getpid()) + extension;
+  const std::string path = inputPath(extension);
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;

@@ -68,6 +68,12 @@ mesh_seed 4 "$models/OFF/Cube.off"
 mesh_seed 5 "$models/Collada/cube_tristrips.dae"
 mesh_seed 6 "$models/STL/triangle.stl"
 
+# Each target writes its inputs into a file of its own: here, not /tmp, and
+# removed when the run ends.
+export TMPDIR
+TMPDIR=$(mktemp -d "${TMPDIR:-/tmp}/acpca-fuzz-run.XXXXXX")
+trap 'rm -rf "$TMPDIR"' EXIT
+
 status=0
 for t in "${targets[@]}"; do
   corpus="build-fuzz/corpus/$t" findings="build-fuzz/findings/$t"
