@@ -53,6 +53,16 @@ std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights) {
   return lit;
 }
 
+std::vector<MapSource> previewSources(const std::vector<MapSource>& sources) {
+  std::vector<MapSource> points = sources;
+  for (MapSource& disc : points) {
+    const Rgb energy = disc.energy();
+    disc.radius = kHeldDiscRadius;
+    disc.radiance = energy / disc.solidAngle();
+  }
+  return points;
+}
+
 std::vector<LocalLight> litLights(const ViewState& state) {
   return state.lampHeld ? previewLights(state.lights) : state.lights;
 }
@@ -61,7 +71,7 @@ bool operator==(const ViewState& a, const ViewState& b) {
   return a.env == b.env && a.yaw == b.yaw && a.pitch == b.pitch && a.exposure == b.exposure &&
          a.rankPercent == b.rankPercent && a.clusterOverlay == b.clusterOverlay &&
          a.rankHeatMap == b.rankHeatMap && a.lightingInset == b.lightingInset &&
-         a.selectedLight == b.selectedLight && a.lampHeld == b.lampHeld &&
+         a.selectedLight == b.selectedLight && a.lampHeld == b.lampHeld && a.mapHeld == b.mapHeld &&
          sameLights(a.lights, b.lights);
 }
 

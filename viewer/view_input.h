@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lighting/local_light.h"
+#include "lighting/map_sources.h"
 #include "transport/camera.h"
 #include "transport/transport_file.h"
 
@@ -24,6 +25,9 @@ struct ViewState {
   /// A lamp held by the mouse: sphere lamps are lit as previewLights says
   /// until it is let go.
   bool lampHeld = false;
+  /// The map being dragged: its sources are lit as previewSources says until
+  /// the button is let go.
+  bool mapHeld = false;
 };
 
 /// What inputs need to know about the view besides its state: the number of
@@ -49,6 +53,14 @@ LocalLight keyLightFor(const TransportHeader& geometry);
 /// r^2, what the sphere gives from afar), lit exactly with hard shadows at a
 /// point lamp's cost; the rest as they are.
 std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights);
+/// A map's sources as the viewer lights them while the map is dragged: each
+/// disc shrunk to a point (kHeldDiscRadius) of the same power, so its shadow
+/// is hard and costs about a ray a sample (kHeldDiscRays in what is left of
+/// a penumbra), as a held sphere lamp is lit as a point lamp.
+std::vector<MapSource> previewSources(const std::vector<MapSource>& sources);
+inline constexpr double kHeldDiscRadius = 1e-5;  ///< radians
+inline constexpr int kHeldDiscRays = 4;
+
 /// The lights a frame of `state` is lit by: previewLights while a lamp is
 /// held, else its lights.
 std::vector<LocalLight> litLights(const ViewState& state);

@@ -101,9 +101,11 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   const bool mapChanged = !linear_ || !sameRelight(state, relitFor_);
   if (mapChanged) {
     const Environment& env = *envs_[state.env];
+    const SplitEnvironment& split = splitOf(state.env);
     const EnvRotation rotation = rotationOf(state);
     Stopwatch t;
-    lighting_ = (*domain_)(env, rotation, options_.rotationMode);
+    // The lattice lights what the sources leave; the background is the whole map.
+    lighting_ = (*domain_)(split.rest ? *split.rest : env, rotation, options_.rotationMode);
     times_.lighting = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
     t.restart();
@@ -119,12 +121,17 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   const bool lightsChanged = !localDone_ || !sameLights(litLights(state), litLights(localFor_)) ||
                              state.rankPercent != localFor_.rankPercent;
   if (lightsChanged) relightLocal(state);
-  if (mapChanged || lightsChanged) {
-    // As relight sums them: the map's image, then the lights' rows added.
+  const bool sourcesChanged = !sourcesDone_ || state.env != sourcesFor_.env ||
+                              state.yaw != sourcesFor_.yaw || state.pitch != sourcesFor_.pitch ||
+                              state.mapHeld != sourcesFor_.mapHeld;
+  if (sourcesChanged) relightSources(state);
+  if (mapChanged || lightsChanged || sourcesChanged) {
+    // As relight sums them: the map's image, then the lights' and the
+    // sources' rows added.
     const Stopwatch t;
     Image image = mapPart_;
-    if (!localRows_.empty())
-      composer_->addRows(localRows_.data(), image.pixels.data(), image.channels);
+    for (const std::vector<float>* rows : {&localRows_, &sourceRows_})
+      if (!rows->empty()) composer_->addRows(rows->data(), image.pixels.data(), image.channels);
     linear_ = std::make_shared<const Image>(std::move(image));
     times_.compose += t.milliseconds();
   }
@@ -171,6 +178,32 @@ void Viewer::relightLocal(const ViewState& state) {
   times_.lights = t.milliseconds();
 }
 
+const SplitEnvironment& Viewer::splitOf(int env) {
+  if (splits_.size() != envs_.size()) splits_.resize(envs_.size());
+  std::unique_ptr<SplitEnvironment>& split = splits_[env];
+  if (!split) {
+    split = std::make_unique<SplitEnvironment>();
+    if (exactLamps_) *split = envs_[env]->splitSources(*parseSourceFinding("auto"));
+  }
+  return *split;
+}
+
+void Viewer::relightSources(const ViewState& state) {
+  sourcesFor_ = state;
+  sourcesDone_ = true;
+  sourceRows_.clear();
+  const SplitEnvironment& split = splitOf(state.env);
+  if (split.sources.empty()) return;
+  const Stopwatch t;
+  const Eigen::Matrix3d rotation = rotationMatrix(rotationOf(state));
+  std::vector<MapSource> turned;
+  for (const MapSource& source : state.mapHeld ? previewSources(split.sources) : split.sources)
+    turned.push_back(source.turned(rotation));
+  sourceRows_ =
+      exactLamps_->relight({}, state.mapHeld ? kHeldDiscRays : kDefaultSphereLampRays, turned);
+  times_.lights += t.milliseconds();
+}
+
 void Viewer::request() {
   {
     std::lock_guard lock(mutex_);
@@ -198,9 +231,16 @@ void Viewer::waitForLatestRequest() {
   windowSystem().waitKey(1);  // lets the window draw it
 }
 
-void Viewer::applyDrag(int dx, int dy) {
+void Viewer::applyDrag(int dx, int dy, bool held) {
   ui_ = acpca::applyDrag(ui_, dx, dy, width_, height_);
+  ui_.mapHeld = held;
   request();
+}
+
+void Viewer::releaseMap() {
+  if (!ui_.mapHeld) return;
+  ui_.mapHeld = false;
+  request();  // let go: the sources lit exactly
 }
 
 void Viewer::applyLightDrag(int light, int dx, int dy) {
@@ -303,6 +343,7 @@ void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
   } else if (event == cv::EVENT_LBUTTONUP) {
     v->drag_.release();
     v->holdLamp(false);
+    v->releaseMap();
   } else if (event == cv::EVENT_MOUSEWHEEL) {
     // One notch is 120; forward (away from the user) brings the light nearer.
     v->applyWheel(windowSystem().wheelDelta(flags) / 120.0);
@@ -311,7 +352,7 @@ void Viewer::onMouse(int event, int x, int y, int flags, void* self) {
     if (v->drag_.light() >= 0)
       v->applyLightDrag(v->drag_.light(), dx, dy);
     else
-      v->applyDrag(dx, dy);
+      v->applyDrag(dx, dy, true);
   }
 }
 
@@ -324,9 +365,13 @@ void Viewer::run() {
   waitForLatestRequest();
 
   std::vector<ScriptEvent> script = options_.script;
+  // --frames turns the map as a drag does: held (its sources lit as points)
+  // from the first step to the last, then let go (the last frame exact).
+  if (options_.frames > 0) script.push_back({ScriptEvent::Kind::Press, -1, -1});
   for (int k = 0; k < options_.frames; ++k)
     script.push_back({ScriptEvent::Kind::Rotate, options_.initial.yaw + k * options_.rotateStep,
                       options_.initial.pitch});
+  if (options_.frames > 0) script.push_back({ScriptEvent::Kind::Release, 0, 0});
   if (!options_.screenshot.empty())
     script.push_back({ScriptEvent::Kind::Screenshot, 0, 0, options_.screenshot});
   const bool scripted = !options_.script.empty() || options_.frames > 0;

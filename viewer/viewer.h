@@ -16,6 +16,7 @@
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
+#include "lighting/map_sources.h"
 #include "relight/image_composer.h"
 #include "relight/lamp_light.h"
 #include "relight/local_columns.h"
@@ -71,16 +72,24 @@ class Viewer {
   void drawLights(const ViewState& state, cv::Mat& image) const;
   /// The local lights' rows (relit again only when the lights or ranks change).
   void relightLocal(const ViewState& state);
+  /// Map `env` with its sources split off (once; none where the model cannot
+  /// light them exactly), as relight --sun auto splits it.
+  const SplitEnvironment& splitOf(int env);
+  /// The map's sources' rows, exact (or as points while the map is held).
+  void relightSources(const ViewState& state);
   void drawStatus(const ViewState& state, cv::Mat& canvas) const;
   // UI side.
   void request();
   void showLatest();
   void waitForLatestRequest();
   bool applyKey(int key);  ///< false: quit
-  void applyDrag(int dx, int dy);
+  /// held: the button is still down (the map's sources lit as points).
+  void applyDrag(int dx, int dy, bool held);
   void applyLightDrag(int light, int dx, int dy);
   /// A lamp taken (true) or let go by the mouse or a script's press/release.
   void holdLamp(bool held);
+  /// The map let go: its sources lit exactly again.
+  void releaseMap();
   void applyWheel(double notches);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
@@ -109,6 +118,10 @@ class Viewer {
   std::shared_ptr<const Image> linear_;
   Image mapPart_;
   std::vector<float> localRows_;
+  std::vector<std::unique_ptr<SplitEnvironment>> splits_;  ///< per map, made on first use
+  std::vector<float> sourceRows_;                          ///< empty: no source
+  ViewState sourcesFor_;
+  bool sourcesDone_ = false;
   std::unique_ptr<LocalLightColumns> columns_;  ///< kept while lamps move
   /// Lamps lit exactly, where the model allows (null otherwise).
   std::unique_ptr<ExactLamps> exactLamps_;
@@ -137,7 +150,8 @@ class Viewer {
   Frame onScreen_;
   ViewState ui_;
   DragTracker drag_;
-  int heldLight_ = -1;  ///< the lamp a script's press holds, -1: none
+  int heldLight_ = -1;          ///< the lamp a script's press holds, -1: none
+  bool scriptPressed_ = false;  ///< a script's press not yet released
   bool syncing_ = false;
 };
 

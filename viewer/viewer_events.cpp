@@ -22,22 +22,25 @@ void Viewer::applyEvent(const ScriptEvent& e) {
     case Kind::Drag:
       if (heldLight_ >= 0)
         applyLightDrag(heldLight_, static_cast<int>(e.a), static_cast<int>(e.b));
-      else
-        applyDrag(static_cast<int>(e.a), static_cast<int>(e.b));
+      else  // after a press, the map stays held until the release
+        applyDrag(static_cast<int>(e.a), static_cast<int>(e.b), scriptPressed_);
       break;
     case Kind::Press:
+      scriptPressed_ = true;
       heldLight_ = lightUnder(ui_, e.a, e.b, context_.camera);
       holdLamp(heldLight_ >= 0);
       break;
     case Kind::Release:
+      scriptPressed_ = false;
       heldLight_ = -1;
       holdLamp(false);
+      releaseMap();
       break;
     case Kind::DragFrom:
       if (const int light = lightUnder(ui_, e.a, e.b, context_.camera); light >= 0)
         applyLightDrag(light, static_cast<int>(e.c), static_cast<int>(e.d));
       else
-        applyDrag(static_cast<int>(e.c), static_cast<int>(e.d));
+        applyDrag(static_cast<int>(e.c), static_cast<int>(e.d), false);
       break;
     case Kind::Wheel:
       applyWheel(e.a);
@@ -49,9 +52,10 @@ void Viewer::applyEvent(const ScriptEvent& e) {
       request();
       break;
     }
-    case Kind::Rotate:
+    case Kind::Rotate:  // as a drag: held while a press is
       ui_.yaw = e.a;
       ui_.pitch = e.b;
+      ui_.mapHeld = scriptPressed_ && heldLight_ < 0;
       request();
       break;
     case Kind::Exposure:

@@ -9,6 +9,8 @@
 //                    is held (sphere lamps lit as points, viewer/view_input.h
 //                    previewLights) and each drag moves it, until
 //   release          the button let go: the frame at full quality
+//                    (a press off any light holds the map: drags and
+//                    rotates until the release light its sources as points)
 //   wheel N          N notches of the wheel (> 0 moves the selected light nearer)
 //   light SPEC       add a local light (relight's --light grammar), selected
 //   rotate YAW[,PITCH]   set the lighting's rotation in degrees

@@ -1,19 +1,22 @@
 // The viewer, driven without a person under Xvfb: what it shows is what the
 // batch relight writes, its keys do what they say, and it refuses cleanly
-// where it cannot run. The viewer lights a map's sun through the lattice
-// (docs/lighting.md, "Lit exactly"), so its batch is run with --sun off.
+// where it cannot run. The viewer lights a map's sun exactly once the map is
+// let go (docs/lighting.md, "Lit exactly"), as the batch does.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 
+#include "core/text.h"
 #include "lighting/local_light.h"
 #include "model/model_file.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
+#include "viewer/view_input.h"
 
 namespace acpca {
 namespace {
@@ -82,8 +85,8 @@ TEST_F(Viewer, SelfDrivingScreenshotEqualsTheBatchRelightOfItsLastRotation) {
   const RunResult r = view("--env sky --rotate 10,5 --frames 4 --rotate-step 25 --screenshot " +
                            out.file("shot.png"));
   ASSERT_EQ(r.status, 0) << r.output;
-  const RunResult b = runCli("relight --sun off " + model() +
-                             " --env sky --rotate 85,5,0 --quiet --out " + out.file("b.png"));
+  const RunResult b = runCli("relight " + model() + " --env sky --rotate 85,5,0 --quiet --out " +
+                             out.file("b.png"));
   ASSERT_EQ(b.status, 0) << b.output;
   const Picture shot = readPicture(out.file("shot.png")), batch = readPicture(out.file("b.png"));
   ASSERT_EQ(batch.width, 48);
@@ -92,7 +95,7 @@ TEST_F(Viewer, SelfDrivingScreenshotEqualsTheBatchRelightOfItsLastRotation) {
   EXPECT_EQ(differingPixels(shot, batch), 0);
 
   // A different rotation is visibly different (the comparison can fail).
-  const RunResult other = runCli("relight --sun off " + model() +
+  const RunResult other = runCli("relight " + model() +
                                  " --env sky --rotate 60,5,0 --quiet --out " + out.file("b60.png"));
   ASSERT_EQ(other.status, 0) << other.output;
   EXPECT_GT(differingPixels(shot, readPicture(out.file("b60.png"))), 100);
@@ -150,7 +153,7 @@ TEST_F(Viewer, ScriptedKeysToggleOverlaysAndSaveWritesTheBatchImage) {
   EXPECT_GT(inside, 20);
 
   // The saved frame: yaw 30 + 90, exposure 1.5, half of each cluster's bases.
-  const RunResult b = runCli("relight --sun off " + model() +
+  const RunResult b = runCli("relight " + model() +
                              " --env sun:50,30,4,1000 --rotate 120 --exposure 1.5 --max-rank 50% "
                              "--format both --quiet --out " +
                              out.file("batch.png"));
@@ -201,7 +204,7 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
   EXPECT_NEAR(now.x() - drawn.x(), 6, 1e-6) << spec;
   EXPECT_NEAR(now.y() - drawn.y(), -3, 1e-6) << spec;
 
-  const RunResult b = runCli("relight --sun off " + model() + " --env sky --light " + spec +
+  const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
                              " --quiet --out " + out.file("batch.png"));
   ASSERT_EQ(b.status, 0) << b.output;
   const Picture saved = readPicture(out.file("lamp.png")),
@@ -209,7 +212,7 @@ TEST_F(Viewer, ADraggedLightGivesTheBatchImageOfWhereItWent) {
   ASSERT_EQ(saved.width, 48);
   EXPECT_EQ(saved.bytes, batch.bytes);
   const RunResult sky =
-      runCli("relight --sun off " + model() + " --env sky --quiet --out " + out.file("sky.png"));
+      runCli("relight " + model() + " --env sky --quiet --out " + out.file("sky.png"));
   ASSERT_EQ(sky.status, 0) << sky.output;
   EXPECT_GT(differingPixels(saved, readPicture(out.file("sky.png"))), 100);
 }
@@ -244,13 +247,46 @@ TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
   const std::string point = asPoint.canonicalSpec();
   for (const auto& [saved, spec] : {std::pair{std::string("held"), point},
                                     std::pair{std::string("let-go"), moved.canonicalSpec()}}) {
-    const RunResult b = runCli("relight --sun off " + model() + " --env sky --light " + spec +
+    const RunResult b = runCli("relight " + model() + " --env sky --light " + spec +
                                " --quiet --out " + out.file(saved + "-batch.png"));
     ASSERT_EQ(b.status, 0) << b.output;
     EXPECT_EQ(readPicture(out.file(saved + ".png")).bytes,
               readPicture(out.file(saved + "-batch.png")).bytes)
         << saved;
   }
+  EXPECT_GT(differingPixels(readPicture(out.file("held.png")), readPicture(out.file("let-go.png"))),
+            0);
+}
+
+// A map held by the mouse (pressed off any light, then turned): its sun lit
+// as a point of the same power (the batch image of that point, a disc of
+// kHeldDiscRadius, with kHeldDiscRays); once let go, exactly (the batch image
+// of the map).
+TEST_F(Viewer, AHeldMapLightsItsSunAsAPointAndExactlyWhenLetGo) {
+  TempDir out;
+  const std::string script = out.file("events.txt");
+  std::ofstream(script) << "press 0 0\nrotate 40\nsave " << out.file("held") << "\nrelease\nsave "
+                        << out.file("let-go") << "\n";
+  const RunResult r = view("--env sun:50,30,4,1000 --script " + script);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const double kDegree = std::numbers::pi / 180;
+  const double pointSize = 2 * kHeldDiscRadius / kDegree;
+  const double pointRadiance = 1000 * (1 - std::cos(2 * kDegree)) / (1 - std::cos(kHeldDiscRadius));
+  const std::string point =
+      concat("sun:50,30,", shortestNumberText(pointSize), ",", shortestNumberText(pointRadiance),
+             " --lamp-rays ", kHeldDiscRays);
+  for (const auto& [saved, env] :
+       {std::pair{std::string("held"), point},
+        std::pair{std::string("let-go"), std::string("sun:50,30,4,1000")}}) {
+    const RunResult b = runCli("relight " + model() + " --env " + env +
+                               " --rotate 40 --quiet --out " + out.file(saved + "-batch.png"));
+    ASSERT_EQ(b.status, 0) << b.output;
+    EXPECT_EQ(differingPixels(readPicture(out.file(saved + ".png")),
+                              readPicture(out.file(saved + "-batch.png"))),
+              0)
+        << saved;
+  }
+  // The 4-degree sun's penumbrae are not the point's hard edges.
   EXPECT_GT(differingPixels(readPicture(out.file("held.png")), readPicture(out.file("let-go.png"))),
             0);
 }

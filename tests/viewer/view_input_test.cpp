@@ -242,5 +242,29 @@ TEST(ViewInput, AHeldLampLightsSpheresAsPointsOfTheSamePower) {
   EXPECT_EQ(lit[2].canonicalSpec(), s.lights[2].canonicalSpec());
 }
 
+TEST(ViewInput, AHeldMapLightsItsSourcesAsPointsOfTheSameEnergy) {
+  // A 0.53-degree sun and a 10-degree lamp: each shrunk to kHeldDiscRadius,
+  // its direction kept and its energy (radiance x solid angle) to rounding.
+  MapSource sun, lamp;
+  sun.direction = Vec3(0.3, 0.8, -0.2).normalized();
+  sun.radius = 0.53 / 2 * std::numbers::pi / 180;
+  sun.radiance = Rgb(4e4, 3.8e4, 3.4e4);
+  lamp.direction = Vec3(0, -1, 0);
+  lamp.radius = 5 * std::numbers::pi / 180;
+  lamp.radiance = Rgb(2, 2, 2);
+  const std::vector<MapSource> held = previewSources({sun, lamp});
+  ASSERT_EQ(held.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const MapSource& before = k == 0 ? sun : lamp;
+    EXPECT_EQ(held[k].direction, before.direction);
+    EXPECT_EQ(held[k].radius, kHeldDiscRadius);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(held[k].energy()[c] / before.energy()[c], 1, 1e-9) << k;
+  }
+  ViewState s;
+  const ViewState released = s;
+  s.mapHeld = true;
+  EXPECT_FALSE(s == released);
+}
+
 }  // namespace
 }  // namespace acpca
