@@ -17,15 +17,23 @@ struct EnvmapArgs {
   CommonOptions common;
   std::string env, out, cross, rotate, size = "2048x1024", sun = "auto";
   int cubemap = 32;
+  bool withoutSources = false;
   RotationMode rotationMode = RotationMode::Exact;
 };
 
-/// The map's compact bright sources, turned with it (lighting/map_sources.h,
-/// dataset/map_source_listing.h).
-nlohmann::json sourcesOf(const Environment& env, const std::optional<SourceFinding>& finding,
-                         const EnvRotation& rotation) {
-  if (!finding) return nlohmann::json::array();
-  return sourcesJson(turnedSources(env.splitSources(*finding).sources, rotation));
+/// The map's compact bright sources (lighting/map_sources.h), and what the
+/// lattice gets: the whole map, or with --without-sources the map less them,
+/// as a relight's lattice gets it.
+struct EnvmapLighting {
+  std::vector<MapSource> sources;
+  std::unique_ptr<Environment> rest;  ///< null: the whole map
+};
+
+EnvmapLighting splitFor(const Environment& env, const std::optional<SourceFinding>& finding,
+                        bool withoutSources) {
+  if (!finding) return {};
+  SplitEnvironment split = env.splitSources(*finding);
+  return {std::move(split.sources), withoutSources ? std::move(split.rest) : nullptr};
 }
 
 void run(const EnvmapArgs& a) {
@@ -34,8 +42,13 @@ void run(const EnvmapArgs& a) {
   const std::optional<SourceFinding> finding = parseSourceFinding(a.sun);
   refuseOutputsOverInputs({a.env}, {a.out, a.cross, a.common.jsonPath});
   const CubeLattice lattice(a.cubemap);
+  if (a.withoutSources && !finding)
+    throw ParameterError("--without-sources", "",
+                         "needs sources to leave out: --sun auto or K, not off");
   const auto env = loadEnvironment(a.env);
-  const LatticeLighting lighting = computeLighting(*env, lattice, rotation, a.rotationMode);
+  const EnvmapLighting split = splitFor(*env, finding, a.withoutSources);
+  const Environment& onLattice = split.rest ? *split.rest : *env;
+  const LatticeLighting lighting = computeLighting(onLattice, lattice, rotation, a.rotationMode);
   writeImage(latticeToLatLong(lighting, lattice, size.width, size.height), a.out, ImageFormat::Exr,
              0, true);
   if (!a.cross.empty())
@@ -44,13 +57,15 @@ void run(const EnvmapArgs& a) {
   const Rgb energy = totalEnergy(lighting);
   if (!a.common.quiet)
     std::cerr << "wrote " << a.out << (a.cross.empty() ? "" : " and " + a.cross) << ": "
-              << env->name() << " on 6x" << a.cubemap << "x" << a.cubemap
-              << ", energy (sum of radiance x solid angle) " << energy.transpose() << "\n";
-  const nlohmann::json sources = sourcesOf(*env, finding, rotation);
+              << env->name() << (split.rest ? " less its sources" : "") << " on 6x" << a.cubemap
+              << "x" << a.cubemap << ", energy (sum of radiance x solid angle) "
+              << energy.transpose() << "\n";
+  const nlohmann::json sources = sourcesJson(turnedSources(split.sources, rotation));
   if (!a.common.quiet && !sources.empty())
     std::cerr << sources.size() << " compact bright source(s) found (listed by --json)\n";
   writeJson(a.common.jsonPath, {{"env", a.env},
                                 {"cubemap", a.cubemap},
+                                {"without_sources", a.withoutSources},
                                 {"sources", sources},
                                 {"energy", {energy[0], energy[1], energy[2]}},
                                 {"out", a.out},
@@ -73,6 +88,9 @@ void registerEnvmap(CLI::App& app) {
                   "A map's compact bright sources (a lat-long map's, sun:'s disc, sky's sun) "
                   "listed by --json: auto, off or K (the brightest K)")
       ->capture_default_str();
+  sub->add_flag("--without-sources", args->withoutSources,
+                "Write the map less its sources (--sun's), as a relight's lattice gets it; "
+                "--json lists what was left out");
   addFastRotationFlag(*sub, args->rotationMode);
   args->common.add(*sub, false);
   nameParameters(

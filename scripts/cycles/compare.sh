@@ -16,6 +16,12 @@
 #     --bounces K (0: direct light)  --indirect-samples N (ours, 64: paths per traced sample)
 #     --model (also the transport compressed by adaptive-quad, relit
 #       the same way, against the same Cycles render)
+#     --sun auto|off|K (auto: relight's --sun. A map's sources found by it are
+#       split off: Cycles' world is the lattice of the map less them and each
+#       is a Sun lamp of its angle and irradiance; ours lights them exactly,
+#       and `--sun off` (the whole map on the lattice) is compared as
+#       "lattice", with both within 2 px of the brightest source's shadow
+#       edges: compare_shadow_edges.py)
 #
 # Writes OUT_DIR/{t.h5, ours.exr, lattice.exr, cycles.exr, cycles-2.exr,
 # comparison.json; with --model m.h5 and model.exr} and prints relative L2 (all covered pixels, full pixels,
@@ -25,7 +31,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 scene=$1 env=$2 out=$3
 shift 3
-size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1 bounces=0
+size=160x120 camera=auto:65,150 samples=1024 spp=16 cubemap=32 texel_rays=1 bounces=0 sun=auto
 indirect_samples=64
 lights=() closed_form=() model=0
 while [ $# -gt 0 ]; do
@@ -41,6 +47,7 @@ while [ $# -gt 0 ]; do
     --texel-rays) texel_rays=$2 ;;
     --bounces) bounces=$2 ;;
     --indirect-samples) indirect_samples=$2 ;;
+    --sun) sun=$2 ;;
     *) echo "compare.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift 2
@@ -55,20 +62,41 @@ camera_flag=()
 "$cli" precompute --scene "$scene" --size "$size" --spp "$spp" --aa full --cubemap "$cubemap" \
   --texel-rays "$texel_rays" --bounces "$bounces" --indirect-samples "$indirect_samples" \
   --precision f32 "${camera_flag[@]}" --quiet --out "$out/t.h5"
-env_flag=() lattice=none
+env_flag=() lattice=none sources=() also=()
 if [ "$env" != none ]; then
   env_flag=(--env "$env") lattice="$out/lattice.exr"
-  # The lattice as Cycles sees it: piecewise constant per texel, 2048x1024.
-  "$cli" envmap "$env" --cubemap "$cubemap" --size 2048x1024 --quiet --out "$lattice"
+  # The lattice as Cycles sees it: piecewise constant per texel, 2048x1024,
+  # less the map's sources, which Cycles gets as Sun lamps.
+  without=()
+  [ "$sun" != off ] && without=(--without-sources)
+  "$cli" envmap "$env" --cubemap "$cubemap" --size 2048x1024 --sun "$sun" "${without[@]}" \
+    --quiet --json "$out/sources.json" --out "$lattice"
+  sources=(--sources "$out/sources.json")
 fi
-"$cli" relight "$out/t.h5" "${env_flag[@]}" "${lights[@]}" --background black --exr-float \
-  --quiet --out "$out/ours.exr"
-also=()
+"$cli" relight "$out/t.h5" "${env_flag[@]}" "${lights[@]}" --sun "$sun" --background black \
+  --exr-float --quiet --out "$out/ours.exr"
+brightest=$(python3 -c '
+import json, sys
+s = json.load(open(sys.argv[1])).get("sources", [])
+if s:
+    r = s[0]["radiance"]
+    lum = 0.2126 * r[0] + 0.7152 * r[1] + 0.0722 * r[2]
+    print("sun:%r,%r,%r,%r" % (s[0]["theta_deg"], s[0]["phi_deg"], 2 * s[0]["radius_deg"], lum))
+' "$out/sources.json" 2>/dev/null || true)
+if [ -n "$brightest" ]; then
+  # The whole map on the lattice, and the brightest source alone (its
+  # shadow edges).
+  "$cli" relight "$out/t.h5" "${env_flag[@]}" "${lights[@]}" --sun off --background black \
+    --exr-float --quiet --out "$out/lattice-sun.exr"
+  "$cli" relight "$out/t.h5" --env "$brightest" --background black --exr-float --quiet \
+    --out "$out/sun-alone.exr"
+  also+=(--also "lattice=$out/lattice-sun.exr")
+fi
 if [ "$model" = 1 ]; then
   "$cli" compress "$out/t.h5" --method adaptive-quad --quiet --out "$out/m.h5"
-  "$cli" relight "$out/m.h5" "${env_flag[@]}" "${lights[@]}" --background black --exr-float \
+  "$cli" relight "$out/m.h5" "${env_flag[@]}" "${lights[@]}" --sun "$sun" --background black --exr-float \
     --quiet --out "$out/model.exr"
-  also=(--also "model=$out/model.exr")
+  also+=(--also "model=$out/model.exr")
 fi
 cam=$("$cli" info "$out/t.h5" --json - | python3 -c '
 import json, sys
@@ -79,7 +107,7 @@ render() {  # seed, output, image to compare with, json
   rm -f "$2" "$4"
   blender -b --factory-startup --python-exit-code 1 --python scripts/cycles/render_cycles.py -- \
     --scene "$scene" --width "$width" --height "$height" --camera "$cam" \
-    --env "$lattice" "${lights[@]}" "${closed_form[@]}" --samples "$samples" --seed "$1" \
+    --env "$lattice" "${sources[@]}" "${lights[@]}" "${closed_form[@]}" --samples "$samples" --seed "$1" \
     --bounces "$bounces" --out "$2" --ours "$3" "${@:5}" \
     --json "$4" >"$out/blender-$1.log" 2>&1 || { tail -30 "$out/blender-$1.log" >&2; exit 1; }
 }
@@ -119,7 +147,7 @@ for dy in range(3):
 edges = (cycles[..., 3] > 0) & ~interior
 norm = (cycles[..., :3] ** 2).sum(-1)
 report = json.load(open(f"{out}/comparison.json"))
-for name in ("ours", "model"):
+for name in ("ours", "model", "lattice-sun"):
     try:
         image = ac.read_image(f"{out}/{name}.exr")
     except ac.Error:
@@ -144,3 +172,6 @@ for name in ("cycles_vs_closed_form", "ours_vs_closed_form"):
         print(f"{name.replace('_', ' '):26s} relative L2 {100 * r['relative_l2']:.2f}% over "
               f"{r['pixels']} full pixels, energy ratio {r['energy_ratio']:.4f}")
 PY
+if [ -n "$brightest" ]; then
+  PYTHONPATH=build/python /usr/bin/python3 scripts/cycles/compare_shadow_edges.py "$out"
+fi

@@ -301,6 +301,32 @@ def add_light(light, index):
     obj.visible_camera = False  # ours: lights light the scene, unseen
     bpy.context.scene.collection.objects.link(obj)
 
+def add_sun(index, towards_light, irradiance, radius_deg=0.0):
+    """A sun whose light arrives from `towards_light` (our axes, towards the light)
+    with RGB irradiance `irradiance` on a surface facing it: Blender's sun
+    shines along its local -Z. Of angle 0 it is a distant point light; of
+    angle 2 radius_deg Blender 3.4 samples a cone of that half-angle and each
+    sample carries the strength, so a surface facing it gets the strength
+    whatever the angle (a cap of radiance L is L pi sin^2(radius))."""
+    data = bpy.data.lights.new(f"sun{index}", type="SUN")
+    data.angle = math.radians(2 * radius_deg)
+    peak = max(irradiance)
+    data.energy = peak
+    data.color = [c / peak for c in irradiance]
+    obj = bpy.data.objects.new(f"sun{index}", data)
+    obj.rotation_euler = direction(towards_light).to_track_quat("Z", "Y").to_euler()
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def add_map_sources(sources):
+    """A map's sources as `envmap --json` lists them (direction, radius_deg,
+    RGB radiance), each a sun of its angle and irradiance."""
+    for k, s in enumerate(sources):
+        cap = math.pi * math.sin(math.radians(s["radius_deg"])) ** 2
+        add_sun(k, s["direction"], [cap * c for c in s["radiance"]], s["radius_deg"])
+
+
 def configure_cycles(samples, seed, bounces):
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"

@@ -7,7 +7,7 @@ Run by scripts/cycles/compare.sh inside Blender:
   blender -b --factory-startup --python render_cycles.py -- \
       --scene S.json --width W --height H --env lattice.exr --ours ours.exr \
       --out cycles.exr --samples N --seed S [--bounces K] [--camera EYE,TARGET,UP,FOV] \
-      [--light SPEC ...] [--closed-form]
+      [--light SPEC ...] [--sources SOURCES.json] [--closed-form]
 or, for scripts/cycles/labels.sh, with --passes instead of --ours: the Normal,
 Depth and DiffCol passes into --out as a multilayer EXR.
 
@@ -25,8 +25,8 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cycles_scene import (add_light, add_world, build_scene, configure_cycles,  # noqa: E402
-                          parse_light)
+from cycles_scene import (add_light, add_map_sources, add_world, build_scene,  # noqa: E402
+                          configure_cycles, parse_light)
 
 
 def scene_parser():
@@ -44,6 +44,8 @@ def parse_args():
     p, argv = scene_parser()
     p.add_argument("--camera", help="eye,target,up as 9 numbers then fov (ours after framing)")
     p.add_argument("--env", required=True, help="lat-long EXR of the lattice, or none (black)")
+    p.add_argument("--sources", help="`envmap --without-sources --json` of the map: its "
+                   "sources as Sun lamps of their angle and irradiance (--env the rest)")
     p.add_argument("--light", action="append", default=[],
                    help="a local light as `relight --light` takes it (point or sphere)")
     p.add_argument("--closed-form", action="store_true",
@@ -182,6 +184,9 @@ def main():
     a = parse_args()
     scene_json, (eye, target, up, fov) = build_scene(a.scene, a.width, a.height, a.camera)
     add_world(None if a.env == "none" else os.path.abspath(a.env))
+    if a.sources:
+        with open(a.sources) as f:
+            add_map_sources(json.load(f)["sources"])
     lights = [parse_light(spec) for spec in a.light]
     for i, light in enumerate(lights):
         add_light(light, i)

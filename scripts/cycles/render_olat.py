@@ -45,21 +45,6 @@ def parse_args():
     return p.parse_args(argv)
 
 
-def add_sun(index, direction, irradiance):
-    """A sun of angle 0 whose light arrives from `direction` (our axes, towards
-    the light) with RGB irradiance `irradiance`: Blender's sun shines along its
-    local -Z."""
-    data = bpy.data.lights.new(f"sun{index}", type="SUN")
-    data.angle = 0.0
-    peak = max(irradiance)
-    data.energy = peak
-    data.color = [c / peak for c in irradiance]
-    obj = bpy.data.objects.new(f"sun{index}", data)
-    obj.rotation_euler = scene.direction(direction).to_track_quat("Z", "Y").to_euler()
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
-
-
 def render(path):
     bpy.context.scene.render.filepath = os.path.abspath(path)
     bpy.ops.render.render(write_still=True)
@@ -68,7 +53,7 @@ def render(path):
 def render_olat(a):
     directions = [[float(v) for v in line.split(",")]
                   for line in open(a.olat) if line.strip()]
-    suns = [add_sun(k, d, [a.irradiance] * 3) for k, d in enumerate(directions)]
+    suns = [scene.add_sun(k, d, [a.irradiance] * 3) for k, d in enumerate(directions)]
     os.makedirs(a.out_dir, exist_ok=True)
     for k, sun in enumerate(suns):
         for other in suns:
@@ -89,7 +74,7 @@ def main():
         lamps = json.load(open(a.lamps))["lamps"]
         lit = [lamp for lamp in lamps if max(lamp["irradiance"]) > 0]
         for k, lamp in enumerate(lit):
-            add_sun(k, lamp["direction"], lamp["irradiance"])
+            scene.add_sun(k, lamp["direction"], lamp["irradiance"])
         print(f"{len(lit)} of {len(lamps)} lamps lit", flush=True)
     render(a.out)
 

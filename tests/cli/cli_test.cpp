@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "model/model_file.h"
@@ -595,6 +596,34 @@ TEST(EnvmapSources, ARealSkysSunIsListedTurnedWithTheMapAndOffListsNone) {
   EXPECT_NEAR(std::remainder(turned[0]["phi_deg"].get<double>() - (phi - 90), 360.0), 0, 1e-9);
   EXPECT_TRUE(sources(" --sun off").empty());
   expectFailure("envmap " + map + " --sun maybe --out " + out.file("x.exr"), "--sun 'maybe'");
+}
+
+TEST(EnvmapSources, WithoutSourcesTheMapLeftAndItsSourcesHoldTheWholeMapsEnergy) {
+  // Sources plus the map left hold the map's energy (docs/lighting.md, "A
+  // map's sources"); the sun's is its radiance x 2 pi (1 - cos(radius)).
+  const std::string map = "/usr/share/blender/datafiles/studiolights/world/sunrise.exr";
+  test::TempDir out;
+  const auto envmap = [&](const std::string& flags) {
+    const RunResult r = runCli("envmap " + map + " --size 64x32 --quiet --out " +
+                               out.file("e.exr") + " --json " + out.file("e.json") + flags);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(std::ifstream(out.file("e.json")));
+  };
+  const nlohmann::json whole = envmap(""), rest = envmap(" --without-sources");
+  EXPECT_FALSE(whole["without_sources"].get<bool>());
+  EXPECT_TRUE(rest["without_sources"].get<bool>());
+  ASSERT_EQ(rest["sources"].size(), 1u);
+  const nlohmann::json& sun = rest["sources"][0];
+  const double radius = sun["radius_deg"].get<double>() * std::numbers::pi / 180;
+  const double solidAngle = 2 * std::numbers::pi * (1 - std::cos(radius));
+  for (int c = 0; c < 3; ++c) {
+    const double sunEnergy = sun["radiance"][c].get<double>() * solidAngle;
+    const double total = whole["energy"][c].get<double>();
+    EXPECT_GT(sunEnergy, 0.3 * total);  // the sunrise's sun holds most of it
+    EXPECT_NEAR(rest["energy"][c].get<double>() + sunEnergy, total, 1e-5 * total) << c;
+  }
+  expectFailure("envmap " + map + " --sun off --without-sources --out " + out.file("x.exr"),
+                "--without-sources");
 }
 
 }  // namespace
