@@ -9,9 +9,12 @@
 #include "core/statistics.h"
 #include "core/stopwatch.h"
 #include "core/text.h"
+#include "dataset/map_source_listing.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
+#include "lighting/map_sources.h"
 #include "relight/image_composer.h"
+#include "relight/lamp_light.h"
 #include "relight/memory_bandwidth.h"
 #include "relight/relight_source.h"
 
@@ -20,39 +23,79 @@ namespace acpca {
 namespace {
 
 /// The lighting and background stages of a batch's frames, ms a frame, on
-/// all cores with nothing beside them.
+/// all cores with nothing beside them; and, where the batch lights the map's
+/// sources exactly, the frame through the lattice (the whole map's lighting,
+/// the relight, the background) against the same frame with its sources
+/// lit exactly (the lighting of the map less them, the relight, the
+/// background, the sources).
 struct StagesAlone {
   double lightingMs = 0, backgroundMs = 0;
   int frames = 0;
+  double relightMs = 0;       ///< the relight of the frames' lattice lightings
+  double sourcesMs = 0;       ///< the sources lit exactly (0: none)
+  double restLightingMs = 0;  ///< the lighting of the map less its sources
+  double sourceRays = 0;      ///< shadow rays a frame
+  int sourceCount = 0;
+
+  double latticeFrameMs() const { return lightingMs + relightMs + backgroundMs; }
+  double exactFrameMs() const { return restLightingMs + relightMs + backgroundMs + sourcesMs; }
 };
+
+/// The median over passes 1..3 of ms a frame of `work` over `frames` frames
+/// (pass 0 warms it: row sums, the occluder, caches).
+template <typename Work>
+double medianMsPerFrame(double frames, Work work) {
+  std::vector<double> ms;
+  for (int pass = 0; pass < 4; ++pass) {
+    const Stopwatch watch;
+    work();
+    if (pass > 0) ms.push_back(1e3 * watch.seconds() / frames);
+  }
+  return median(ms);
+}
 
 /// The batch's first map under each of its rotations, timed stage by stage
 /// after the batch: in the batch the writing threads share the cores, so its
 /// stages read longer than their own work. None without a map.
 std::optional<StagesAlone> stagesAlone(const BatchRelightOptions& a) {
   if (a.envs.empty()) return std::nullopt;
-  const TransportHeader header = openRelightSource(a.input, a.maxRank).header;
+  RelightSource source = openRelightSource(a.input, a.maxRank);
+  const TransportHeader& header = source.header;
   const DomainLighting domain(header);
   const std::unique_ptr<Environment> env = loadEnvironment(a.envs[0]);
   const ImageComposer composer(header);
   const int channels = ImageComposer::channels(a.background);
   std::vector<float> pixels(static_cast<size_t>(header.camera.size.pixels()) * channels);
-  // The lightings as the batch makes a map's frames, together (after one
-  // untimed pass that makes the map's row sums): the median of 3 passes.
+  StagesAlone alone;
+  alone.frames = static_cast<int>(a.rotations.size());
   const auto frames = static_cast<double>(a.rotations.size());
-  std::vector<double> lighting;
-  for (int pass = 0; pass < 4; ++pass) {
-    const Stopwatch lit;
-    const std::vector<LatticeLighting> l = domain.lightings(*env, a.rotations, a.rotationMode);
-    if (pass > 0) lighting.push_back(1e3 * lit.seconds() / frames);
-  }
+  // The lightings as the batch makes a map's frames, together.
+  std::vector<LatticeLighting> lightings;
+  alone.lightingMs = medianMsPerFrame(
+      frames, [&] { lightings = domain.lightings(*env, a.rotations, a.rotationMode); });
   std::vector<double> background;
   for (const EnvRotation& rotation : a.rotations) {
     const Stopwatch drawn;
     composer.background(a.background, *env, rotationMatrix(rotation), pixels.data());
     background.push_back(1e3 * drawn.seconds());
   }
-  return StagesAlone{median(lighting), median(background), static_cast<int>(a.rotations.size())};
+  alone.backgroundMs = median(background);
+  std::vector<double> ms;
+  alone.relightMs = medianMsPerFrame(frames, [&] { source.relight(lightings, ms); });
+  if (!a.sources || a.lamps.mode != LampMode::Exact || !source.sourcesUnavailable.empty())
+    return alone;
+  const SplitEnvironment split = env->splitSources(*a.sources);
+  if (split.sources.empty()) return alone;
+  alone.sourceCount = static_cast<int>(split.sources.size());
+  alone.restLightingMs =
+      medianMsPerFrame(frames, [&] { domain.lightings(*split.rest, a.rotations, a.rotationMode); });
+  const long long raysBefore = source.lampShadowRays();
+  alone.sourcesMs = medianMsPerFrame(frames, [&] {
+    for (const EnvRotation& rotation : a.rotations)
+      source.relightSources(turnedSources(split.sources, rotation), a.lamps.sphereRays);
+  });
+  alone.sourceRays = static_cast<double>(source.lampShadowRays() - raysBefore) / (4 * frames);
+  return alone;
 }
 
 }  // namespace
@@ -90,11 +133,20 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
           ? result.bytesPerFrame * frames / (s.projection + s.shading) / 1e9
           : 0.0);
   const std::optional<StagesAlone> alone = stagesAlone(o.batch);
-  if (alone)
+  if (alone) {
     text += formatted(
         "alone, nothing beside them (the first map under %d rotation(s), medians): lighting %.3f "
-        "ms, background %.3f ms a frame\n",
-        alone->frames, alone->lightingMs, alone->backgroundMs);
+        "ms, relight %.3f ms, background %.3f ms a frame\n",
+        alone->frames, alone->lightingMs, alone->relightMs, alone->backgroundMs);
+    if (alone->sourcesMs > 0)
+      text += formatted(
+          "its %d source(s) lit exactly (%d rays a sample in a penumbra): %.3f ms a frame, %.0f "
+          "shadow rays; the frame with them %.3f ms against %.3f ms through the lattice "
+          "(with / lattice: %.2fx)\n",
+          alone->sourceCount, o.batch.lamps.sphereRays, alone->sourcesMs, alone->sourceRays,
+          alone->exactFrameMs(), alone->latticeFrameMs(),
+          alone->exactFrameMs() / alone->latticeFrameMs());
+  }
   StudyOutput out;
   out.summary = text;
   out.json = {{"frames", result.frames},
@@ -103,10 +155,22 @@ StudyOutput runBatchBenchmark(const BatchBenchmarkOptions& o) {
               {"streaming_read_gb_per_s", stream.gbPerSecondMedian},
               {"stages", s.json(result.frames)},
               {"batch", result.json}};
-  if (alone)
+  if (alone) {
     out.json["alone_ms_per_frame"] = {{"lighting", alone->lightingMs},
+                                      {"relight", alone->relightMs},
                                       {"background", alone->backgroundMs},
                                       {"frames", alone->frames}};
+    if (alone->sourcesMs > 0)
+      out.json["sources_alone"] = {
+          {"sources", alone->sourceCount},
+          {"lamp_rays", o.batch.lamps.sphereRays},
+          {"ms_per_frame", alone->sourcesMs},
+          {"rest_lighting_ms_per_frame", alone->restLightingMs},
+          {"shadow_rays_per_frame", alone->sourceRays},
+          {"exact_frame_ms", alone->exactFrameMs()},
+          {"lattice_frame_ms", alone->latticeFrameMs()},
+          {"exact_over_lattice", alone->exactFrameMs() / alone->latticeFrameMs()}};
+  }
   return out;
 }
 

@@ -21,9 +21,11 @@ SceneOccluder::SceneOccluder(const LampGeometry& g) : embree_(std::make_unique<E
   e.device = newEmbreeDevice();
   e.scene = rtcNewScene(e.device);
   // Robust (watertight) as the precompute's scene: no ray slips between two
-  // triangles that share an edge. Medium quality: built on every open.
+  // triangles that share an edge. High quality: built once per open, it is
+  // traced by every frame's sources (a sun's sweep of the 1024x1024 plant
+  // traced 11% faster for it).
   rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
   if (!g.triangles.empty()) {
     RTCGeometry mesh = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0,

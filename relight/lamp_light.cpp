@@ -105,10 +105,7 @@ int parseSphereLampRays(const std::string& text) {
 
 std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, int sphereRays,
                                        const std::vector<MapSource>& discs) const {
-  std::call_once(built_, [&] {
-    occluder_ = std::make_unique<SceneOccluder>(header_.lamps);
-    rowOfPixel_ = rowsOfPixels(header_);
-  });
+  std::call_once(built_, [&] { occluder_ = std::make_unique<SceneOccluder>(header_.lamps); });
   const long long rows = header_.rows();
   std::vector<float> out(3 * static_cast<size_t>(rows), 0.0f);
   if (lights.empty() && discs.empty()) return out;
@@ -127,7 +124,7 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, in
   // Caps probe first: a row's rays depend on its neighbours' probes.
   std::vector<std::vector<LampSight>> sight(caps.size());
   for (size_t i = 0; i < caps.size(); ++i)
-    if (caps[i]) sight[i] = sphereLampSight(header_, *occluder_, *caps[i], rowOfPixel_, rays_);
+    if (caps[i]) sight[i] = sphereLampSight(header_, *occluder_, *caps[i], rays_);
   // Each row sums its lamps in order, then its samples in order, whatever
   // the blocks: the same values for any thread count.
   tbb::parallel_for(tbb::blocked_range<long long>(0, rows, 256), [&](const auto& range) {

@@ -77,7 +77,6 @@ class ExactLamps {
   const TransportHeader& header_;
   mutable std::once_flag built_;
   mutable std::unique_ptr<SceneOccluder> occluder_;
-  mutable std::vector<std::int32_t> rowOfPixel_;  ///< sphere lamps' pixel neighbourhoods
   mutable std::atomic<long long> rays_{0};
 };
 

@@ -21,14 +21,28 @@ constexpr int kTile = 3;                // probes interleave over 3x3 pixels
 constexpr int kProbes = kTile * kTile;  // so a neighbourhood's cover the disc
 constexpr std::int8_t kNoProbe = -1, kProbeBlocked = 0, kProbeReached = 1;
 
+/// cos t and sin t for |t| <= pi/4, by their series to t^10 and t^11: within
+/// 2e-9, and no libm call (those were a tenth of a sun's frame).
+Eigen::Vector2d cosSinWithinQuarter(double t) {
+  const double t2 = t * t;
+  const double c =
+      1 + t2 * (-1.0 / 2 + t2 * (1.0 / 24 + t2 * (-1.0 / 720 + t2 * (1.0 / 40320 - t2 / 3628800))));
+  const double s =
+      t * (1 + t2 * (-1.0 / 6 +
+                     t2 * (1.0 / 120 + t2 * (-1.0 / 5040 + t2 * (1.0 / 362880 - t2 / 39916800)))));
+  return {c, s};
+}
+
 /// The concentric map of the unit square onto the unit disc [Shirley97]:
-/// area-preserving, and square cells stay compact on the disc.
+/// area-preserving, and square cells stay compact on the disc. Its angle is
+/// pi/4 (y/x) where |x| > |y|, else pi/2 - pi/4 (x/y), whose cosine and sine
+/// are the sine and cosine of pi/4 (x/y).
 Eigen::Vector2d concentricDisc(double a, double b) {
   const double x = 2 * a - 1, y = 2 * b - 1;
   if (x == 0 && y == 0) return {0, 0};
-  const bool wide = std::abs(x) > std::abs(y);
-  const double r = wide ? x : y, phi = wide ? kPi / 4 * (y / x) : kPi / 2 - kPi / 4 * (x / y);
-  return {r * std::cos(phi), r * std::sin(phi)};
+  if (std::abs(x) > std::abs(y)) return x * cosSinWithinQuarter(kPi / 4 * (y / x));
+  const Eigen::Vector2d cs = cosSinWithinQuarter(kPi / 4 * (x / y));
+  return {y * cs.y(), y * cs.x()};
 }
 
 /// The probes' disc points: the centre and eight on the rim (just inside,
@@ -70,6 +84,9 @@ struct SphereCap {
   double solidAngle() const { return 2 * kPi * oneMinusCos; }
   /// Whether the whole cap lies above the plane of unit normal n.
   bool above(const Vec3& n) const { return n.dot(axis) >= sinAlpha; }
+  /// Whether none of it lies above that plane: the cap's highest direction
+  /// there is cos(theta + alpha) for theta the axis's angle from n.
+  bool below(const Vec3& n) const { return n.dot(axis) <= -sinAlpha; }
   /// The direction to disc point p (|p| <= 1), uniform in solid angle over
   /// the cap: 1 - cos(theta) = |p|^2 (1 - cos(alpha)).
   Vec3 direction(const Eigen::Vector2d& p) const {
@@ -112,6 +129,32 @@ bool capOf(const CapLamp& lamp, const Vec3& point, SphereCap& cap) {
   cap.v = cap.axis.cross(cap.u);
   return true;
 }
+
+/// The caps a lamp shows: a distant disc's is the same from every point, so
+/// it and its probe directions are worked out once; a sphere's per point.
+class CapsOf {
+ public:
+  explicit CapsOf(const CapLamp& lamp) : lamp_(lamp) {
+    if (!lamp.atInfinity) return;
+    capOf(lamp, Vec3::Zero(), distant_);
+    for (int k = 0; k < kProbes; ++k) probes_[k] = distant_.direction(probePoints()[k]);
+  }
+  /// The cap seen from `point` (in `scratch` for a sphere); null when the
+  /// point lies inside or on the sphere.
+  const SphereCap* at(const Vec3& point, SphereCap& scratch) const {
+    if (lamp_.atInfinity) return &distant_;
+    return capOf(lamp_, point, scratch) ? &scratch : nullptr;
+  }
+  /// Probe point k's direction on `cap` (one of at()'s).
+  Vec3 probe(const SphereCap& cap, int k) const {
+    return lamp_.atInfinity ? probes_[k] : cap.direction(probePoints()[k]);
+  }
+
+ private:
+  const CapLamp& lamp_;
+  SphereCap distant_;
+  std::array<Vec3, kProbes> probes_;
+};
 
 Vec3 vec3At(const std::vector<float>& values, long long i) {
   return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
@@ -178,53 +221,56 @@ CapLamp CapLamp::distant(const MapSource& disc) {
   return cap;
 }
 
-std::vector<std::int32_t> rowsOfPixels(const TransportHeader& h) {
-  std::vector<std::int32_t> rows(static_cast<size_t>(h.camera.size.pixels()), -1);
-  for (long long r = 0; r < h.rows(); ++r) rows[h.pixels[r]] = static_cast<std::int32_t>(r);
-  return rows;
-}
-
 std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccluder& occluder,
-                                       const CapLamp& lamp,
-                                       const std::vector<std::int32_t>& rowOfPixel,
-                                       std::atomic<long long>& rays) {
+                                       const CapLamp& lamp, std::atomic<long long>& rays) {
   const LampGeometry& g = h.lamps;
   const int width = h.camera.size.width, height = h.camera.size.height;
+  const CapsOf caps(lamp);
   std::vector<std::int8_t> probe(static_cast<size_t>(g.samples()), kNoProbe);
+  // Per pixel, what its own probes saw: bit 1 one reached the lamp, bit 2
+  // one was blocked (each row writes its own pixel's).
+  constexpr std::uint8_t kSawReached = 1, kSawBlocked = 2;
+  std::vector<std::uint8_t> saw(static_cast<size_t>(width) * height, 0);
   tbb::parallel_for(tbb::blocked_range<long long>(0, h.rows(), 256), [&](const auto& range) {
     ShadowRayBatch batch(occluder, g.rayEpsilon,
                          [&](std::int64_t s, double) { probe[s] = kProbeReached; });
     for (long long r = range.begin(); r < range.end(); ++r) {
       const int x = h.pixels[r] % width, y = h.pixels[r] / width;
       for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
-        SphereCap cap;
+        SphereCap scratch;
         const Vec3 origin = vec3At(g.origin, s);
-        if (!capOf(lamp, origin, cap)) continue;
+        const SphereCap* cap = caps.at(origin, scratch);
+        if (!cap) continue;
         // The pixel's place in its tile picks the first point, its samples
         // the next: every 3x3 window of pixels holds all nine points.
         const int k =
             static_cast<int>((x % kTile + kTile * (y % kTile) + s - g.sampleStart[r]) % kProbes);
-        const Vec3 w = cap.direction(probePoints()[k]);
+        const Vec3 w = caps.probe(*cap, k);
         if (!(vec3At(g.normal, s).dot(w) > 0 && vec3At(g.geometricNormal, s).dot(w) > 0)) continue;
         probe[s] = kProbeBlocked;  // until the ray says otherwise
-        batch.add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, 0);
+        batch.add(origin.cast<float>(), w.cast<float>(), stopBefore(cap->reach(w)), s, 0);
       }
     }
     batch.flush();
     rays += batch.rays();
+    for (long long r = range.begin(); r < range.end(); ++r) {
+      std::uint8_t bits = 0;
+      for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s)
+        bits |= probe[s] == kProbeReached   ? kSawReached
+                : probe[s] == kProbeBlocked ? kSawBlocked
+                                            : 0;
+      saw[h.pixels[r]] = bits;
+    }
   });
   std::vector<LampSight> sight(static_cast<size_t>(h.rows()));
   tbb::parallel_for(tbb::blocked_range<long long>(0, h.rows(), 1024), [&](const auto& range) {
     for (long long r = range.begin(); r < range.end(); ++r) {
       const int x = h.pixels[r] % width, y = h.pixels[r] / width;
-      bool reached = false, blocked = false;
+      std::uint8_t bits = 0;
       for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
-        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx) {
-          const std::int32_t n = rowOfPixel[static_cast<size_t>(ny) * width + nx];
-          if (n < 0) continue;
-          for (long long s = g.sampleStart[n]; s < g.sampleStart[n + 1]; ++s)
-            reached |= probe[s] == kProbeReached, blocked |= probe[s] == kProbeBlocked;
-        }
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+          bits |= saw[static_cast<size_t>(ny) * width + nx];
+      const bool reached = bits & kSawReached, blocked = bits & kSawBlocked;
       // No probe above the horizons (a cap across them): the strata decide.
       sight[r] = reached == blocked ? LampSight::Partly
                  : reached          ? LampSight::Whole
@@ -245,17 +291,23 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
     CapLight& l = light[s - firstSample];
     l.seen += value;
   });
+  const CapsOf caps(lamp);
   for (long long r = first; r < end; ++r) {
     if (sight[r] == LampSight::Hidden) continue;
     for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
-      SphereCap cap;
-      if (!capOf(lamp, vec3At(g.origin, s), cap)) continue;
-      const Vec3 n = vec3At(g.normal, s);
+      SphereCap scratch;
+      const SphereCap* found = caps.at(vec3At(g.origin, s), scratch);
+      if (!found) continue;
+      const SphereCap& cap = *found;
+      const Vec3 n = vec3At(g.normal, s), ng = vec3At(g.geometricNormal, s);
+      // Facing away (half the leaves of a plant): no stratum lies above
+      // both horizons, so no light and no strata to draw.
+      if (cap.below(n) || cap.below(ng)) continue;
       CapLight& l = light[s - firstSample];
       // A diffuse sample seeing the whole cap above its horizons: the
       // integral of cos / pi over it is sin^2(alpha) cos(beta), exactly.
       const bool closedForm = g.materials[g.material[s]].type == Material::Type::Diffuse &&
-                              cap.above(n) && cap.above(vec3At(g.geometricNormal, s));
+                              cap.above(n) && cap.above(ng);
       const bool traced = sight[r] == LampSight::Partly;
       if (!closedForm || traced)
         l.strataSum = sumStrata(h, cap, s, rays, strata, traced ? &batch : nullptr);

@@ -34,16 +34,11 @@ struct CapLamp {
 /// What a row's 3x3 pixel neighbourhood saw of a lamp by its probes.
 enum class LampSight : std::uint8_t { Hidden, Whole, Partly };
 
-/// The row of each pixel of the image (y * W + x), -1 where none.
-std::vector<std::int32_t> rowsOfPixels(const TransportHeader& header);
-
 /// One probe per sample (the cap's point its pixel's place in a 3x3 tile
 /// picks) and, per row, what its neighbourhood's probes saw; the probes
 /// traced are added to `rays`. Parallel; the same for any thread count.
 std::vector<LampSight> sphereLampSight(const TransportHeader& header, const SceneOccluder& occluder,
-                                       const CapLamp& lamp,
-                                       const std::vector<std::int32_t>& rowOfPixel,
-                                       std::atomic<long long>& rays);
+                                       const CapLamp& lamp, std::atomic<long long>& rays);
 
 /// One sphere lamp's (or distant disc's) light on rows [first, end), added to acc[row - first]
 /// (albedo not applied), returning the rays it traced: per sample L x the integral of f/albedo x

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "relight/lamp_light.h"
 #include "tests/cli/run_cli.h"
 #include "tests/test_support.h"
 
@@ -229,6 +230,21 @@ TEST_F(Reports, BatchBenchSaysWhereABatchsTimeWent) {
   EXPECT_EQ(json["alone_ms_per_frame"]["frames"].get<int>(), 12);
   EXPECT_GT(json["alone_ms_per_frame"]["lighting"].get<double>(), 0);
   EXPECT_GT(json["alone_ms_per_frame"]["background"].get<double>(), 0);
+  // The sky's sun lit exactly, against the same frame through the lattice.
+  ASSERT_TRUE(json.contains("sources_alone")) << r.output;
+  const auto& sun = json["sources_alone"];
+  EXPECT_EQ(sun["sources"].get<int>(), 1);
+  EXPECT_EQ(sun["lamp_rays"].get<int>(), kDefaultSphereLampRays);
+  EXPECT_GT(sun["shadow_rays_per_frame"].get<double>(), 0);
+  const double relight = json["alone_ms_per_frame"]["relight"],
+               background = json["alone_ms_per_frame"]["background"];
+  EXPECT_NEAR(sun["exact_frame_ms"].get<double>(),
+              sun["rest_lighting_ms_per_frame"].get<double>() + relight + background +
+                  sun["ms_per_frame"].get<double>(),
+              1e-9);
+  EXPECT_NEAR(sun["lattice_frame_ms"].get<double>(),
+              json["alone_ms_per_frame"]["lighting"].get<double>() + relight + background, 1e-9);
+  EXPECT_NE(r.output.find("with / lattice"), std::string::npos) << r.output;
 }
 
 TEST_F(Reports, CodecBenchTimesEveryBatchFormatAgainstOpenImageIO) {

@@ -75,9 +75,8 @@ TEST(SphereLamps, AnOpenFloorIsTheClosedFormWithNoRayPastTheProbes) {
     RecordProperty(concat("energy exact / lattice ", spec), std::to_string(exactSum / latticeSum));
     const SceneOccluder occluder(t.header().lamps);
     std::atomic<long long> probes{0};
-    const auto sight =
-        sphereLampSight(t.header(), occluder, CapLamp::sphere(light, *light.as<SphereLight>()),
-                        rowsOfPixels(t.header()), probes);
+    const auto sight = sphereLampSight(t.header(), occluder,
+                                       CapLamp::sphere(light, *light.as<SphereLight>()), probes);
     EXPECT_EQ(std::count(sight.begin(), sight.end(), LampSight::Whole), t.rows()) << spec;
     // One ray a sample, the probe, and no more.
     const ExactLamps lamps(t.header());
