@@ -59,20 +59,22 @@ const std::array<Eigen::Vector2d, kProbes>& probePoints() {
   return points;
 }
 
-/// One sample's strata, `rays` = n x n disc points: one in each cell of an
-/// n x n grid of the square, jittered by the sample's own seed, mapped onto
-/// the disc. Jittered anew for each sample, each sample's sum is an unbiased
-/// estimate (one fixed pattern, merely turned, is not: its radii are off
-/// uniform by up to a cell, which widened a 16-ray penumbra by 7%).
-void strataPoints(int rays, std::uint64_t seed, std::vector<Eigen::Vector2d>& p) {
+/// The side n of `rays` = n x n strata; checked a square.
+int strataSide(int rays) {
   const int side = static_cast<int>(std::lround(std::sqrt(double(rays))));
   ACPCA_CHECK(side >= 1 && side * side == rays, "sphere lamp rays ", rays, " is not a square");
-  p.resize(static_cast<size_t>(rays));
-  for (int i = 0; i < rays; ++i) {
-    const std::uint64_t h = splitMix(seed * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(i));
-    p[i] = concentricDisc((i % side + unitFromBits(h)) / side,
-                          (i / side + unitFromBits(splitMix(h))) / side);
-  }
+  return side;
+}
+
+/// A sample's stratum i of n x n disc points: a point in cell i of an n x n
+/// grid of the square, jittered by the sample's own seed, mapped onto the
+/// disc. Jittered anew for each sample, each sample's sum is an unbiased
+/// estimate (one fixed pattern, merely turned, is not: its radii are off
+/// uniform by up to a cell, which widened a 16-ray penumbra by 7%).
+Eigen::Vector2d stratumPoint(int i, int side, std::uint64_t seed) {
+  const std::uint64_t h = splitMix(seed * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(i));
+  return concentricDisc((i % side + unitFromBits(h)) / side,
+                        (i / side + unitFromBits(splitMix(h))) / side);
 }
 
 /// A sphere seen from a point: the cap of directions to it.
@@ -171,14 +173,26 @@ struct CapLight {
   double unoccluded = 0;  ///< weight x integral of f/albedo x cos over the cap
   double strataSum = 0;   ///< over the strata above both horizons: f/albedo x cos
   double seen = 0;        ///< the same over the strata whose rays reached the lamp
+  int cornersQueued = 0, cornersReached = 0;  ///< the first look's rays
 };
 
-/// The strata of one sample: returns the sum over those above both
-/// horizons of f/albedo x cos and, where `trace`, queues their rays with
-/// that as their light.
+/// Which of a sample's strata sumStrata traces: all, the four corner cells
+/// of its n x n grid (the first look: four rays spread over the disc), or
+/// the rest.
+enum class Strata { All, Corners, Rest };
+
+bool isCorner(int i, int side) {
+  const int column = i % side, row = i / side;
+  return (column == 0 || column == side - 1) && (row == 0 || row == side - 1);
+}
+
+/// The strata of one sample: the sum over those above both horizons of
+/// f/albedo x cos (0 unless `wantSum`: then only the `which` are drawn)
+/// and, where `trace`, the rays of the `which` among them queued with that
+/// as their light; `queued` counts them.
 template <typename Batch>
 double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, int rays,
-                 std::vector<Eigen::Vector2d>& strata, Batch* trace) {
+                 Batch* trace, Strata which, bool wantSum, int* queued = nullptr) {
   const LampGeometry& g = h.lamps;
   const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s),
              ng = vec3At(g.geometricNormal, s);
@@ -186,18 +200,24 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, in
   const Material& material = g.materials[g.material[s]];
   // Jittered and turned by the sample's seed: neighbouring samples' strata
   // differ, and a lamp that moves keeps each sample's.
-  strataPoints(rays, static_cast<std::uint64_t>(s), strata);
-  const double turn = 2 * kPi * unitFromBits(splitMix(static_cast<std::uint64_t>(s)));
+  const auto seed = static_cast<std::uint64_t>(s);
+  const double turn = 2 * kPi * unitFromBits(splitMix(seed));
   const double c = std::cos(turn), sn = std::sin(turn);
+  const int side = strataSide(rays);
   double sum = 0;
-  for (const Eigen::Vector2d& p : strata) {
+  for (int i = 0; i < rays; ++i) {
+    const bool chosen =
+        trace && (which == Strata::All || isCorner(i, side) == (which == Strata::Corners));
+    if (!chosen && !wantSum) continue;
+    const Eigen::Vector2d p = stratumPoint(i, side, seed);
     const Vec3 w = cap.direction({c * p.x() - sn * p.y(), sn * p.x() + c * p.y()});
     const double cosine = n.dot(w);
     if (!(cosine > 0 && ng.dot(w) > 0)) continue;  // both horizons, as the precompute's rays
     const double value = brdfShape(material, n, toViewer, w) * cosine;
     sum += value;
-    if (trace)
-      trace->add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, value);
+    if (!chosen) continue;
+    trace->add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, value);
+    if (queued) ++*queued;
   }
   return sum;
 }
@@ -283,38 +303,59 @@ std::vector<LampSight> sphereLampSight(const TransportHeader& h, const SceneOccl
 long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
                         const CapLamp& lamp, const std::vector<LampSight>& sight, int rays,
                         long long first, long long end, std::vector<Rgb>& acc) {
-  std::vector<Eigen::Vector2d> strata;  // each sample's, in turn
   const LampGeometry& g = h.lamps;
   const long long firstSample = g.sampleStart[first];
   std::vector<CapLight> light(static_cast<size_t>(g.sampleStart[end] - firstSample));
+  bool firstLook = true;
   ShadowRayBatch batch(occluder, g.rayEpsilon, [&](std::int64_t s, double value) {
     CapLight& l = light[s - firstSample];
     l.seen += value;
+    l.cornersReached += firstLook;
   });
   const CapsOf caps(lamp);
-  for (long long r = first; r < end; ++r) {
-    if (sight[r] == LampSight::Hidden) continue;
-    for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
-      SphereCap scratch;
-      const SphereCap* found = caps.at(vec3At(g.origin, s), scratch);
-      if (!found) continue;
-      const SphereCap& cap = *found;
-      const Vec3 n = vec3At(g.normal, s), ng = vec3At(g.geometricNormal, s);
-      // Facing away (half the leaves of a plant): no stratum lies above
-      // both horizons, so no light and no strata to draw.
-      if (cap.below(n) || cap.below(ng)) continue;
-      CapLight& l = light[s - firstSample];
-      // A diffuse sample seeing the whole cap above its horizons: the
-      // integral of cos / pi over it is sin^2(alpha) cos(beta), exactly.
-      const bool closedForm = g.materials[g.material[s]].type == Material::Type::Diffuse &&
-                              cap.above(n) && cap.above(ng);
-      const bool traced = sight[r] == LampSight::Partly;
-      if (!closedForm || traced)
-        l.strataSum = sumStrata(h, cap, s, rays, strata, traced ? &batch : nullptr);
-      l.unoccluded = g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
-                                               : l.strataSum * cap.solidAngle() / rays);
+  // The samples of [first, end) that a ray can reach: fn(s, cap, light).
+  const auto eachSample = [&](auto&& fn) {
+    for (long long r = first; r < end; ++r) {
+      if (sight[r] == LampSight::Hidden) continue;
+      for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+        SphereCap scratch;
+        const SphereCap* cap = caps.at(vec3At(g.origin, s), scratch);
+        // Facing away (half the leaves of a plant): no stratum lies above
+        // both horizons, so no light and no strata to draw.
+        if (cap && !cap->below(vec3At(g.normal, s)) && !cap->below(vec3At(g.geometricNormal, s)))
+          fn(r, s, *cap, light[s - firstSample]);
+      }
     }
-  }
+  };
+  eachSample([&](long long r, long long s, const SphereCap& cap, CapLight& l) {
+    const Vec3 n = vec3At(g.normal, s);
+    // A diffuse sample seeing the whole cap above its horizons: the
+    // integral of cos / pi over it is sin^2(alpha) cos(beta), exactly.
+    const bool closedForm = g.materials[g.material[s]].type == Material::Type::Diffuse &&
+                            cap.above(n) && cap.above(vec3At(g.geometricNormal, s));
+    const bool traced = sight[r] == LampSight::Partly;
+    // The whole sum only where the light needs it now (not in closed form);
+    // a penumbra's first look needs its four strata alone.
+    if (!closedForm || traced)
+      l.strataSum = sumStrata(h, cap, s, rays, traced ? &batch : nullptr, Strata::Corners,
+                              !closedForm, &l.cornersQueued);
+    l.unoccluded = g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
+                                             : l.strataSum * cap.solidAngle() / rays);
+  });
+  batch.flush();
+  // The first look's four rays agreeing, the sample is taken as lit whole or
+  // not at all (most of a 3-pixel band round a shadow edge is: 86% of the
+  // plant's); else the rest of its strata are traced.
+  firstLook = false;
+  eachSample([&](long long r, long long s, const SphereCap& cap, CapLight& l) {
+    if (sight[r] != LampSight::Partly) return;
+    const bool whole = l.cornersQueued > 0 && l.cornersReached == l.cornersQueued;
+    const bool hidden = l.cornersQueued > 0 && l.cornersReached == 0;
+    if (whole || hidden)  // a share of 1 or 0, whatever the sum
+      l.strataSum = std::max(l.strataSum, 1.0), l.seen = whole ? l.strataSum : 0;
+    else
+      l.strataSum = sumStrata(h, cap, s, rays, &batch, Strata::Rest, true);
+  });
   batch.flush();
   for (long long r = first; r < end; ++r) {
     if (sight[r] == LampSight::Hidden) continue;
