@@ -3,6 +3,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <limits>
+#include <numbers>
 #include <optional>
 
 #include "core/error.h"
@@ -68,6 +70,35 @@ long long addPointLamp(const TransportHeader& h, const SceneOccluder& occluder,
   return batch.rays();
 }
 
+/// A distant disc too small to cast a penumbra (kPointDiscRadius), lit as a
+/// point at infinity of its power on rows [first, end): a shadow ray per
+/// sample along its direction, weight x cos x f/albedo x L Omega.
+long long addDistantPoint(const TransportHeader& h, const SceneOccluder& occluder,
+                          const MapSource& disc, long long first, long long end,
+                          std::vector<Rgb>& acc) {
+  const LampGeometry& g = h.lamps;
+  const Vec3 direction = disc.direction.normalized();
+  const Eigen::Vector3f towards = direction.cast<float>();
+  std::vector<double> rowLight(static_cast<size_t>(end - first), 0.0);
+  ShadowRayBatch batch(occluder, g.rayEpsilon,
+                       [&](std::int64_t r, double light) { rowLight[r - first] += light; });
+  for (long long r = first; r < end; ++r)
+    for (long long s = g.sampleStart[r]; s < g.sampleStart[r + 1]; ++s) {
+      const Vec3 origin = vec3At(g.origin, s), n = vec3At(g.normal, s);
+      const double cosine = n.dot(direction);
+      if (!(cosine > 0 && vec3At(g.geometricNormal, s).dot(direction) > 0)) continue;
+      const Vec3 toViewer = (h.camera.eye - origin).normalized();
+      const double light =
+          g.weight[s] * cosine * brdfShape(g.materials[g.material[s]], n, toViewer, direction);
+      batch.add(origin.cast<float>(), towards, std::numeric_limits<float>::infinity(), r, light);
+    }
+  batch.flush();
+  const double half = std::sin(0.5 * disc.radius);
+  const Rgb power = disc.radiance * (4 * std::numbers::pi * half * half);  // L 2 pi (1 - cos a)
+  for (long long r = first; r < end; ++r) acc[r - first] += rowLight[r - first] * power;
+  return batch.rays();
+}
+
 }  // namespace
 
 std::string exactLampsUnavailable(const TransportHeader& h, bool model) {
@@ -120,7 +151,12 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, in
                      return CapLamp::sphere(light, sphere);
                    }},
         light.shape));
-  for (const MapSource& disc : discs) caps.push_back(CapLamp::distant(disc));
+  std::vector<const MapSource*> points;  // discs too small for a penumbra
+  for (const MapSource& disc : discs)
+    if (disc.radius < kPointDiscRadius)
+      points.push_back(&disc);
+    else
+      caps.push_back(CapLamp::distant(disc));
   // Caps probe first: a row's rays depend on its neighbours' probes.
   std::vector<std::vector<LampSight>> sight(caps.size());
   for (size_t i = 0; i < caps.size(); ++i)
@@ -135,6 +171,8 @@ std::vector<float> ExactLamps::relight(const std::vector<LocalLight>& lights, in
                   ? addSphereLamp(header_, *occluder_, *caps[i], sight[i], sphereRays,
                                   range.begin(), range.end(), acc)
                   : addPointLamp(header_, *occluder_, lights[i], range.begin(), range.end(), acc);
+    for (const MapSource* point : points)
+      rays += addDistantPoint(header_, *occluder_, *point, range.begin(), range.end(), acc);
     rays_ += rays;
     for (long long r = range.begin(); r < range.end(); ++r)
       for (int c = 0; c < 3; ++c)

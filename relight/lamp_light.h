@@ -33,6 +33,11 @@ inline constexpr EnumNames<LampMode, 2> kLampModeNames{
 inline constexpr int kDefaultSphereLampRays = 64;
 inline constexpr int kMaxSphereLampRays = 256;
 
+/// A distant disc narrower than this (radians: 0.0115 degrees across) casts
+/// no penumbra wider than 1e-4 of its occluder's distance, and is lit as a
+/// point at infinity of its power: one shadow ray a sample, no probes.
+inline constexpr double kPointDiscRadius = 1e-4;
+
 /// How lamps are lit: the mode, and a sphere lamp's rays in a penumbra.
 struct LampSettings {
   LampSettings(LampMode mode = LampMode::Exact, int sphereRays = kDefaultSphereLampRays)
@@ -66,7 +71,8 @@ class ExactLamps {
   /// rays reach. Parallel over rows; the same values for any thread count.
   /// `sphereRays`: a sphere lamp's rays per sample in a penumbra (a square).
   /// `discs`: distant discs (a map's sources), lit as sphere lamps at
-  /// infinity: L x f/albedo x cos over the part of the cap the rays reach.
+  /// infinity: L x f/albedo x cos over the part of the cap the rays reach;
+  /// below kPointDiscRadius, as points of their power (L x solid angle).
   std::vector<float> relight(const std::vector<LocalLight>& lights,
                              int sphereRays = kDefaultSphereLampRays,
                              const std::vector<MapSource>& discs = {}) const;

@@ -306,11 +306,16 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
   const LampGeometry& g = h.lamps;
   const long long firstSample = g.sampleStart[first];
   std::vector<CapLight> light(static_cast<size_t>(g.sampleStart[end] - firstSample));
-  bool firstLook = true;
+  // A distant disc's samples look at four strata first; a sphere lamp's,
+  // whose penumbrae span many pixels, trace all of theirs at once (a first
+  // look that stops where four agree would clip a wide penumbra's tails:
+  // 6% narrower at 16 rays).
+  const Strata firstLook = lamp.atInfinity ? Strata::Corners : Strata::All;
+  bool looking = true;
   ShadowRayBatch batch(occluder, g.rayEpsilon, [&](std::int64_t s, double value) {
     CapLight& l = light[s - firstSample];
     l.seen += value;
-    l.cornersReached += firstLook;
+    l.cornersReached += looking;
   });
   const CapsOf caps(lamp);
   // The samples of [first, end) that a ray can reach: fn(s, cap, light).
@@ -337,8 +342,8 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
     // The whole sum only where the light needs it now (not in closed form);
     // a penumbra's first look needs its four strata alone.
     if (!closedForm || traced)
-      l.strataSum = sumStrata(h, cap, s, rays, traced ? &batch : nullptr, Strata::Corners,
-                              !closedForm, &l.cornersQueued);
+      l.strataSum = sumStrata(h, cap, s, rays, traced ? &batch : nullptr, firstLook, !closedForm,
+                              &l.cornersQueued);
     l.unoccluded = g.weight[s] * (closedForm ? cap.sinAlpha * cap.sinAlpha * n.dot(cap.axis)
                                              : l.strataSum * cap.solidAngle() / rays);
   });
@@ -346,16 +351,17 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
   // The first look's four rays agreeing, the sample is taken as lit whole or
   // not at all (most of a 3-pixel band round a shadow edge is: 86% of the
   // plant's); else the rest of its strata are traced.
-  firstLook = false;
-  eachSample([&](long long r, long long s, const SphereCap& cap, CapLight& l) {
-    if (sight[r] != LampSight::Partly) return;
-    const bool whole = l.cornersQueued > 0 && l.cornersReached == l.cornersQueued;
-    const bool hidden = l.cornersQueued > 0 && l.cornersReached == 0;
-    if (whole || hidden)  // a share of 1 or 0, whatever the sum
-      l.strataSum = std::max(l.strataSum, 1.0), l.seen = whole ? l.strataSum : 0;
-    else
-      l.strataSum = sumStrata(h, cap, s, rays, &batch, Strata::Rest, true);
-  });
+  looking = false;
+  if (firstLook == Strata::Corners)
+    eachSample([&](long long r, long long s, const SphereCap& cap, CapLight& l) {
+      if (sight[r] != LampSight::Partly) return;
+      const bool whole = l.cornersQueued > 0 && l.cornersReached == l.cornersQueued;
+      const bool hidden = l.cornersQueued > 0 && l.cornersReached == 0;
+      if (whole || hidden)  // a share of 1 or 0, whatever the sum
+        l.strataSum = std::max(l.strataSum, 1.0), l.seen = whole ? l.strataSum : 0;
+      else
+        l.strataSum = sumStrata(h, cap, s, rays, &batch, Strata::Rest, true);
+    });
   batch.flush();
   for (long long r = first; r < end; ++r) {
     if (sight[r] == LampSight::Hidden) continue;

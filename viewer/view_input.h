@@ -54,12 +54,11 @@ LocalLight keyLightFor(const TransportHeader& geometry);
 /// point lamp's cost; the rest as they are.
 std::vector<LocalLight> previewLights(const std::vector<LocalLight>& lights);
 /// A map's sources as the viewer lights them while the map is dragged: each
-/// disc shrunk to a point (kHeldDiscRadius) of the same power, so its shadow
-/// is hard and costs about a ray a sample (kHeldDiscRays in what is left of
-/// a penumbra), as a held sphere lamp is lit as a point lamp.
+/// disc shrunk to a point (kHeldDiscRadius, below kPointDiscRadius) of the
+/// same power, so its shadow is hard and costs a ray a sample, as a held
+/// sphere lamp is lit as a point lamp.
 std::vector<MapSource> previewSources(const std::vector<MapSource>& sources);
 inline constexpr double kHeldDiscRadius = 1e-5;  ///< radians
-inline constexpr int kHeldDiscRays = 4;
 
 /// The lights a frame of `state` is lit by: previewLights while a lamp is
 /// held, else its lights.

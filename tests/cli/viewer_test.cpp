@@ -260,8 +260,7 @@ TEST_F(Viewer, AHeldSphereLampPreviewsAsItsPointAndIsWholeWhenLetGo) {
 
 // A map held by the mouse (pressed off any light, then turned): its sun lit
 // as a point of the same power (the batch image of that point, a disc of
-// kHeldDiscRadius, with kHeldDiscRays); once let go, exactly (the batch image
-// of the map).
+// kHeldDiscRadius); once let go, exactly (the batch image of the map).
 TEST_F(Viewer, AHeldMapLightsItsSunAsAPointAndExactlyWhenLetGo) {
   TempDir out;
   const std::string script = out.file("events.txt");
@@ -273,8 +272,7 @@ TEST_F(Viewer, AHeldMapLightsItsSunAsAPointAndExactlyWhenLetGo) {
   const double pointSize = 2 * kHeldDiscRadius / kDegree;
   const double pointRadiance = 1000 * (1 - std::cos(2 * kDegree)) / (1 - std::cos(kHeldDiscRadius));
   const std::string point =
-      concat("sun:50,30,", shortestNumberText(pointSize), ",", shortestNumberText(pointRadiance),
-             " --lamp-rays ", kHeldDiscRays);
+      concat("sun:50,30,", shortestNumberText(pointSize), ",", shortestNumberText(pointRadiance));
   for (const auto& [saved, env] :
        {std::pair{std::string("held"), point},
         std::pair{std::string("let-go"), std::string("sun:50,30,4,1000")}}) {

@@ -64,6 +64,17 @@ TEST(DistantDiscs, AnOpenFloorReceivesLPiSinSquaredAlphaCosBeta) {
       ASSERT_NEAR(rows[3 * r] / expected, 1, 1e-5) << beta << " " << alpha << " row " << r;
     EXPECT_EQ(lamps.shadowRays(), t.header().lamps.samples());
   }
+  // Below kPointDiscRadius a disc is a point at infinity of its power
+  // L 2 pi (1 - cos alpha): a L 2 (1 - cos alpha) cos(beta), one ray a sample
+  // and no probe.
+  const double alpha = 0.5 * kPointDiscRadius;
+  const MapSource tiny = disc(45, alpha / kDegree, 1e9);
+  const ExactLamps lamps(t.header());
+  const std::vector<float> rows = lamps.relight({}, kDefaultSphereLampRays, {tiny});
+  const double expected = kAlbedo * 1e9 * 2 * (1 - std::cos(alpha)) * std::cos(45 * kDegree);
+  for (long long r = 0; r < t.rows(); ++r)
+    ASSERT_NEAR(rows[3 * r] / expected, 1, 1e-5) << "row " << r;
+  EXPECT_EQ(lamps.shadowRays(), t.header().lamps.samples());
 }
 
 /// A floor under a thin slab whose edge runs along z at (kEdgeX, kEdgeY):
