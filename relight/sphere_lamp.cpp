@@ -318,7 +318,7 @@ long long addSphereLamp(const TransportHeader& h, const SceneOccluder& occluder,
     l.cornersReached += looking;
   });
   const CapsOf caps(lamp);
-  // The samples of [first, end) that a ray can reach: fn(s, cap, light).
+  // The samples of [first, end) that a ray can reach: fn(row, sample, cap, light).
   const auto eachSample = [&](auto&& fn) {
     for (long long r = first; r < end; ++r) {
       if (sight[r] == LampSight::Hidden) continue;
