@@ -2,7 +2,9 @@
 
 #include "lighting/environment.h"
 #include "lighting/local_light.h"
+#include "lighting/map_sources.h"
 #include "lighting/rotation.h"
+#include "relight/lamp_light.h"
 #include "tools/cli_common.h"
 
 namespace acpca::cli {
@@ -62,7 +64,19 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
   sub.add_flag("--keep-negative", o.keepNegative,
                "Write the raw reconstruction: frames and shading keep values below zero "
                "(default: clamped to 0; relight --json counts them per frame)");
+  sub.add_option("--lamp-rays", lampRays,
+                 concat("Sphere lamps and a map's sources, exact: shadow rays per camera sample "
+                        "where a penumbra may fall, a square from 4 to ",
+                        kMaxSphereLampRays, " (default ", kDefaultSphereLampRays,
+                        "; fewer: faster, noisier penumbrae)"));
+  sub.add_option("--sun", sun,
+                 "A map's sun and bright lamps: auto (default: found, split off and lit "
+                 "exactly as distant discs by shadow rays where the file holds its surfaces), "
+                 "K (at most K of them) or off (the whole map through the lattice, as before)")
+      ->capture_default_str();
   nameParameters(sub, {{"--env", {"environment"}},
+                       {"--lamp-rays", {"lamp rays"}},
+                       {"--sun", {"sources"}},
                        {"--rotate", {"rotation"}},
                        {"--format", {"image format"}},
                        {"--exr-compression", {"EXR compression"}},
@@ -79,6 +93,8 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
 }
 
 BatchPlan BatchFlags::apply(BatchRelightOptions& o, const std::string& jsonPath) const {
+  if (!lampRays.empty()) o.lamps.sphereRays = parseSphereLampRays(lampRays);
+  o.sources = parseSourceFinding(sun);
   o.rotations = parseRotationSpecs(rotations);
   o.envs = expandEnvironmentSpecs(envs);
   if (!exrCompression.empty()) o.exrCompression = kExrCompressionNames.parse(exrCompression);

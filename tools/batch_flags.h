@@ -1,7 +1,8 @@
 #pragma once
 // The flags `relight` and `bench batch` share: which frames (--env, --rotate),
-// where and how they are written (--out, --format, the codecs, the labels),
-// bound to BatchRelightOptions.
+// how a map's sources are lit (--sun, --lamp-rays), where and how they are
+// written (--out, --format, the codecs, the labels), bound to
+// BatchRelightOptions.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
@@ -13,6 +14,8 @@ namespace acpca::cli {
 struct BatchFlags {
   std::vector<std::string> envs, rotations;
   std::string exrCompression, aovs, labelFormat, sampleRotation, tone;
+  std::string lampRays;  ///< empty: the default
+  std::string sun = "auto";
   CLI::Option* envSample = nullptr;  ///< given at all: 0 is refused, not taken as none
   CLI::Option* shardSize = nullptr;  ///< given at all: 0 is refused, not taken as none
 

@@ -1,8 +1,6 @@
 // `adaptive-cpca bench batch`: a relight batch end to end, stage by stage,
 // against the streaming read and the relight alone (dataset/batch_benchmark.h).
 #include "dataset/batch_benchmark.h"
-#include "lighting/map_sources.h"
-#include "relight/lamp_light.h"
 #include "tools/batch_flags.h"
 #include "tools/cli_common.h"
 #include "tools/commands.h"
@@ -15,13 +13,9 @@ struct BatchBenchArgs {
   CommonOptions common;
   BatchFlags batch;
   BatchBenchmarkOptions options;
-  std::string lampRays;  ///< empty: the default
-  std::string sun = "auto";
 };
 
 void run(BatchBenchArgs& a) {
-  if (!a.lampRays.empty()) a.options.batch.lamps.sphereRays = parseSphereLampRays(a.lampRays);
-  a.options.batch.sources = parseSourceFinding(a.sun);
   a.options.plan = a.batch.apply(a.options.batch, a.common.jsonPath);
   // As `relight` would: black behind a captured light set.
   a.options.batch.background = backgroundFor("", a.options.batch.input);
@@ -41,15 +35,8 @@ void registerBenchBatch(CLI::App& bench) {
   sub->add_option("--stream-gib", args->options.streamGiB,
                   "Array size of the streaming-read loop (GiB)")
       ->capture_default_str();
-  sub->add_option("--lamp-rays", args->lampRays,
-                  "Sphere lamps and a map's sources, exact: rays per camera sample in a "
-                  "penumbra, as relight's");
-  sub->add_option("--sun", args->sun, "A map's sources: auto, K or off, as relight's")
-      ->capture_default_str();
   args->common.add(*sub);
-  nameParameters(*sub, {{"--stream-gib", {"stream size (GiB)"}},
-                        {"--lamp-rays", {"lamp rays"}},
-                        {"--sun", {"sources"}}});
+  nameParameters(*sub, {{"--stream-gib", {"stream size (GiB)"}}});
   sub->callback([args] { run(*args); });
 }
 

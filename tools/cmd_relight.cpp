@@ -19,9 +19,7 @@ struct RelightArgs {
   CommonOptions common;
   std::string background;  ///< empty: env, or black for a captured light set
   std::string lightMode;   ///< empty: exact
-  std::string lampRays;    ///< empty: the default
-  std::string sun = "auto";
-  std::string maxRank;  ///< empty: every basis
+  std::string maxRank;     ///< empty: every basis
   BatchFlags batch;
   BatchRelightOptions options;
   std::vector<std::string> views;  ///< the input files: one, or a file per view
@@ -34,8 +32,6 @@ void run(RelightArgs& a) {
   o.moreViews.assign(a.views.begin() + 1, a.views.end());
   o.background = backgroundFor(a.background, o.input);
   if (!a.lightMode.empty()) o.lamps.mode = kLampModeNames.parse(a.lightMode);
-  if (!a.lampRays.empty()) o.lamps.sphereRays = parseSphereLampRays(a.lampRays);
-  o.sources = parseSourceFinding(a.sun);
   o.maxRank = RankLimit::parse(a.maxRank);
   const BatchPlan plan = a.batch.apply(o, a.common.jsonPath);
 
@@ -83,16 +79,6 @@ void registerRelight(CLI::App& app) {
                   "Lamps: exact (default; shadow rays from each camera sample where the file "
                   "holds its surfaces: one to a point or spot lamp, over a sphere lamp's disc "
                   "where a penumbra may fall) or lattice (through T's texels, as before)");
-  sub->add_option("--lamp-rays", args->lampRays,
-                  concat("Sphere lamps, exact: shadow rays per camera sample where a penumbra may "
-                         "fall, a square from 4 to ",
-                         kMaxSphereLampRays, " (default ", kDefaultSphereLampRays,
-                         "; fewer: faster, noisier penumbrae)"));
-  sub->add_option("--sun", args->sun,
-                  "A map's sun and bright lamps: auto (default: found, split off and lit "
-                  "exactly as distant discs by shadow rays where the file holds its surfaces), "
-                  "K (at most K of them) or off (the whole map through the lattice, as before)")
-      ->capture_default_str();
   addFastRotationFlag(*sub, args->options.rotationMode);
   sub->add_flag("--exr-float", args->options.exrFloat, "Write 32-bit float EXR instead of half");
   sub->add_flag("--force", args->options.force,
@@ -100,9 +86,7 @@ void registerRelight(CLI::App& app) {
   args->common.add(*sub);
   nameParameters(*sub, {{"--frames", {"timing frames"}},
                         {"--max-rank", {"maximum rank"}},
-                        {"--light-mode", {"light mode"}},
-                        {"--lamp-rays", {"lamp rays"}},
-                        {"--sun", {"sources"}}});
+                        {"--light-mode", {"light mode"}}});
   sub->callback([args] { run(*args); });
 }
 

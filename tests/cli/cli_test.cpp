@@ -572,15 +572,22 @@ TEST_F(Cli, EveryCommandHasHelp) {
   }
 }
 
+// Blender's sunrise sky (blender-data): its low sun holds most of its light.
+const std::string kSunrise = "/usr/share/blender/datafiles/studiolights/world/sunrise.exr";
+
+/// `envmap` of the sunrise sky with `flags`: its --json report.
+nlohmann::json envmapReport(const test::TempDir& out, const std::string& flags) {
+  const RunResult r = runCli("envmap " + kSunrise + " --size 64x32 --quiet --out " +
+                             out.file("e.exr") + " --json " + out.file("e.json") + flags);
+  EXPECT_EQ(r.status, 0) << r.output;
+  return nlohmann::json::parse(std::ifstream(out.file("e.json")));
+}
+
 TEST(EnvmapSources, ARealSkysSunIsListedTurnedWithTheMapAndOffListsNone) {
-  // Blender's sunrise sky (blender-data): its low sun holds most of its light.
-  const std::string map = "/usr/share/blender/datafiles/studiolights/world/sunrise.exr";
+  const std::string& map = kSunrise;
   test::TempDir out;
   const auto sources = [&](const std::string& flags) {
-    const RunResult r = runCli("envmap " + map + " --size 64x32 --quiet --out " +
-                               out.file("e.exr") + " --json " + out.file("e.json") + flags);
-    EXPECT_EQ(r.status, 0) << r.output;
-    return nlohmann::json::parse(std::ifstream(out.file("e.json")))["sources"];
+    return envmapReport(out, flags)["sources"];
   };
   const auto found = sources("");
   ASSERT_EQ(found.size(), 1u) << found.dump();
@@ -601,15 +608,10 @@ TEST(EnvmapSources, ARealSkysSunIsListedTurnedWithTheMapAndOffListsNone) {
 TEST(EnvmapSources, WithoutSourcesTheMapLeftAndItsSourcesHoldTheWholeMapsEnergy) {
   // Sources plus the map left hold the map's energy (docs/lighting.md, "A
   // map's sources"); the sun's is its radiance x 2 pi (1 - cos(radius)).
-  const std::string map = "/usr/share/blender/datafiles/studiolights/world/sunrise.exr";
+  const std::string& map = kSunrise;
   test::TempDir out;
-  const auto envmap = [&](const std::string& flags) {
-    const RunResult r = runCli("envmap " + map + " --size 64x32 --quiet --out " +
-                               out.file("e.exr") + " --json " + out.file("e.json") + flags);
-    EXPECT_EQ(r.status, 0) << r.output;
-    return nlohmann::json::parse(std::ifstream(out.file("e.json")));
-  };
-  const nlohmann::json whole = envmap(""), rest = envmap(" --without-sources");
+  const nlohmann::json whole = envmapReport(out, ""),
+                       rest = envmapReport(out, " --without-sources");
   EXPECT_FALSE(whole["without_sources"].get<bool>());
   EXPECT_TRUE(rest["without_sources"].get<bool>());
   ASSERT_EQ(rest["sources"].size(), 1u);
