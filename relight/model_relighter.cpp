@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "relight/rank_limit.h"
 #include "relight/relight_kernels.h"
 
 namespace acpca {
@@ -48,18 +49,11 @@ ModelRelighter::ModelRelighter(std::shared_ptr<const PackedModel> packed)
 }
 
 void ModelRelighter::setMaxRank(int k) {
-  std::vector<int> active = m_.ranks;
-  if (k >= 0)
-    for (int& r : active) r = std::min(r, k);
-  activeRanks_ = std::move(active);
+  activeRanks_ = ranksUpTo(m_.ranks, k);
 }
 
 void ModelRelighter::setRankFraction(double fraction) {
-  if (!(fraction >= 0 && fraction <= 1))
-    throw UserError(concat("rank fraction ", fraction, " is not in [0, 1]"));
-  std::vector<int> active = m_.ranks;
-  for (int& r : active) r = std::min(r, static_cast<int>(std::ceil(fraction * r - 1e-9)));
-  activeRanks_ = std::move(active);
+  activeRanks_ = ranksOfFraction(m_.ranks, fraction);
 }
 
 long long ModelRelighter::bytesPerFrame(size_t groupFrames) const {

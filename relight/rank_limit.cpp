@@ -45,6 +45,27 @@ RankLimit RankLimit::ofNumber(double value) {
   return ofValue(value, false, shortestNumberText(value));
 }
 
+std::vector<int> RankLimit::activeRanks(const std::vector<int>& ranks) const {
+  if (kind_ == Kind::Rank) return ranksUpTo(ranks, rank_);
+  if (kind_ == Kind::Fraction) return ranksOfFraction(ranks, fraction_);
+  return ranks;
+}
+
+std::vector<int> ranksUpTo(const std::vector<int>& ranks, int k) {
+  std::vector<int> active = ranks;
+  if (k >= 0)
+    for (int& r : active) r = std::min(r, k);
+  return active;
+}
+
+std::vector<int> ranksOfFraction(const std::vector<int>& ranks, double fraction) {
+  if (!(fraction >= 0 && fraction <= 1))
+    throw UserError(concat("rank fraction ", fraction, " is not in [0, 1]"));
+  std::vector<int> active = ranks;
+  for (int& r : active) r = std::min(r, static_cast<int>(std::ceil(fraction * r - 1e-9)));
+  return active;
+}
+
 void RankLimit::applyTo(ModelRelighter& relighter) const {
   if (kind_ == Kind::Rank) relighter.setMaxRank(rank_);
   if (kind_ == Kind::Fraction) relighter.setRankFraction(fraction_);

@@ -2,6 +2,7 @@
 // A limit on each cluster's rank, parsed once where a user gives it (the
 // CLI's --max-rank, Python's max_rank) and passed on as a value.
 #include <string>
+#include <vector>
 
 namespace acpca {
 
@@ -23,6 +24,8 @@ class RankLimit {
   const std::string& text() const { return text_; }
   /// Sets the relighter's limit; no limit leaves it as it is.
   void applyTo(ModelRelighter& relighter) const;
+  /// The ranks the limit leaves of each cluster's `ranks`.
+  std::vector<int> activeRanks(const std::vector<int>& ranks) const;
 
  private:
   enum class Kind { None, Rank, Fraction };
@@ -32,5 +35,10 @@ class RankLimit {
   double fraction_ = 1;
   std::string text_;
 };
+
+/// Each rank cut to at most k (k < 0: unchanged).
+std::vector<int> ranksUpTo(const std::vector<int>& ranks, int k);
+/// Each rank r cut to ceil(fraction x r); throws UserError unless fraction is in [0, 1].
+std::vector<int> ranksOfFraction(const std::vector<int>& ranks, double fraction);
 
 }  // namespace acpca

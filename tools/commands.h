@@ -16,6 +16,7 @@ void registerBench(CLI::App& app);
 void registerView(CLI::App& app);
 void registerEval(CLI::App& app);
 void registerAnalyze(CLI::App& app);
+void registerWeb(CLI::App& app);
 // `bench` groups these (cmd_bench_*.cpp).
 void registerBenchMethods(CLI::App& bench);
 void registerBenchRelight(CLI::App& bench);

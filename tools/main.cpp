@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
   acpca::cli::registerBench(app);
   acpca::cli::registerEval(app);
   acpca::cli::registerAnalyze(app);
+  acpca::cli::registerWeb(app);
   acpca::cli::registerView(app);
   // Imperfect input that was accepted (e.g. a map's clamped negative texels).
   acpca::setWarningHandler(
