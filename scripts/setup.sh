@@ -22,7 +22,7 @@ packages=(
 # format check, Python's test tools, PyTorch (adaptive_cpca.torch; it reads
 # EXR maps through OpenImageIO's binding) and the wheel's build tools, an X
 # server for the viewer, clang for the fuzzers, and the real assets the tests
-# check against.
+# check against, and Debian's Chromium for the web page's tests (headless).
 if [ "${1:-}" != build ]; then
   packages+=(
     clang-format
@@ -32,6 +32,7 @@ if [ "${1:-}" != build ]; then
     xvfb xauth
     clang libclang-rt-14-dev
     blender-data assimp-testmodels
+    chromium
   )
 fi
 

@@ -69,22 +69,20 @@ function shadeSource(coefficientType) {
   return `${kHeader}
 uniform ${sampler} coefficients;
 uniform usampler2D pixelInfo;
-uniform sampler2D albedoCoverage, towards, thresholds, mapPixels;
+uniform sampler2D albedoCoverage, towards, thresholds, mapPixels, rays, rayAngles;
 uniform int basesCount, width, height, background, mapKind, floatOut, tone;
-uniform int mapWidth, mapHeight;
+uniform int mapWidth, mapHeight, yawOnly;
+uniform float uShift;
 uniform float exposureScale;
 uniform mat3 inverseRotation;
-uniform vec3 forward, right, trueUp, constantRadiance;
-uniform float tanHalf, aspect;
+uniform vec3 constantRadiance;
 // The sky (mapKind 2) and a sun disc (2 and 3).
 uniform vec3 sunCentre, sunRadiance, skyZenith, skyHorizon, skyGround, glowColour;
 uniform float sunCosHalf, glowStrength, glowSharpness, horizonPower;
 const float kPi = 3.14159265358979323846;
 
 vec3 mapTexel(int x, int y) { return texelFetch(mapPixels, at(y * mapWidth + x), 0).rgb; }
-vec3 latLong(vec3 d) {
-  float u = 0.5 + atan(d.x, -d.z) / (2.0 * kPi);
-  float v = acos(clamp(d.y, -1.0, 1.0)) / kPi;
+vec3 latLong(float u, float v) {
   float x = u * float(mapWidth) - 0.5;
   float y = clamp(v * float(mapHeight) - 0.5, 0.0, float(mapHeight - 1));
   float x0 = floor(x), y0 = floor(y);
@@ -94,9 +92,17 @@ vec3 latLong(vec3 d) {
   return (1.0 - fx) * (1.0 - fy) * mapTexel(px0, py0) + fx * (1.0 - fy) * mapTexel(px1, py0) +
          (1.0 - fx) * fy * mapTexel(px0, py1) + fx * fy * mapTexel(px1, py1);
 }
-vec3 environment(vec3 ray) {
-  vec3 d = normalize(inverseRotation * ray);
-  if (mapKind == 1) return latLong(d);
+// A pixel's ray: its lat-long (u, v) worked out once in doubles (a map turned
+// by a yaw alone slides along u, as relight/image_composer.cpp finds it), or
+// its direction turned and looked up here.
+vec3 environment(ivec2 pixel) {
+  if (mapKind == 1 && yawOnly == 1) {
+    vec2 uv = texelFetch(rayAngles, pixel, 0).xy;
+    return latLong(uv.x + uShift, uv.y);
+  }
+  vec3 d = normalize(inverseRotation * texelFetch(rays, pixel, 0).xyz);
+  if (mapKind == 1)
+    return latLong(0.5 + atan(d.x, -d.z) / (2.0 * kPi), acos(clamp(d.y, -1.0, 1.0)) / kPi);
   if (mapKind == 4) return constantRadiance;
   if (dot(d, sunCentre) >= sunCosHalf) return sunRadiance;
   if (mapKind == 3) return vec3(0.0);
@@ -126,12 +132,7 @@ void main() {
   vec4 ac = texelFetch(albedoCoverage, pixel, 0);
   float coverage = info.w > 0u ? ac.a : 0.0;
   vec3 colour = vec3(0.0);
-  if (background == 0 && coverage < 1.0) {
-    float px = float(x) + 0.5, py = float(y) + 0.5;
-    float sx = (2.0 * px / float(width) - 1.0) * tanHalf * aspect;
-    float sy = (1.0 - 2.0 * py / float(height)) * tanHalf;
-    colour = (1.0 - coverage) * environment(normalize(forward + sx * right + sy * trueUp));
-  }
+  if (background == 0 && coverage < 1.0) colour = (1.0 - coverage) * environment(pixel);
   if (info.w > 0u) {
     int first = int(info.x), basis = int(info.y), rank = int(info.z);
     vec3 sum = texelFetch(towards, at(basesCount + int(info.w) - 1), 0).rgb;
@@ -281,11 +282,30 @@ export class GpuRelighter {
       basis += ranks[c];
     }
     this.t.pixelInfo = this.texture("u32", info, pixels, 4);
+    this.uploadRays();
     this.t.albedoCoverage = this.texture("f32", albedoCoverage, pixels, 4);
     this.projected = this.target(m.global_bases);
     this.towards = this.target(this.basesCount + this.clusters);
     this.image = this.target(pixels);
     this.imageTarget = this.floatImageTarget();
+  }
+
+  /** Each pixel's camera ray through its centre, and its lat-long (u, v), in
+   * doubles as transport/camera.cpp and lighting/ find them. */
+  uploadRays() {
+    const w = this.width, h = this.height, c = this.camera();
+    const rays = new Float32Array(4 * w * h), angles = new Float32Array(4 * w * h);
+    for (let y = 0; y < h; ++y)
+      for (let x = 0; x < w; ++x) {
+        const sx = (2 * (x + 0.5) / w - 1) * c.tanHalf * (w / h), sy = (1 - 2 * (y + 0.5) / h) * c.tanHalf;
+        const d = [0, 1, 2].map((i) => c.forward[i] + sx * c.right[i] + sy * c.up[i]);
+        const n = Math.hypot(d[0], d[1], d[2]), at = 4 * (y * w + x);
+        rays.set([d[0] / n, d[1] / n, d[2] / n, 0], at);
+        angles[at] = 0.5 + Math.atan2(d[0] / n, -d[2] / n) / (2 * Math.PI);
+        angles[at + 1] = Math.acos(Math.max(-1, Math.min(1, d[1] / n))) / Math.PI;
+      }
+    this.t.rays = this.texture("f32", rays, w * h, 4);
+    this.t.rayAngles = this.texture("f32", angles, w * h, 4);
   }
 
   /** An RGBA32F target the image's size, for float read-back. */
@@ -360,8 +380,9 @@ export class GpuRelighter {
       this.lightingChanged = false;
     }
     const backgrounds = { env: 0, black: 1, alpha: 2 };
-    const cam = this.camera();
     const map = this.map;
+    const R = view.R;
+    const yawOnly = R[4] === 1 && R[1] === 0 && R[3] === 0 && R[5] === 0 && R[7] === 0;
     const sun = map.sun || map;
     const k = m.lighting;
     const uniforms = {
@@ -370,9 +391,8 @@ export class GpuRelighter {
       tone: ["i", view.tone === "aces" ? 1 : 0], exposureScale: ["f", Math.pow(2, view.exposure)],
       mapKind: ["i", map.rgb ? 1 : map.sun ? 2 : map.centre ? 3 : 4],
       mapWidth: ["i", map.width || 1], mapHeight: ["i", map.height || 1],
-      inverseRotation: ["m3", new Float32Array(view.R)],
-      forward: ["v3", cam.forward], right: ["v3", cam.right], trueUp: ["v3", cam.up],
-      tanHalf: ["f", cam.tanHalf], aspect: ["f", this.width / this.height],
+      inverseRotation: ["m3", new Float32Array(R)], yawOnly: ["i", yawOnly ? 1 : 0],
+      uShift: ["f", Math.atan2(R[2], R[0]) / (2 * Math.PI)],
       constantRadiance: ["v3", map.radiance && !map.centre ? map.radiance : [0, 0, 0]],
       sunCentre: ["v3", sun.centre || [0, 1, 0]], sunRadiance: ["v3", sun.radiance || [0, 0, 0]],
       sunCosHalf: ["f", sun.cosHalf === undefined ? 2 : sun.cosHalf],
@@ -384,7 +404,7 @@ export class GpuRelighter {
     this.pass(p.shade, target, uniforms, {
       coefficients: this.t.coefficients, pixelInfo: this.t.pixelInfo,
       albedoCoverage: this.t.albedoCoverage, towards: this.towards,
-      thresholds: this.t.thresholds, mapPixels: this.t.map,
+      thresholds: this.t.thresholds, mapPixels: this.t.map, rays: this.t.rays, rayAngles: this.t.rayAngles,
     });
   }
 
