@@ -203,7 +203,8 @@ def interaction(work, cli):
         check(not outside, f"no request outside the site ({outside[:3]})")
         failed = [r for r in page.server.requests if r[1] != 200]
         check(not failed, f"every request the site answered ({failed[:3]})")
-        page.browser.screenshot(f"{work}/web-page.png")
+        page.set_view(yaw=137, exposure=0, background="env")
+        page.browser.screenshot(f"{work}/web-page.png", {"x": 0, "y": 0, "width": 860, "height": 520})
     finally:
         page.close()
     # A view from the URL, controls hidden: the canvas alone at the top left.
