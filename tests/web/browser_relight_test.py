@@ -62,9 +62,9 @@ def prepare(work, cli):
 
 
 class Page:
-    def __init__(self, site, query=""):
+    def __init__(self, site, query="", flags=()):
         self.server = StaticServer(site)
-        self.browser = Chromium()
+        self.browser = Chromium(flags=flags)
         self.browser.navigate(f"{self.server.origin}/index.html{query}")
         self.browser.evaluate("window.acpcaPage.ready")
 
@@ -192,6 +192,10 @@ def interaction(work, cli):
         compare8(page.pixels8(), png, "exposure +1 against --exposure 1")
         cli_text = page.js("document.getElementById('cli').textContent")
         check("--rotate 90" in cli_text and "--exposure 1" in cli_text, f"the CLI's arguments shown: {cli_text}")
+        page.set_view(yaw=137, pitch=20, exposure=0, background="env")
+        png, _ = cli_frame(cli, work, model, "sky", "quad-sky-y137-p20", "--rotate", "137,20,0")
+        compare8(page.pixels8(), png, "yaw 137 and pitch 20 against --rotate 137,20,0")
+        page.set_view(pitch=0)
         for background in ("black", "alpha"):
             page.set_view(yaw=137, exposure=0, background=background)
             png, _ = cli_frame(cli, work, model, "sky", f"quad-sky-y137-{background}", "--rotate", "137",
@@ -227,6 +231,12 @@ def errors(work, cli):
     site = f"{work}/site-errors"
     shutil.rmtree(site, ignore_errors=True)
     shutil.copytree(f"{work}/site-quad", site)
+    page = Page(site, flags=("--disable-webgl2",))
+    try:
+        said = " ".join(m["text"] for m in page.messages())
+        check("no WebGL2" in said, f"a browser without WebGL2: {said}")
+    finally:
+        page.close()
     page = Page(site)
     try:
         page.drop(f"{work}/wide.hdr")
@@ -287,7 +297,7 @@ def timing(work, cli, name):
 
 
 def main():
-    command, work, cli = sys.argv[1], sys.argv[2], sys.argv[3]
+    command, work, cli = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
     if command == "prepare":
         prepare(work, cli)
     elif command == "pixels":

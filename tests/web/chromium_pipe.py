@@ -46,7 +46,7 @@ class Chromium:
     """One headless browser with one page, its console, exceptions and
     requests recorded."""
 
-    def __init__(self, width=1280, height=1024, timeout=120):
+    def __init__(self, width=1280, height=1024, timeout=120, flags=()):
         if not os.access(CHROMIUM, os.X_OK):
             raise RuntimeError(f"{CHROMIUM} is missing: scripts/setup.sh installs Debian's chromium")
         self.timeout = timeout
@@ -65,7 +65,7 @@ class Chromium:
              "--disable-background-networking", "--disable-component-update",
              "--disable-sync", "--metrics-recording-only", "--password-store=basic",
              f"--window-size={width},{height}", f"--user-data-dir={self.profile}",
-             "about:blank"],
+             *flags, "about:blank"],
             preexec_fn=fds, close_fds=False, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         os.close(to_browser_r)
         os.close(from_browser_w)
