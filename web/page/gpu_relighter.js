@@ -5,17 +5,21 @@
 //   3. each pixel albedo x (u_p . W_c^T g + mean_c . g), composed over the
 //      background with its coverage, clamped at zero, exposed, tone mapped
 //      and encoded to 8-bit sRGB by the thresholds of imageio's encoder.
-// Arrays are 2D textures of kWidth texels a row, indexed in order.
+// Arrays are 2D array textures of kWidth x kWidth texels a layer, indexed in
+// order (a 1024x1024 model's bases are 276 M values); the passes' outputs are
+// 2D textures of kWidth texels a row.
 const kWidth = 4096;
 
 const kHeader = `#version 300 es
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-precision highp isampler2D;
-precision highp usampler2D;
+precision highp sampler2DArray;
+precision highp isampler2DArray;
+precision highp usampler2DArray;
 const int kWidth = ${kWidth};
 ivec2 at(int i) { return ivec2(i % kWidth, i / kWidth); }
+ivec3 in3(int i) { return ivec3(i % kWidth, (i / kWidth) % kWidth, i / (kWidth * kWidth)); }
 int indexOf(vec2 fragment) { return int(fragment.y) * kWidth + int(fragment.x); }
 out vec4 result;
 `;
@@ -28,7 +32,7 @@ void main() {
 
 // g[n] = sum over seen texels s (and channel blocks) of V[n][c S + s] L[s].
 const kProject = `${kHeader}
-uniform sampler2D basis, light;
+uniform sampler2DArray basis, light;
 uniform int count, seen, channels;
 void main() {
   int n = indexOf(gl_FragCoord.xy);
@@ -36,9 +40,9 @@ void main() {
   int width = channels * seen, first = n * width;
   vec3 sum = vec3(0.0);
   for (int i = 0; i < width; ++i) {
-    float v = texelFetch(basis, at(first + i), 0).r;
+    float v = texelFetch(basis, in3(first + i), 0).r;
     int s = i % seen;
-    vec3 l = texelFetch(light, at(s), 0).rgb;
+    vec3 l = texelFetch(light, in3(s), 0).rgb;
     if (channels == 1) sum += v * l;
     else sum[i / seen] += v * l[i / seen];
   }
@@ -47,29 +51,31 @@ void main() {
 
 // Entries [0, bases): basis b's W^T g times its step; then one per cluster: mean_c . g.
 const kTowards = `${kHeader}
-uniform sampler2D bases, means, scale, projected;
+uniform sampler2DArray bases, means, scale;
+uniform sampler2D projected;
 uniform int bases_count, clusters, globalBases, hasMean;
 void main() {
   int b = indexOf(gl_FragCoord.xy);
   vec3 sum = vec3(0.0);
   if (b < bases_count) {
     for (int n = 0; n < globalBases; ++n)
-      sum += texelFetch(bases, at(b * globalBases + n), 0).r * texelFetch(projected, at(n), 0).rgb;
-    sum *= texelFetch(scale, at(b), 0).r;
+      sum += texelFetch(bases, in3(b * globalBases + n), 0).r * texelFetch(projected, at(n), 0).rgb;
+    sum *= texelFetch(scale, in3(b), 0).r;
   } else if (b < bases_count + clusters && hasMean == 1) {
     int c = b - bases_count;
     for (int n = 0; n < globalBases; ++n)
-      sum += texelFetch(means, at(c * globalBases + n), 0).r * texelFetch(projected, at(n), 0).rgb;
+      sum += texelFetch(means, in3(c * globalBases + n), 0).r * texelFetch(projected, at(n), 0).rgb;
   }
   result = vec4(sum, 0.0);
 }`;
 
 function shadeSource(coefficientType) {
-  const sampler = coefficientType === "i8" ? "isampler2D" : "sampler2D";
+  const sampler = coefficientType === "i8" ? "isampler2DArray" : "sampler2DArray";
   return `${kHeader}
 uniform ${sampler} coefficients;
-uniform usampler2D pixelInfo;
-uniform sampler2D albedoCoverage, towards, thresholds, mapPixels, rays, rayAngles;
+uniform usampler2DArray pixelInfo;
+uniform sampler2DArray albedoCoverage, thresholds, mapPixels, rays, rayAngles;
+uniform sampler2D towards;
 uniform int basesCount, width, height, background, mapKind, floatOut, tone;
 uniform int mapWidth, mapHeight, yawOnly;
 uniform float uShift;
@@ -81,7 +87,7 @@ uniform vec3 sunCentre, sunRadiance, skyZenith, skyHorizon, skyGround, glowColou
 uniform float sunCosHalf, glowStrength, glowSharpness, horizonPower;
 const float kPi = 3.14159265358979323846;
 
-vec3 mapTexel(int x, int y) { return texelFetch(mapPixels, at(y * mapWidth + x), 0).rgb; }
+vec3 mapTexel(int x, int y) { return texelFetch(mapPixels, in3(y * mapWidth + x), 0).rgb; }
 vec3 latLong(float u, float v) {
   float x = u * float(mapWidth) - 0.5;
   float y = clamp(v * float(mapHeight) - 0.5, 0.0, float(mapHeight - 1));
@@ -95,7 +101,7 @@ vec3 latLong(float u, float v) {
 // A pixel's ray: its lat-long (u, v) worked out once in doubles (a map turned
 // by a yaw alone slides along u, as relight/image_composer.cpp finds it), or
 // its direction turned and looked up here.
-vec3 environment(ivec2 pixel) {
+vec3 environment(ivec3 pixel) {
   if (mapKind == 1 && yawOnly == 1) {
     vec2 uv = texelFetch(rayAngles, pixel, 0).xy;
     return latLong(uv.x + uShift, uv.y);
@@ -116,7 +122,7 @@ int srgbCode(float scaled) {
   int lo = 0, hi = 255;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (texelFetch(thresholds, ivec2(mid, 0), 0).r <= scaled) lo = mid + 1; else hi = mid;
+    if (texelFetch(thresholds, ivec3(mid, 0, 0), 0).r <= scaled) lo = mid + 1; else hi = mid;
   }
   return lo;
 }
@@ -127,7 +133,7 @@ float encoded(float linear) {
 }
 void main() {
   int x = int(gl_FragCoord.x), y = height - 1 - int(gl_FragCoord.y);
-  ivec2 pixel = at(y * width + x);
+  ivec3 pixel = in3(y * width + x);
   uvec4 info = texelFetch(pixelInfo, pixel, 0);
   vec4 ac = texelFetch(albedoCoverage, pixel, 0);
   float coverage = info.w > 0u ? ac.a : 0.0;
@@ -137,7 +143,7 @@ void main() {
     int first = int(info.x), basis = int(info.y), rank = int(info.z);
     vec3 sum = texelFetch(towards, at(basesCount + int(info.w) - 1), 0).rgb;
     for (int k = 0; k < rank; ++k)
-      sum += float(texelFetch(coefficients, at(first + k), 0).r) *
+      sum += float(texelFetch(coefficients, in3(first + k), 0).r) *
              texelFetch(towards, at(basis + k), 0).rgb;
     colour += coverage * (ac.rgb * sum);
   }
@@ -187,6 +193,7 @@ export class GpuRelighter {
     const limit = gl.getParameter(gl.MAX_TEXTURE_SIZE);
     if (limit < kWidth) throw new Error(`this GPU's textures are at most ${limit} texels wide`);
     this.maxRows = limit;
+    this.maxLayers = gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS);
     this.programs = {
       project: this.program(kProject),
       towards: this.program(kTowards),
@@ -212,7 +219,9 @@ export class GpuRelighter {
     return p;
   }
 
-  /** A texture of `count` texels of `components` values, kWidth a row. */
+  /** A 2D array texture of `count` texels of `components` values (kWidth
+   * a row, kWidth rows a layer), uploaded a layer at a time from views of
+   * `values` (no copy but the last row's padding). */
   texture(kind, values, count, components) {
     const gl = this.gl;
     const formats = {
@@ -221,32 +230,48 @@ export class GpuRelighter {
     };
     const types = { f32: gl.FLOAT, f16: gl.HALF_FLOAT, i8: gl.BYTE, u32: gl.UNSIGNED_INT };
     const [internal, format] = formats[kind][components - 1];
-    const w = Math.max(1, Math.min(count, kWidth)), h = Math.max(1, Math.ceil(count / kWidth));
-    if (h > this.maxRows) throw new Error(`the model's ${count} values do not fit a texture of this GPU`);
-    let data = values;
-    if (!data || data.length < w * h * components) {
-      data = new values.constructor(w * h * components);
-      if (values) data.set(values);
+    count = Math.max(1, count);
+    const rows = Math.ceil(count / kWidth), w = Math.min(count, kWidth);
+    const h = Math.min(rows, kWidth), layers = Math.ceil(rows / kWidth);
+    if (layers > this.maxLayers) throw new Error(`the model's ${count} values do not fit this GPU's textures`);
+    const t = gl.createTexture();
+    const target = gl.TEXTURE_2D_ARRAY;
+    gl.bindTexture(target, t);
+    for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(target, p, gl.NEAREST);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texStorage3D(target, 1, internal, w, h, layers);
+    const full = Math.floor(Math.min(count, values.length / components) / w);  // whole rows held
+    for (let row = 0; row < rows; row += h) {
+      const n = Math.min(h, full - row);
+      if (n > 0)
+        gl.texSubImage3D(target, 0, 0, 0, row / h, w, n, 1, format, types[kind],
+          values.subarray(row * w * components, (row + n) * w * components));
     }
+    if (full < rows) {
+      // The last row, padded.
+      const last = new values.constructor(w * components);
+      last.set(values.subarray(full * w * components, Math.min(values.length, count * components)));
+      gl.texSubImage3D(target, 0, 0, full % h, Math.floor(full / h), w, 1, 1, format, types[kind], last);
+    }
+    return { texture: t };
+  }
+
+  /** A float render target of `count` RGBA texels, kWidth a row. */
+  target(count) {
+    const gl = this.gl;
+    const w = Math.max(1, Math.min(count, kWidth)), h = Math.max(1, Math.ceil(count / kWidth));
+    if (h > this.maxRows) throw new Error(`${count} values do not fit a texture of this GPU`);
     const t = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_2D, t);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.texImage2D(gl.TEXTURE_2D, 0, internal, w, h, 0, format, types[kind], data);
-    return { texture: t, width: w, height: h };
-  }
-
-  /** A float target of `count` RGBA texels. */
-  target(count) {
-    const gl = this.gl;
-    const t = this.texture("f32", new Float32Array(4), count, 4);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, w, h);
     const fb = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t.texture, 0);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0);
     if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE)
       throw new Error("this browser cannot render to a float texture");
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    return { ...t, framebuffer: fb };
+    return { texture: t, width: w, height: h, framebuffer: fb, is2D: true };
   }
 
   upload() {
@@ -345,7 +370,7 @@ export class GpuRelighter {
     const gl = this.gl;
     Object.entries(named).forEach(([name, t], unit) => {
       gl.activeTexture(gl.TEXTURE0 + unit);
-      gl.bindTexture(gl.TEXTURE_2D, t.texture);
+      gl.bindTexture(t.is2D ? gl.TEXTURE_2D : gl.TEXTURE_2D_ARRAY, t.texture);
       gl.uniform1i(gl.getUniformLocation(program, name), unit);
     });
   }
