@@ -114,6 +114,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   const DomainLighting domain(source.header);
   LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
   const bool exactSources = view.exactSources = sourcesLitExactly(run, source, view.input);
+  view.method = source.method;
   const long long raysBefore = source.lampShadowRays();
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<BatchFrame>& frames = run.viewFrames;

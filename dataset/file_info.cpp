@@ -1,11 +1,13 @@
 #include "dataset/file_info.h"
 
+#include <cstring>
 #include <filesystem>
 #include <numbers>
 #include <sstream>
 
 #include "core/text.h"
 #include "dataset/pixel_labels.h"
+#include "imageio/frame_metadata.h"
 #include "model/model_file.h"
 
 namespace acpca {
@@ -148,7 +150,62 @@ nlohmann::json describeTransport(const TransportSummary& t) {
           {"labels", labelsJson(h, t.pixels)}};
 }
 
+namespace {
+
+bool isFrameFile(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".exr" || extension == ".png";
+}
+
+std::string numberList(const nlohmann::json& values, size_t first, size_t count) {
+  std::string text;
+  for (size_t k = first; k < first + count && k < values.size(); ++k)
+    text += concat(k > first ? " " : "", values[k].get<float>() + 0.0f);  // 6 digits, no -0
+  return text;
+}
+
+}  // namespace
+
+FileDescription describeFrame(const std::string& path) {
+  const nlohmann::json m = readFrameMetadata(path);
+  std::ostringstream out;
+  if (!m.contains("env") && !m.contains("source")) {
+    out << path << ": an image with no frame header (written before frames carried one, "
+        << "or by another tool)\n";
+    return {m, out.str()};
+  }
+  const auto text = [&](const char* key) {
+    if (!m.contains(key) || m[key].is_null()) return std::string("none");
+    return m[key].is_number() ? shortestNumberText(m[key].get<double>()) : m[key].dump();
+  };
+  const std::string env = m.value("env", "");
+  out << path << ": frame " << text("frame") << " of " << m.value("source", "?") << " ("
+      << m.value("method", "?") << "), adaptive-cpca " << m.value("version", "?") << "\n"
+      << "  lighting     " << (env.empty() ? "no map" : env) << " at yaw " << text("yaw")
+      << ", pitch " << text("pitch") << ", roll " << text("roll") << ", exposure "
+      << text("exposure") << " EV\n";
+  if (m.contains("lights") && !m["lights"].empty())
+    out << "  lamps        " << m["lights"].dump() << "\n";
+  if (m.contains("sources") && !m["sources"].empty())
+    out << "  sources      " << m["sources"].size() << " split off and lit exactly\n";
+  if (m.contains("env_sha256") && m["env_sha256"].is_string())
+    out << "  map sha256   " << m["env_sha256"].get<std::string>() << "\n";
+  out << "  colour       " << m.value("colorInteropID", "?")
+      << (m.contains("cICP") ? ", PNG: sRGB-encoded, BT.709 primaries" : "")
+      << (m.contains("chromaticities") ? ", Rec.709 primaries, D65 white" : "") << "\n";
+  for (const char* matrix : {"worldToCamera", "worldToNDC"})
+    if (m.contains(matrix))
+      for (int r = 0; r < 4; ++r) {
+        const std::string label = r ? "" : matrix;
+        out << "  " << label << std::string(15 - label.size(), ' ')
+            << numberList(m[matrix], 4 * r, 4) << "\n";
+      }
+  return {m, out.str()};
+}
+
 FileDescription describeFile(const std::string& path) {
+  if (isFrameFile(path)) return describeFrame(path);
   if (isModelFile(path)) {
     const ModelSummary model = readModelSummary(path);
     return {describeModel(model), describeInWords(model, path)};

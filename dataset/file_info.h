@@ -27,7 +27,11 @@ struct FileDescription {
   nlohmann::json json;
   std::string words;  ///< a few lines: what `info` prints
 };
-/// Whichever the file is, model or transport (UserError when neither).
+/// A frame's header (imageio/frame_metadata.h): its lighting, source, colour
+/// space and camera, as `info FRAME` prints them.
+FileDescription describeFrame(const std::string& path);
+/// Whichever the file is: a frame (.exr or .png), a model or a transport
+/// (UserError when none).
 FileDescription describeFile(const std::string& path);
 
 }  // namespace acpca

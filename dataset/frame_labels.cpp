@@ -27,7 +27,8 @@ std::vector<std::string> FrameLabels::writeView(const std::string& stem) const {
 
 std::vector<std::string> FrameLabels::encodeShading(
     const Image& frame, const Environment& env, const Eigen::Matrix3d& rotation, double exposureEv,
-    const std::string& stem, std::vector<std::unique_ptr<AtomicOutput>>& files) const {
+    const std::string& stem, std::vector<std::unique_ptr<AtomicOutput>>& files,
+    const FrameMetadata* metadata) const {
   // The frame less its background part, divided by coverage x albedo.
   std::vector<float> background(frame.pixels.size());
   composer_.background(background_, env, rotation, background.data(), true);
@@ -37,8 +38,10 @@ std::vector<std::string> FrameLabels::encodeShading(
                shading.pixels.data(), keepNegative_);
   if (format_ != LabelFormat::Npy) {
     files.push_back(std::make_unique<AtomicOutput>(stem + ".exr"));
+    ImageEncoding encoding = encoding_;
+    encoding.metadata = metadata;  // the frame's: its lighting and camera
     encodeImage(shading, files.back()->tempPath(), stem + ".exr", ImageFormat::Exr, exposureEv,
-                encoding_);
+                encoding);
   }
   if (format_ != LabelFormat::Exr) {
     // Scaled as the EXR is, so shading x albedo equals the frame's file.

@@ -32,7 +32,8 @@ class FrameLabels {
   std::vector<std::string> encodeShading(const Image& frame, const Environment& env,
                                          const Eigen::Matrix3d& rotation, double exposureEv,
                                          const std::string& stem,
-                                         std::vector<std::unique_ptr<AtomicOutput>>& files) const;
+                                         std::vector<std::unique_ptr<AtomicOutput>>& files,
+                                         const FrameMetadata* metadata = nullptr) const;
 
  private:
   const TransportHeader& header_;

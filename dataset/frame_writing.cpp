@@ -35,6 +35,7 @@
 #include "dataset/frame_files.h"
 #include "dataset/frame_labels.h"
 #include "dataset/map_source_listing.h"
+#include "imageio/frame_metadata.h"
 #include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/envmap_export.h"
@@ -105,6 +106,46 @@ void FrameWriting::submit(size_t i, Image&& image, double ms) {
   waiting_ += waiting.seconds();
 }
 
+void FrameWriting::hashInputs(const TransportHeader& header) {
+  if (!header.isLightSet()) camera_ = header.camera;
+  if (!view_.input.empty()) sourceSha256_ = sha256OfFile(view_.input);
+  if (manifests_) return;
+  for (const BatchFrame& f : frames_)
+    if (f.input->env && !f.input->spec.empty() && !isAnalyticEnvironment(f.input->spec) &&
+        !ownHashes_.count(f.input))
+      ownHashes_[f.input] = sha256OfFile(f.input->spec);
+}
+
+nlohmann::json FrameWriting::lightingFields(size_t i, const nlohmann::json& sh9) const {
+  const BatchFrame& f = frames_[i];
+  nlohmann::json fields = {{"env", f.input->spec},
+                           {"env_sha256", hashOf(f.input)},
+                           {"yaw", f.rotation.yaw},
+                           {"pitch", f.rotation.pitch},
+                           {"roll", f.rotation.roll},
+                           {"exposure", f.exposure},
+                           {"lights", lightSpecs_[f.lights]},
+                           {"sh9", sh9},
+                           {"sources", sourcesJson(sourcesOf(f))}};
+  if (view_.count > 1) fields["view"] = view_.index;
+  if (f.sample >= 0) fields["sample"] = f.sample;
+  return fields;
+}
+
+std::shared_ptr<const FrameMetadata> FrameWriting::frameMetadata(size_t i,
+                                                                 const nlohmann::json& sh9) const {
+  auto m = std::make_shared<FrameMetadata>();
+  m->fields = lightingFields(i, sh9);
+  m->fields["frame"] = static_cast<long long>(view_.firstFrame + i);
+  if (frames_[i].sample >= 0) m->fields["seed"] = a_.sampling.seed;
+  m->fields["source"] = std::filesystem::path(view_.input).filename().string();
+  m->fields["source_sha256"] = sourceSha256_;
+  m->fields["method"] = view_.method;
+  m->fields["version"] = ACPCA_VERSION;
+  if (camera_) m->setCamera(camera_->worldToCamera(), camera_->worldToNdc());
+  return m;
+}
+
 OrderedWriter::Commit FrameWriting::encode(size_t i, const Image& image, double ms,
                                            const NegativeClamp& negatives) {
   const BatchFrame& f = frames_[i];
@@ -112,22 +153,28 @@ OrderedWriter::Commit FrameWriting::encode(size_t i, const Image& image, double 
   const bool write = !(shards_ && shards_->packed(static_cast<long long>(view_.firstFrame + i)));
   auto files = std::make_shared<std::vector<std::unique_ptr<AtomicOutput>>>();
   FrameFiles written;
-  if (sh_ || a_.lightingImages) {
-    const LatticeLighting lighting = lightingOf(i);
-    if (sh_) written.sh9 = sh9Json(sh_->project(lighting), sourcesOf(f));
-    if (a_.lightingImages) {
-      const std::string path = fileStem(i, "lighting") + ".exr";
-      // The radiance the lattice (or a light set's cells) holds, before
-      // exposure; 8R x 4R sees every texel.
-      const int r = domain_.mapLattice().resolution();
-      if (write) {
-        files->push_back(std::make_unique<AtomicOutput>(path));
-        encodeImage(latticeRadianceToLatLong(domain_.mapLighting(lighting), domain_.mapLattice(),
-                                             8 * r, 4 * r),
-                    files->back()->tempPath(), path, ImageFormat::Exr, 0, encoding_);
-      }
-      written.lighting.push_back(path);
+  const LatticeLighting lighting = lightingOf(i);
+  written.sh9 = sh9Json(sh_->project(lighting), sourcesOf(f));
+  const std::shared_ptr<const FrameMetadata> metadata = frameMetadata(i, written.sh9);
+  ImageEncoding encoding = encoding_;
+  encoding.metadata = metadata.get();
+  if (a_.lightingImages) {
+    const std::string path = fileStem(i, "lighting") + ".exr";
+    // The radiance the lattice (or a light set's cells) holds, before
+    // exposure; 8R x 4R sees every texel. Its header is the frame's, less
+    // the camera, which does not see it.
+    const int r = domain_.mapLattice().resolution();
+    if (write) {
+      files->push_back(std::make_unique<AtomicOutput>(path));
+      FrameMetadata unseen = *metadata;
+      unseen.worldToCamera.reset(), unseen.worldToNdc.reset();
+      ImageEncoding lightingEncoding = encoding;
+      lightingEncoding.metadata = &unseen;
+      encodeImage(latticeRadianceToLatLong(domain_.mapLighting(lighting), domain_.mapLattice(),
+                                           8 * r, 4 * r),
+                  files->back()->tempPath(), path, ImageFormat::Exr, 0, lightingEncoding);
     }
+    written.lighting.push_back(path);
   }
   for (ImageFormat format : formats_) {
     std::string path = a_.out;
@@ -137,7 +184,7 @@ OrderedWriter::Commit FrameWriting::encode(size_t i, const Image& image, double 
       path = (out.parent_path() / (out.stem().string() + imageExtension(format))).string();
     if (write) {
       files->push_back(std::make_unique<AtomicOutput>(path));
-      encodeImage(image, files->back()->tempPath(), path, format, f.exposure, encoding_);
+      encodeImage(image, files->back()->tempPath(), path, format, f.exposure, encoding);
     }
     written.frames.push_back(path);
   }
@@ -145,7 +192,7 @@ OrderedWriter::Commit FrameWriting::encode(size_t i, const Image& image, double 
     const std::string stem = fileStem(i, "shading");
     written.shading = write
                           ? labels_.encodeShading(image, *f.input->env, rotationMatrix(f.rotation),
-                                                  f.exposure, stem, *files)
+                                                  f.exposure, stem, *files, metadata.get())
                           : labels_.shadingPaths(stem);
   }
   return [this, i, ms, negatives, files, written = std::move(written)] {
@@ -182,20 +229,10 @@ void FrameWriting::addToManifests(size_t i, const FrameFiles& written, const std
                                lights,          joinedBySemicolons(inDataset(written.frames))};
   if (view_.count > 1) row.insert(row.begin(), static_cast<long long>(view_.index));
   manifests_->csv->append(std::move(row));
-  nlohmann::json line = {{"frame", frame},
-                         {"input", view_.input},
-                         {"env", f.input->spec},
-                         {"env_sha256", hashOf(f.input)},
-                         {"yaw", f.rotation.yaw},
-                         {"pitch", f.rotation.pitch},
-                         {"roll", f.rotation.roll},
-                         {"exposure", f.exposure},
-                         {"lights", lightSpecs_[f.lights]},
-                         {"sh9", written.sh9},
-                         {"sources", sourcesJson(sourcesOf(f))},
-                         {"outputs", inDataset(written.frames)}};
-  if (view_.count > 1) line["view"] = view_.index;
-  if (f.sample >= 0) line["sample"] = f.sample;
+  nlohmann::json line = lightingFields(i, written.sh9);
+  line["frame"] = frame;
+  line["input"] = view_.input;
+  line["outputs"] = inDataset(written.frames);
   if (labels_.any()) {
     line["labels"] = inDataset(labelPaths_);
     line["shading"] = inDataset(written.shading);

@@ -66,6 +66,7 @@ struct BatchView {
   size_t firstFrame = 0;
   int indexDigits = 5;        ///< of a frame's index in its file name (frameIndexDigits)
   bool exactSources = false;  ///< the maps' sources lit exactly, not through the lattice
+  std::string method{};       ///< the model's method, or "dense" (frames' headers)
   /// "vNN_" before frame names, "_vNN" after label names (several views only).
   std::string label() const { return concat("v", std::setw(2), std::setfill('0'), index); }
 };
@@ -121,7 +122,8 @@ class FrameWriting {
         writer_(writingThreads(), kFramesInFlight) {
     labelPaths_ =
         labels_.writeView(stemBeside(view_.count > 1 ? "labels_" + view_.label() : "labels"));
-    if (manifests_) sh_.emplace(domain);
+    sh_.emplace(domain);
+    hashInputs(header);
   }
 
   /// Frame i's lattice lighting, where this rank made it: kept for its
@@ -157,6 +159,17 @@ class FrameWriting {
   OrderedWriter::Commit encode(size_t i, const Image& image, double ms,
                                const NegativeClamp& negatives);
 
+  /// What frame i's files and its manifest line both say of its lighting:
+  /// env, env_sha256, yaw, pitch, roll, exposure, lights, sh9, sources, and
+  /// where there are several, sample and view.
+  nlohmann::json lightingFields(size_t i, const nlohmann::json& sh9) const;
+  /// Frame i's header (imageio/frame_metadata.h): its lighting fields, what
+  /// it was relit from, the tool, and the view's camera.
+  std::shared_ptr<const FrameMetadata> frameMetadata(size_t i, const nlohmann::json& sh9) const;
+  /// The SHA-256 of the view's model or transport and of each map file (a
+  /// batch's manifests hold the maps' already), and the view's camera.
+  void hashInputs(const TransportHeader& header);
+
   /// Frame i's row of manifest.csv and line of manifest.jsonl, appended once
   /// its files are in place; in a sharded batch its files and line go to
   /// its shard.
@@ -180,9 +193,13 @@ class FrameWriting {
   const ImageEncoding encoding_;
   /// A lighting file's SHA-256; null for a built-in lighting.
   nlohmann::json hashOf(const EnvInput* input) const {
-    const auto at = manifests_->hashes.find(input);
-    return at == manifests_->hashes.end() ? nlohmann::json(nullptr) : nlohmann::json(at->second);
+    const auto& hashes = manifests_ ? manifests_->hashes : ownHashes_;
+    const auto at = hashes.find(input);
+    return at == hashes.end() ? nlohmann::json(nullptr) : nlohmann::json(at->second);
   }
+  std::unordered_map<const EnvInput*, std::string> ownHashes_;  ///< one image's map
+  std::string sourceSha256_;                                    ///< the view's input file
+  std::optional<Camera> camera_;                                ///< none for a light set
 
   /// Frame i's lattice lighting: as noted, or (a frame another rank relit)
   /// made again here, on a writing thread; the same numbers either way.
@@ -208,7 +225,7 @@ class FrameWriting {
   const BatchView view_;
   BatchManifests* const manifests_;
   BatchShards* const shards_;      ///< a sharded batch's (null otherwise)
-  std::optional<ShProjector> sh_;  ///< the lighting labels (sh9), batches only
+  std::optional<ShProjector> sh_;  ///< the lighting's sh9, for headers and manifests
   const FrameLabels labels_;
   std::vector<std::string> labelPaths_;  ///< the view's labels
   std::mutex knownMutex_;

@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "imageio/frame_metadata.h"
 #include "imageio/image_file.h"
 #include "imageio/image_output.h"
 #include "imageio/npy_file.h"
@@ -134,6 +135,12 @@ void encodeLabelsExr(const std::vector<LabelLayer>& layers, const TransportHeade
   if (std::any_of(layers.begin(), layers.end(),
                   [](const LabelLayer& l) { return l.aov == Aov::Object; }))
     spec.textAttributes.emplace_back("objects", joinedObjectNames(h.objectNames));
+  // Values, not colour; the view's camera; the tool (docs/formats.md, "Frame metadata").
+  FrameMetadata metadata;
+  metadata.values = FrameMetadata::Values::Data;
+  if (!h.isLightSet()) metadata.setCamera(h.camera.worldToCamera(), h.camera.worldToNdc());
+  metadata.fields = {{"scene", h.scene}, {"version", ACPCA_VERSION}};
+  spec.metadata = &metadata;
   writeImageFile(file, spec, values.data(), path, "the labels");
 }
 

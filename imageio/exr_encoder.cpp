@@ -197,10 +197,56 @@ exr_result_t writeChunks(exr_context_t context, const ExrPixels& p, ExrCodec cod
   return EXR_ERR_SUCCESS;
 }
 
+/// Appends the numbers of `value` (a number, or lists of them at any depth)
+/// to `out`; false for anything else or an empty list.
+bool flattenNumbers(const nlohmann::json& value, std::vector<float>& out) {
+  if (value.is_number()) {
+    out.push_back(value.get<float>());
+    return true;
+  }
+  if (!value.is_array() || value.empty()) return false;
+  for (const nlohmann::json& v : value)
+    if (!flattenNumbers(v, out)) return false;
+  return true;
+}
+
+/// A frame's colour space, camera and fields (frame_metadata.h) as typed attributes.
+exr_result_t writeFrameMetadata(exr_context_t context, int part, const FrameMetadata& m) {
+  const auto& c = kRec709Chromaticities;
+  const exr_attr_chromaticities_t chromaticities{c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]};
+  exr_result_t r = exr_attr_set_chromaticities(context, part, "chromaticities", &chromaticities);
+  if (!r) r = exr_attr_set_string(context, part, "colorInteropID", m.colorInteropId());
+  for (const auto& [name, matrix] :
+       {std::pair{"worldToCamera", &m.worldToCamera}, std::pair{"worldToNDC", &m.worldToNdc}})
+    if (!r && *matrix) {
+      exr_attr_m44f_t value;
+      std::copy((*matrix)->begin(), (*matrix)->end(), value.m);
+      r = exr_attr_set_m44f(context, part, name, &value);
+    }
+  for (const auto& [key, value] : m.fields.items()) {
+    if (r) break;
+    const std::string name = kFrameFieldPrefix + key;
+    std::vector<float> floats;
+    if (value.is_null()) continue;  // absent, as a reader of the header finds it
+    if (value.is_string()) {
+      r = exr_attr_set_string(context, part, name.c_str(), value.get<std::string>().c_str());
+    } else if (value.is_number()) {
+      r = exr_attr_set_double(context, part, name.c_str(), value.get<double>());
+    } else if (value.is_array() && flattenNumbers(value, floats)) {
+      r = exr_attr_set_float_vector(context, part, name.c_str(),
+                                    static_cast<int32_t>(floats.size()), floats.data());
+    } else {
+      r = exr_attr_set_string(context, part, name.c_str(), value.dump().c_str());
+    }
+  }
+  return r;
+}
+
 /// The header of a one-part scanline file; channels in the file's order.
 exr_result_t writeHeader(exr_context_t context, const ExrPixels& p, ExrCodec codec,
                          const std::vector<int>& order,
-                         const std::vector<std::pair<std::string, std::string>>& attributes) {
+                         const std::vector<std::pair<std::string, std::string>>& attributes,
+                         const FrameMetadata* metadata) {
   int part = 0;
   exr_result_t r = exr_add_part(context, "", EXR_STORAGE_SCANLINE, &part);
   if (!r)
@@ -211,6 +257,7 @@ exr_result_t writeHeader(exr_context_t context, const ExrPixels& p, ExrCodec cod
                         1, 1);
   for (const auto& [name, value] : attributes)
     if (!r) r = exr_attr_set_string(context, part, name.c_str(), value.c_str());
+  if (!r && metadata) r = writeFrameMetadata(context, part, *metadata);
   return r ? r : exr_write_header(context);
 }
 
@@ -247,7 +294,7 @@ size_t exrRunLengthCode(const unsigned char* b, size_t size, unsigned char* out)
 
 bool writeExr(const std::string& file, const ExrPixels& p, ExrCodec codec,
               const std::vector<std::pair<std::string, std::string>>& attributes,
-              std::string& error) {
+              const FrameMetadata* metadata, std::string& error) {
   // EXR lists channels sorted by name; `order` holds their interleaved indices.
   std::vector<int> order(p.channelNames.size());
   std::iota(order.begin(), order.end(), 0);
@@ -278,7 +325,7 @@ bool writeExr(const std::string& file, const ExrPixels& p, ExrCodec codec,
   };
   exr_context_t context = nullptr;
   exr_result_t r = exr_start_write(&context, file.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
-  if (!r) r = writeHeader(context, p, codec, order, attributes);
+  if (!r) r = writeHeader(context, p, codec, order, attributes, metadata);
   if (!r) r = writeChunks(context, p, codec, order);
   // exr_finish writes the offsets.
   const exr_result_t finished = context ? exr_finish(&context) : r;

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "imageio/frame_metadata.h"
+
 namespace acpca {
 
 /// The codecs written here (PIZ is left to OpenImageIO).
@@ -24,11 +26,13 @@ struct ExrPixels {
 };
 
 /// Writes `file` (a temporary name the caller renames); `attributes` become
-/// string attributes of the header. False, with OpenEXR's reason in `error`,
-/// when it cannot (the file is then removed).
+/// string attributes of the header, and `metadata` (if any) the frame's
+/// chromaticities, colorInteropID, camera and fields (frame_metadata.h).
+/// False, with OpenEXR's reason in `error`, when it cannot (the file is
+/// then removed).
 bool writeExr(const std::string& file, const ExrPixels& pixels, ExrCodec codec,
               const std::vector<std::pair<std::string, std::string>>& attributes,
-              std::string& error);
+              const FrameMetadata* metadata, std::string& error);
 
 /// OpenEXR's run-length code of `bytes` (already reordered and predicted)
 /// into `out` (room for size * 3 / 2 + 2 bytes): the very bytes OpenEXR's

@@ -73,8 +73,10 @@ std::optional<bool> writePngDirectly(const std::string& file, const ImageWriteSp
     if (name != "png:compressionLevel") return std::nullopt;
     level = value;
   }
+  const std::vector<PngChunk> chunks =
+      s.metadata ? srgbFrameChunks(*s.metadata) : std::vector<PngChunk>();
   const std::vector<unsigned char> bytes = encodePng(
-      {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels}, level);
+      {s.width, s.height, s.channels, s.type == PixelType::UInt8 ? 8 : 16, pixels, &chunks}, level);
   return writeWholeFile(file, bytes.data(), bytes.size(), error);
 }
 
@@ -101,7 +103,7 @@ std::optional<bool> writeExrDirectly(const std::string& file, const ImageWriteSp
     else if (value != "zip")
       return std::nullopt;
   }
-  return writeExr(file, p, codec, attributes, error);
+  return writeExr(file, p, codec, attributes, s.metadata, error);
 }
 
 /// Writes `file` with the encoders of this library when they cover its

@@ -11,6 +11,8 @@
 
 namespace acpca {
 
+struct FrameMetadata;  // imageio/frame_metadata.h
+
 /// How pixel values are handed over in memory.
 enum class PixelType { UInt8, UInt16, Half, Float };
 
@@ -72,6 +74,9 @@ struct ImageWriteSpec {
   /// The codec's attributes ("compression", "png:compressionLevel", ...).
   std::vector<std::pair<std::string, std::string>> textAttributes;
   std::vector<std::pair<std::string, int>> integerAttributes;
+  /// A frame's colour space, camera and fields (null: none), written by this
+  /// library's PNG and EXR encoders.
+  const FrameMetadata* metadata = nullptr;
 };
 
 /// Writes `pixels` (width x height x channels values of spec.type) into

@@ -12,6 +12,8 @@
 
 namespace acpca {
 
+struct FrameMetadata;  // imageio/frame_metadata.h
+
 /// EXR (linear, half or float), PNG (sRGB, 8 or 16 bits, tone mapped) or
 /// NumPy .npy (linear float32, H x W x C).
 enum class ImageFormat { Exr, Png, Png16, Npy };
@@ -33,6 +35,9 @@ struct ImageEncoding {
   ExrCompression exrCompression = ExrCompression::Zips;
   int pngLevel = 6;
   ToneCurve tone = ToneCurve::Clamp;
+  /// What the file says of the frame (PNG and EXR; imageio/frame_metadata.h):
+  /// null, nothing.
+  const FrameMetadata* metadata = nullptr;
 };
 
 /// Writes `image` times 2^exposure (alpha, coverage, unscaled) into `file`, a

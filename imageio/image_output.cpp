@@ -35,9 +35,11 @@ const float* scaledPixels(const Image& image, float scale) {
 }  // namespace
 
 void encodePng8(int width, int height, int channels, const unsigned char* values,
-                const std::string& file, const std::string& path, int level) {
+                const std::string& file, const std::string& path, int level,
+                const FrameMetadata* metadata) {
   ImageWriteSpec spec{width, height, channels, PixelType::UInt8};
   spec.integerAttributes = {{"png:compressionLevel", std::clamp(level, 0, 9)}};
+  spec.metadata = metadata;
   writeImageFile(file, spec, values, path);
 }
 
@@ -45,8 +47,8 @@ void encodePng(const Image& image, const std::string& file, const std::string& p
                double exposureEv, const ImageEncoding& encoding) {
   std::vector<unsigned char>& bytes = frameScratch<unsigned char>(0);
   SrgbEncoder(exposureEv, encoding.tone).encodeInto(image, bytes);
-  encodePng8(image.width, image.height, image.channels, bytes.data(), file, path,
-             encoding.pngLevel);
+  encodePng8(image.width, image.height, image.channels, bytes.data(), file, path, encoding.pngLevel,
+             encoding.metadata);
 }
 
 /// 16-bit sRGB (Srgb16Encoder), alpha as coverage.
@@ -56,6 +58,7 @@ void encodePng16(const Image& image, const std::string& file, const std::string&
   Srgb16Encoder(exposureEv, encoding.tone).encodeInto(image, values);
   ImageWriteSpec spec{image.width, image.height, image.channels, PixelType::UInt16};
   spec.integerAttributes = {{"png:compressionLevel", std::clamp(encoding.pngLevel, 0, 9)}};
+  spec.metadata = encoding.metadata;
   writeImageFile(file, spec, values.data(), path);
 }
 
@@ -77,6 +80,7 @@ void encodeExr(const Image& image, const std::string& file, const std::string& p
   // the same inputs must give the same bytes (datasets are compared by hash).
   spec.textAttributes = {{"compression", kExrCompressionNames.name(encoding.exrCompression)},
                          {"DateTime", ""}};
+  spec.metadata = encoding.metadata;
   const float* pixels = scaledPixels(image, static_cast<float>(std::exp2(exposureEv)));
   if (encoding.exrFloat) return writeImageFile(file, spec, pixels, path);
   // Halves made by the CPU's instruction, the same IEEE rounding as

@@ -19,9 +19,11 @@ void encodeImage(const Image& image, const std::string& file, const std::string&
                  ImageFormat format, double exposureEv, const ImageEncoding& encoding);
 
 /// 8-bit values (rows top to bottom, channels interleaved) as PNG into
-/// `file` (a temporary name the caller renames; errors name `path`).
+/// `file` (a temporary name the caller renames; errors name `path`), with a
+/// frame's chunks when `metadata` is given.
 void encodePng8(int width, int height, int channels, const unsigned char* values,
-                const std::string& file, const std::string& path, int level);
+                const std::string& file, const std::string& path, int level,
+                const FrameMetadata* metadata = nullptr);
 /// Writes 8-bit values as PNG, atomically; throws UserError naming the path.
 void writePng8(int width, int height, int channels, const unsigned char* values,
                const std::string& path);

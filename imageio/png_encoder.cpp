@@ -23,7 +23,7 @@ void appendBigEndian(std::vector<unsigned char>& out, std::uint32_t v) {
 }
 
 /// A chunk: length, type, data, CRC-32 of type and data.
-void appendChunk(std::vector<unsigned char>& out, const char (&type)[5], const unsigned char* data,
+void appendChunk(std::vector<unsigned char>& out, const char* type, const unsigned char* data,
                  size_t size) {
   appendBigEndian(out, static_cast<std::uint32_t>(size));
   const size_t typeAt = out.size();
@@ -97,6 +97,9 @@ std::vector<unsigned char> encodePng(const PngPixels& p, int level) {
   std::vector<unsigned char> file(kSignature, kSignature + 8);
   file.reserve(idat.size() + 64);
   appendChunk(file, "IHDR", header.data(), header.size());
+  if (p.chunks)
+    for (const PngChunk& chunk : *p.chunks)
+      appendChunk(file, chunk.type.data(), chunk.data.data(), chunk.data.size());
   appendChunk(file, "IDAT", idat.data(), idat.size());
   appendChunk(file, "IEND", nullptr, 0);
   return file;

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "imageio/frame_metadata.h"
+
 namespace acpca {
 
 /// Pixels for a PNG: rows top to bottom, channels interleaved (1 grey, 2 grey
@@ -14,6 +16,8 @@ struct PngPixels {
   int width = 0, height = 0, channels = 0;
   int bitDepth = 8;  ///< 8: values are unsigned char; 16: std::uint16_t
   const void* values = nullptr;
+  /// Written after IHDR, before the image data (null: none).
+  const std::vector<PngChunk>* chunks = nullptr;
 };
 
 /// The whole file's bytes at deflate `level` (0-9, as zlib's): rows filtered

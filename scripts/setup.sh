@@ -22,7 +22,8 @@ packages=(
 # format check, Python's test tools, PyTorch (adaptive_cpca.torch; it reads
 # EXR maps through OpenImageIO's binding) and the wheel's build tools, an X
 # server for the viewer, clang for the fuzzers, and the real assets the tests
-# check against, and Debian's Chromium for the web page's tests (headless).
+# check against, Debian's Chromium for the web page's tests (headless) and
+# OpenEXR's exrheader for the frames' headers.
 if [ "${1:-}" != build ]; then
   packages+=(
     clang-format
@@ -32,7 +33,7 @@ if [ "${1:-}" != build ]; then
     xvfb xauth
     clang libclang-rt-14-dev
     blender-data assimp-testmodels
-    chromium
+    chromium openexr
   )
 fi
 

@@ -25,8 +25,11 @@ void run(const InfoArgs& a) {
 
 void registerInfo(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
-  auto* sub = app.add_subcommand("info", "Describe a transport or model file");
-  sub->add_option("file", args->file, "Transport or model file")->required();
+  auto* sub = app.add_subcommand(
+      "info",
+      "Describe a transport or model file, or a frame (its lighting, camera, colour space)");
+  sub->add_option("file", args->file, "Transport or model file, or a frame (.exr, .png)")
+      ->required();
   sub->add_option("--json", args->jsonPath, "Write the description as JSON to FILE (- for stdout)");
   sub->callback([args] { run(*args); });
 }

@@ -54,6 +54,30 @@ bool Camera::project(const Vec3& point, Eigen::Vector2d& pixel, double& depth) c
   return true;
 }
 
+Eigen::Matrix4d Camera::worldToCamera() const {
+  const Vec3 axes[3] = {right(), imageUp(), forward()};
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  for (int j = 0; j < 3; ++j) {
+    m.block<3, 1>(0, j) = axes[j];
+    m(3, j) = -eye.dot(axes[j]);
+  }
+  m(3, 3) = 1;
+  return m;
+}
+
+Eigen::Matrix4d Camera::worldToNdc() const {
+  // From camera space (x, y, z, 1): X = z / 2 + x / (s W), Y = z / 2 - y / (s H),
+  // Z = 1, W = z, with s the world units a pixel at unit depth (as project()).
+  const double s = pixelScale();
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  p(0, 0) = 1 / (s * size.width);
+  p(1, 1) = -1 / (s * size.height);
+  p(2, 0) = p(2, 1) = 0.5;
+  p(2, 3) = 1;
+  p(3, 2) = 1;
+  return worldToCamera() * p;
+}
+
 Vec3 Camera::imagePlaneOffset(double dx, double dy, double depth) const {
   const double s = pixelScale() * depth;
   return dx * s * right() - dy * s * imageUp();

@@ -47,6 +47,13 @@ struct Camera {
   /// The world offset that moves a point at `depth` in front of the eye by
   /// (dx, dy) pixels across the image, parallel to the image plane.
   Vec3 imagePlaneOffset(double dx, double dy, double depth) const;
+  /// OpenEXR's worldToCamera: camera space x right, y up, z forward (left-handed);
+  /// points are row vectors, p M.
+  Eigen::Matrix4d worldToCamera() const;
+  /// OpenEXR's worldToNDC: p M divided by its w is (0, 0) at the image's top
+  /// left corner and (1, 1) at its bottom right (pixel (x, y)'s centre at
+  /// ((x + 0.5) / width, (y + 0.5) / height)); z / w is 1 / depth.
+  Eigen::Matrix4d worldToNdc() const;
   /// Unit view direction, right and up of the image (up as the image shows it).
   Vec3 forward() const { return (target - eye).normalized(); }
   Vec3 right() const { return forward().cross(up).normalized(); }

@@ -9,13 +9,15 @@ imageio, whichever is installed. Row 0 is the top of the image, as the CLI
 reads maps.
 """
 
+import json
 import os
+import struct
 
 import numpy as np
 
 from ._compiled import compiled_part, in_dataloader_worker
 
-__all__ = ["read_image", "pure_read_image"]
+__all__ = ["read_image", "pure_read_image", "read_frame_metadata"]
 
 
 def read_image(path):
@@ -145,3 +147,79 @@ def _hdr_scanlines(raw, pos, width, height):
                     raise ValueError(f"scanline {y}: a bad run")
                 x += count
     return out
+
+
+def read_frame_metadata(path):
+    """What a frame file (OpenEXR or PNG) says of itself (docs/formats.md,
+    "Frame metadata"): a dict of its lighting and source fields (the
+    `acpca:` attributes without the prefix, or the PNG's `acpca` iTXt JSON),
+    with `colorInteropID`, `worldToCamera` and `worldToNDC` (16 floats, row
+    by row), and an EXR's `chromaticities` or a PNG's `cICP` and `sRGB`.
+    Pure Python: no library reads it. Empty for a file that says nothing."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] == b"\x76\x2f\x31\x01":
+        return _exr_metadata(data, path)
+    if data[:8] == b"\x89PNG\r\n\x1a\n":
+        return _png_metadata(data, path)
+    raise ValueError(f"{path}: neither OpenEXR nor PNG (only they carry a frame's header)")
+
+
+def _field_of_text(text):
+    if text[:1] in ("[", "{"):
+        try:
+            return json.loads(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _exr_metadata(data, path):
+    fields, at, prefix = {}, 8, "acpca:"
+    while True:
+        end = data.index(b"\0", at)
+        if end == at:  # the header's closing NUL
+            return fields
+        name = data[at:end].decode("utf-8", "replace")
+        type_end = data.index(b"\0", end + 1)
+        kind = data[end + 1:type_end].decode("ascii", "replace")
+        size = struct.unpack_from("<i", data, type_end + 1)[0]
+        value = data[type_end + 5:type_end + 5 + size]
+        at = type_end + 5 + size
+        field = name.startswith(prefix)
+        key = name[len(prefix):] if field else name
+        if kind == "chromaticities" and name == "chromaticities":
+            fields[key] = list(struct.unpack("<8f", value))
+        elif kind == "m44f" and name in ("worldToCamera", "worldToNDC"):
+            fields[key] = list(struct.unpack("<16f", value))
+        elif kind == "string" and (field or name == "colorInteropID"):
+            text = value.decode("utf-8", "replace")
+            fields[key] = _field_of_text(text) if field else text
+        elif field and kind == "double":
+            fields[key] = struct.unpack("<d", value)[0]
+        elif field and kind == "floatvector":
+            fields[key] = list(struct.unpack(f"<{size // 4}f", value))
+        if at >= len(data):
+            raise ValueError(f"{path}: the OpenEXR header is cut short")
+
+
+def _png_metadata(data, path):
+    fields, at = {}, 8
+    while at + 12 <= len(data):
+        length, kind = struct.unpack_from(">I4s", data, at)
+        body = data[at + 8:at + 8 + length]
+        if kind == b"cICP" and length == 4:
+            fields["cICP"] = list(body)
+        elif kind == b"sRGB" and length == 1:
+            fields["sRGB"] = body[0]
+        elif kind == b"iTXt" and body.startswith(b"acpca\0"):
+            keyword_end = body.index(b"\0")
+            if body[keyword_end + 1] != 0:
+                raise ValueError(f"{path}: its acpca text is compressed")
+            language_end = body.index(b"\0", keyword_end + 3)
+            translated_end = body.index(b"\0", language_end + 1)
+            fields.update(json.loads(body[translated_end + 1:].decode("utf-8")))
+        elif kind == b"IEND":
+            break
+        at += 12 + length
+    return fields

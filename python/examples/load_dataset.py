@@ -137,13 +137,27 @@ def batches(directory, batch_size, shuffle=False, seed=0):
         yield images, labels
 
 
+def frame_lighting(path):
+    """A frame's lighting, camera and source from its own file (docs/formats.md,
+    "Frame metadata"): what its manifest line says, for a frame copied out of
+    its dataset. EXR and PNG frames; .npy frames hold none."""
+    from adaptive_cpca.io import read_frame_metadata
+    return read_frame_metadata(path)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("directory", help="a batch's output directory (with manifest.jsonl)")
+    p.add_argument("--frame", help="print this frame file's own lighting and exit")
     p.add_argument("--batch", type=int, default=8)
     p.add_argument("--shuffle", action="store_true")
     p.add_argument("--seed", type=int, default=0)
     a = p.parse_args()
+    if a.frame:
+        fields = frame_lighting(a.frame)
+        print(json.dumps({k: fields.get(k) for k in ("env", "yaw", "pitch", "roll", "exposure",
+                                                    "lights", "source", "method")}))
+        return
     total = 0
     for images, labels in batches(a.directory, a.batch, a.shuffle, a.seed):
         total += len(images)

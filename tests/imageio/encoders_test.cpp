@@ -195,7 +195,7 @@ TEST(ExrEncoder, RunLengthChunksAreOpenExrsOwnBytes) {
     const auto halves = halvesOf(frameLike(width, height, 3, 17));
     std::string error;
     ASSERT_TRUE(writeExr(dir.file("ours.exr"), {width, height, names, false, halves.data()},
-                         ExrCodec::Rle, {}, error))
+                         ExrCodec::Rle, {}, nullptr, error))
         << error;
     writeByOpenExr(dir.file("theirs.exr"), width, height, names, halves.data(),
                    Imf::RLE_COMPRESSION);
@@ -220,7 +220,7 @@ TEST(ExrEncoder, RunLengthCodeMatchesOpenExrOnRunsAtEveryLength) {
   }
   std::string error;
   ASSERT_TRUE(writeExr(dir.file("ours.exr"), {width, 1, {"Y"}, false, halves.data()}, ExrCodec::Rle,
-                       {}, error));
+                       {}, nullptr, error));
   writeByOpenExr(dir.file("theirs.exr"), width, 1, {"Y"}, halves.data(), Imf::RLE_COMPRESSION);
   EXPECT_EQ(chunksOf(dir.file("ours.exr")), chunksOf(dir.file("theirs.exr")));
 }
@@ -241,7 +241,7 @@ TEST(ExrEncoder, EveryCodecDecodesToTheValuesWrittenHalfAndFloat) {
       ASSERT_TRUE(writeExr(path,
                            {width, height, names, isFloat,
                             isFloat ? static_cast<const void*>(values.data()) : halves.data()},
-                           codec, {{"objects", "duck;floor"}}, error))
+                           codec, {{"objects", "duck;floor"}}, nullptr, error))
           << error;
       int w = 0, h = 0;
       EXPECT_EQ(readByOpenExr(path, names, w, h), isFloat ? values : rounded)
@@ -263,8 +263,8 @@ TEST(ExrEncoder, ZipFilesAreSmallerThanRunLengthOnes) {
   for (ExrCodec codec : {ExrCodec::None, ExrCodec::Rle, ExrCodec::Zips, ExrCodec::Zip}) {
     std::string error;
     const std::string path = dir.file("s.exr");
-    ASSERT_TRUE(
-        writeExr(path, {width, height, {"R", "G", "B"}, false, halves.data()}, codec, {}, error));
+    ASSERT_TRUE(writeExr(path, {width, height, {"R", "G", "B"}, false, halves.data()}, codec, {},
+                         nullptr, error));
     size[static_cast<int>(codec)] = test::fs::file_size(path);
   }
   EXPECT_LT(size[1], size[0]);

@@ -31,6 +31,36 @@ TEST(Camera, ProjectInvertsRayDirection) {
     }
 }
 
+// OpenEXR's conventions: a point on the ray through pixel (px, py) is, in
+// camera space, in front (+z) at its depth, right of the axis for px past the
+// middle and above it for py above the middle (left-handed); through
+// worldToNDC and the divide it lands at (px / width, py / height), with z / w
+// one over its depth.
+TEST(Camera, WorldToCameraAndNdcFollowOpenExr) {
+  const Camera c = tiltedCamera();
+  const Eigen::Matrix4d toCamera = c.worldToCamera(), toNdc = c.worldToNdc();
+  for (const auto& [px, py] : {std::pair{0.0, 0.0}, {160.0, 100.0}, {319.5, 3.25}, {12.0, 199.0}})
+    for (double distance : {0.5, 3.0, 40.0}) {
+      const Vec3 point = c.eye + distance * c.rayDirection(px, py);
+      const Eigen::RowVector4d p(point.x(), point.y(), point.z(), 1);
+      const Eigen::RowVector4d camera = p * toCamera, ndc = p * toNdc;
+      const double depth = distance * c.rayDirection(px, py).dot(c.forward());
+      EXPECT_NEAR(camera(2), depth, 1e-9);
+      if (px != 160) {
+        EXPECT_EQ(camera(0) > 0, px > 160) << px;
+        EXPECT_EQ(camera(1) > 0, py < 100) << py;
+      }
+      EXPECT_NEAR(camera(3), 1, 1e-12);
+      EXPECT_NEAR(ndc(0) / ndc(3), px / 320, 1e-9);
+      EXPECT_NEAR(ndc(1) / ndc(3), py / 200, 1e-9);
+      EXPECT_NEAR(ndc(2) / ndc(3), 1 / depth, 1e-9);
+    }
+  // Rows 0 to 2 of worldToCamera are a rotation: the camera keeps lengths.
+  const Eigen::Matrix3d rotation = toCamera.topLeftCorner<3, 3>();
+  EXPECT_TRUE((rotation * rotation.transpose()).isIdentity(1e-12));
+  EXPECT_NEAR(rotation.determinant(), -1, 1e-12) << "left-handed from right-handed world";
+}
+
 TEST(Camera, PointsBehindTheEyeDoNotProject) {
   const Camera c = tiltedCamera();
   Eigen::Vector2d pixel(-1, -1);
