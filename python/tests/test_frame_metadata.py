@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from adaptive_cpca.io import read_frame_metadata, read_image
-from relight_support import TRANSPORT, cli
+from relight_support import TRANSPORT, WORLD, cli
 
 SHARED = ("env", "env_sha256", "yaw", "pitch", "roll", "exposure", "lights", "sources", "frame")
 
@@ -59,3 +59,22 @@ def test_frames_say_what_the_manifest_says(tmp_path):
 def linear_to_code(linear):
     return 255 * np.where(linear <= 0.0031308, 12.92 * linear,
                           1.055 * np.power(linear, 1 / 2.4) - 0.055)
+
+
+def test_torch_frame_fields_are_the_cli_frames_header(model, tmp_path):
+    """TorchRelighter.frame_fields says what the CLI's frame of the same view
+    says in its header: lighting, sh9, camera and source."""
+    torch_module = __import__("adaptive_cpca.torch", fromlist=["TorchRelighter"])
+    world = os.path.join(WORLD, "courtyard.exr")
+    frame = str(tmp_path / "f.exr")
+    cli("relight", model, "--env", world, "--rotate", "137", "--exposure", "1", "--sun", "off",
+        "--out", frame)
+    header = read_frame_metadata(frame)
+    fields = torch_module.TorchRelighter(model).frame_fields(world, yaw=137, exposure=1)
+    for key in ("env_sha256", "yaw", "pitch", "roll", "exposure", "lights", "source",
+                "source_sha256", "method", "version", "colorInteropID"):
+        assert fields[key] == header[key], key
+    assert fields["env"] == header["env"] == world
+    assert np.allclose(np.ravel(fields["sh9"]), header["sh9"], rtol=1e-5, atol=1e-7)
+    for key in ("worldToCamera", "worldToNDC"):
+        assert np.allclose(fields[key], header[key], rtol=1e-6, atol=1e-6), key

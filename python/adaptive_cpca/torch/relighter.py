@@ -5,13 +5,15 @@ docs/formats.md ("Model file") documents them; the versions it reads come
 from the generated contract (adaptive_cpca._contract).
 """
 
+import hashlib
 import math
+import os
 
 import h5py
 import numpy as np
 import torch
 
-from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION
+from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION, VERSION
 from .domain import LightingDomain
 from .lighting import Environment, rotation_matrix
 from .model import DeviceModel
@@ -30,6 +32,14 @@ def _attribute(f, name, default=None):
     if isinstance(value, np.ndarray) and value.shape == ():
         value = value.item()
     return value
+
+
+def _sha256(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 def _free_bytes(device):
@@ -238,6 +248,52 @@ class TorchRelighter:
         if layout == "chw":
             image = image.permute(0, 3, 1, 2)
         return (image[0] if one else image).contiguous()
+
+    def frame_fields(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0):
+        """What the CLI's frame of this view says of itself (docs/formats.md,
+        "Frame metadata"), as a dict: env, yaw, pitch, roll, exposure, lights,
+        sh9 (of the lattice lighting, as the manifest's), colorInteropID,
+        worldToCamera and worldToNDC (16 floats, row by row, OpenEXR's
+        conventions), source, source_sha256, method and version. env: a spec
+        or map file (its SHA-256 as env_sha256)."""
+        env_spec = env if isinstance(env, str) else getattr(env, "spec", None)
+        fields = {"env": env_spec or "", "yaw": float(yaw), "pitch": float(pitch),
+                  "roll": float(roll), "exposure": float(exposure), "lights": [],
+                  "colorInteropID": "lin_rec709_scene"}
+        if env_spec and os.path.isfile(env_spec):
+            fields["env_sha256"] = _sha256(env_spec)
+        lighting = self.lighting(env, yaw, pitch, roll, dtype=torch.float64)
+        fields["sh9"] = self.sh9(lighting).cpu().numpy().tolist()
+        if self.camera is not None:
+            to_camera, to_ndc = self._world_to_camera_and_ndc()
+            fields["worldToCamera"] = to_camera.astype(np.float32).ravel().tolist()
+            fields["worldToNDC"] = to_ndc.astype(np.float32).ravel().tolist()
+        with h5py.File(self.path, "r") as f:
+            method = _attribute(f, "method", "")
+        fields.update(source=os.path.basename(self.path), source_sha256=_sha256(self.path),
+                      method=method.decode() if isinstance(method, bytes) else str(method),
+                      version=VERSION)
+        return fields
+
+    def _world_to_camera_and_ndc(self):
+        """OpenEXR's worldToCamera (x right, y up, z forward; p M) and
+        worldToNDC ((0, 0) top left, (1, 1) bottom right after the divide),
+        as transport/camera.cpp makes them."""
+        forward, right, true_up = self._camera_axes()
+        eye = np.asarray(self.camera["eye"], dtype=np.float64)
+        to_camera = np.zeros((4, 4))
+        for j, axis in enumerate((right, true_up, forward)):
+            to_camera[:3, j] = axis
+            to_camera[3, j] = -eye @ axis
+        to_camera[3, 3] = 1
+        scale = 2 * math.tan(0.5 * math.radians(float(self.camera["fov_deg"]))) / self.height
+        projection = np.zeros((4, 4))
+        projection[0, 0] = 1 / (scale * self.width)
+        projection[1, 1] = -1 / (scale * self.height)
+        projection[2, 0] = projection[2, 1] = 0.5
+        projection[2, 3] = 1
+        projection[3, 2] = 1
+        return to_camera, to_camera @ projection
 
     def _camera_axes(self):
         """The camera's unit view direction, image right and image up (transport/camera.h)."""
