@@ -61,7 +61,8 @@ class Chromium:
         self.process = subprocess.Popen(
             [CHROMIUM, "--headless=new", "--remote-debugging-pipe", "--no-sandbox",
              "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist",
-             "--no-first-run", "--no-default-browser-check", "--disable-extensions",
+             "--disable-dev-shm-usage", "--no-first-run", "--no-default-browser-check",
+             "--disable-extensions",
              "--disable-background-networking", "--disable-component-update",
              "--disable-sync", "--metrics-recording-only", "--password-store=basic",
              f"--window-size={width},{height}", f"--user-data-dir={self.profile}",
