@@ -5,16 +5,14 @@ docs/formats.md ("Model file") documents them; the versions it reads come
 from the generated contract (adaptive_cpca._contract).
 """
 
-import hashlib
-import math
-import os
-
 import h5py
 import numpy as np
 import torch
 
-from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION, VERSION
+from .._contract import MODEL_VERSION, OLDEST_MODEL_VERSION
+from .camera import pixel_rays, transforms_fields
 from .domain import LightingDomain
+from .frame_fields import frame_fields
 from .lighting import Environment, rotation_matrix
 from .model import DeviceModel
 from .sources import SourceLighting, check_sun
@@ -32,14 +30,6 @@ def _attribute(f, name, default=None):
     if isinstance(value, np.ndarray) and value.shape == ():
         value = value.item()
     return value
-
-
-def _sha256(path):
-    digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def _free_bytes(device):
@@ -134,7 +124,7 @@ class TorchRelighter:
         if self.cubemap:
             self.camera = {name: np.asarray(f.attrs[f"camera_{name}"], dtype=np.float64)
                            for name in ("eye", "target", "up", "fov_deg")}
-            self.camera.update(self._transforms_fields())
+            self.camera.update(transforms_fields(self.camera, self.width, self.height))
             self._light_set = None
             return
         self.camera = None
@@ -250,82 +240,14 @@ class TorchRelighter:
         return (image[0] if one else image).contiguous()
 
     def frame_fields(self, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0):
-        """What the CLI's frame of this view says of itself (docs/formats.md,
-        "Frame metadata"), as a dict: env, yaw, pitch, roll, exposure, lights,
-        sh9 (of the lattice lighting, as the manifest's), colorInteropID,
-        worldToCamera and worldToNDC (16 floats, row by row, OpenEXR's
-        conventions), source, source_sha256, method and version. env: a spec
-        or map file (its SHA-256 as env_sha256)."""
-        env_spec = env if isinstance(env, str) else getattr(env, "spec", None)
-        fields = {"env": env_spec or "", "yaw": float(yaw), "pitch": float(pitch),
-                  "roll": float(roll), "exposure": float(exposure), "lights": [],
-                  "colorInteropID": "lin_rec709_scene"}
-        if env_spec and os.path.isfile(env_spec):
-            fields["env_sha256"] = _sha256(env_spec)
-        lighting = self.lighting(env, yaw, pitch, roll, dtype=torch.float64)
-        fields["sh9"] = self.sh9(lighting).cpu().numpy().tolist()
-        if self.camera is not None:
-            to_camera, to_ndc = self._world_to_camera_and_ndc()
-            fields["worldToCamera"] = to_camera.astype(np.float32).ravel().tolist()
-            fields["worldToNDC"] = to_ndc.astype(np.float32).ravel().tolist()
-        with h5py.File(self.path, "r") as f:
-            method = _attribute(f, "method", "")
-        fields.update(source=os.path.basename(self.path), source_sha256=_sha256(self.path),
-                      method=method.decode() if isinstance(method, bytes) else str(method),
-                      version=VERSION)
-        return fields
-
-    def _world_to_camera_and_ndc(self):
-        """OpenEXR's worldToCamera (x right, y up, z forward; p M) and
-        worldToNDC ((0, 0) top left, (1, 1) bottom right after the divide),
-        as transport/camera.cpp makes them."""
-        forward, right, true_up = self._camera_axes()
-        eye = np.asarray(self.camera["eye"], dtype=np.float64)
-        to_camera = np.zeros((4, 4))
-        for j, axis in enumerate((right, true_up, forward)):
-            to_camera[:3, j] = axis
-            to_camera[3, j] = -eye @ axis
-        to_camera[3, 3] = 1
-        scale = 2 * math.tan(0.5 * math.radians(float(self.camera["fov_deg"]))) / self.height
-        projection = np.zeros((4, 4))
-        projection[0, 0] = 1 / (scale * self.width)
-        projection[1, 1] = -1 / (scale * self.height)
-        projection[2, 0] = projection[2, 1] = 0.5
-        projection[2, 3] = 1
-        projection[3, 2] = 1
-        return to_camera, to_camera @ projection
-
-    def _camera_axes(self):
-        """The camera's unit view direction, image right and image up (transport/camera.h)."""
-        eye, target, up = (self.camera[k] for k in ("eye", "target", "up"))
-        forward = (target - eye) / np.linalg.norm(target - eye)
-        right = np.cross(forward, up)
-        right /= np.linalg.norm(right)
-        return forward, right, np.cross(right, forward)
-
-    def _transforms_fields(self):
-        """The camera as a batch's transforms.json holds it (docs/datasets.md,
-        "Cameras"): transform_matrix (4x4 camera to world, OpenGL axes) and
-        fl_x, fl_y, cx, cy, w, h in pixels."""
-        forward, right, true_up = self._camera_axes()
-        matrix = np.eye(4)
-        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = right, true_up, -forward
-        matrix[:3, 3] = self.camera["eye"]
-        focal = 0.5 * self.height / math.tan(0.5 * math.radians(float(self.camera["fov_deg"])))
-        return {"transform_matrix": matrix, "fl_x": focal, "fl_y": focal, "cx": 0.5 * self.width,
-                "cy": 0.5 * self.height, "w": self.width, "h": self.height}
+        """What the CLI's frame of this view says of itself, as a dict
+        (adaptive_cpca.torch.frame_fields)."""
+        return frame_fields(self, env, yaw, pitch, roll, exposure)
 
     def _camera_rays(self):
         """Each pixel centre's camera ray (transport/camera.h), float64 [H W, 3]."""
         if self._rays is None:
-            forward, right, true_up = self._camera_axes()
-            tan_half = math.tan(0.5 * math.radians(float(self.camera["fov_deg"])))
-            aspect = self.width / self.height
-            x = (2 * (np.arange(self.width) + 0.5) / self.width - 1) * tan_half * aspect
-            y = (1 - 2 * (np.arange(self.height) + 0.5) / self.height) * tan_half
-            rays = (forward + x[None, :, None] * right + y[:, None, None] * true_up)
-            rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
-            self._rays = self._tensor(rays.reshape(-1, 3))
+            self._rays = self._tensor(pixel_rays(self.camera, self.width, self.height))
         return self._rays
 
     # -- labels -------------------------------------------------------------
