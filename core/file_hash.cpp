@@ -1,4 +1,4 @@
-#include "dataset/file_hash.h"
+#include "core/file_hash.h"
 
 #include <openssl/evp.h>
 

@@ -1,6 +1,6 @@
 #pragma once
-// Content hashes that identify lighting files in a dataset's labels
-// (manifest.jsonl's env_sha256): the same bytes, the same name, wherever the
+// Content hashes that identify files in a dataset's labels and frame headers
+// (env_sha256, source_sha256): the same bytes, the same name, wherever the
 // file lies.
 #include <string>
 

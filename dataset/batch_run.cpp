@@ -17,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_hash.h"
 #include "core/input_guard.h"
 #include "core/ordered_writer.h"
 #include "core/rank_gather.h"
@@ -31,14 +32,13 @@
 #include "dataset/batch_shards.h"
 #include "dataset/camera_files.h"
 #include "dataset/dataset_identity.h"
-#include "dataset/file_hash.h"
 #include "dataset/frame_files.h"
 #include "dataset/frame_labels.h"
-#include "dataset/map_source_listing.h"
 #include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/envmap_export.h"
 #include "lighting/lighting.h"
+#include "lighting/map_source_listing.h"
 #include "lighting/sh_lighting.h"
 #include "lighting/spec_parsing.h"
 #include "model/model.h"
@@ -115,6 +115,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
   const bool exactSources = view.exactSources = sourcesLitExactly(run, source, view.input);
   view.method = source.method;
+  if (source.model) view.costPerPixel = source.model->costMetricPerPixel();
   const long long raysBefore = source.lampShadowRays();
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<BatchFrame>& frames = run.viewFrames;

@@ -185,6 +185,8 @@ FileDescription describeFrame(const std::string& path) {
       << "  lighting     " << (env.empty() ? "no map" : env) << " at yaw " << text("yaw")
       << ", pitch " << text("pitch") << ", roll " << text("roll") << ", exposure "
       << text("exposure") << " EV\n";
+  if (m.contains("cost_per_pixel"))
+    out << "  cost         " << text("cost_per_pixel") << " multiply-adds per pixel\n";
   if (m.contains("lights") && !m["lights"].empty())
     out << "  lamps        " << m["lights"].dump() << "\n";
   if (m.contains("sources") && !m["sources"].empty())

@@ -17,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_hash.h"
 #include "core/input_guard.h"
 #include "core/ordered_writer.h"
 #include "core/rank_gather.h"
@@ -31,15 +32,14 @@
 #include "dataset/batch_shards.h"
 #include "dataset/camera_files.h"
 #include "dataset/dataset_identity.h"
-#include "dataset/file_hash.h"
 #include "dataset/frame_files.h"
 #include "dataset/frame_labels.h"
-#include "dataset/map_source_listing.h"
 #include "imageio/frame_metadata.h"
 #include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/envmap_export.h"
 #include "lighting/lighting.h"
+#include "lighting/map_source_listing.h"
 #include "lighting/sh_lighting.h"
 #include "lighting/spec_parsing.h"
 #include "model/model.h"
@@ -141,6 +141,7 @@ std::shared_ptr<const FrameMetadata> FrameWriting::frameMetadata(size_t i,
   m->fields["source"] = std::filesystem::path(view_.input).filename().string();
   m->fields["source_sha256"] = sourceSha256_;
   m->fields["method"] = view_.method;
+  if (view_.costPerPixel) m->fields["cost_per_pixel"] = *view_.costPerPixel;
   m->fields["version"] = ACPCA_VERSION;
   if (camera_) m->setCamera(camera_->worldToCamera(), camera_->worldToNdc());
   return m;

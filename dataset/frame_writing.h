@@ -13,16 +13,16 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/file_hash.h"
 #include "core/ordered_writer.h"
 #include "core/stopwatch.h"
 #include "dataset/batch_frames.h"
 #include "dataset/batch_manifest.h"
 #include "dataset/batch_shards.h"
-#include "dataset/file_hash.h"
 #include "dataset/frame_labels.h"
 #include "dataset/group_relight.h"
-#include "dataset/map_source_listing.h"
 #include "lighting/domain_lighting.h"
+#include "lighting/map_source_listing.h"
 #include "lighting/sh_lighting.h"
 
 namespace acpca {
@@ -67,6 +67,8 @@ struct BatchView {
   int indexDigits = 5;        ///< of a frame's index in its file name (frameIndexDigits)
   bool exactSources = false;  ///< the maps' sources lit exactly, not through the lattice
   std::string method{};       ///< the model's method, or "dense" (frames' headers)
+  /// The model's cost metric per pixel at its rank limit; none for a transport.
+  std::optional<double> costPerPixel{};
   /// "vNN_" before frame names, "_vNN" after label names (several views only).
   std::string label() const { return concat("v", std::setw(2), std::setfill('0'), index); }
 };

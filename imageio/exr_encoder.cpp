@@ -148,6 +148,8 @@ exr_compression_t compressionOf(ExrCodec codec) {
       return EXR_COMPRESSION_RLE;
     case ExrCodec::Zips:
       return EXR_COMPRESSION_ZIPS;
+    case ExrCodec::Piz:
+      return EXR_COMPRESSION_PIZ;
     case ExrCodec::Zip:
       break;
   }
@@ -158,8 +160,48 @@ exr_compression_t compressionOf(ExrCodec codec) {
 constexpr int kZipLevel = 4;
 
 /// Writes the chunks of a part whose header is written.
+/// PIZ chunks by OpenEXR's own encode pipeline (its wavelet and Huffman
+/// code), reading each channel where it lies in the interleaved pixels.
+exr_result_t writePizChunks(exr_context_t context, const ExrPixels& p,
+                            const std::vector<int>& order) {
+  const int32_t valueBytes = p.isFloat ? 4 : 2;
+  const int32_t pixelBytes = valueBytes * static_cast<int32_t>(order.size());
+  const auto* values = static_cast<const uint8_t*>(p.values);
+  exr_encode_pipeline_t pipeline{};
+  bool started = false;
+  exr_result_t r = EXR_ERR_SUCCESS;
+  for (int y = 0; y < p.height && !r;) {
+    exr_chunk_info_t chunk{};
+    r = exr_write_scanline_chunk_info(context, 0, y, &chunk);
+    if (!r)
+      r = started ? exr_encoding_update(context, 0, &chunk, &pipeline)
+                  : exr_encoding_initialize(context, 0, &chunk, &pipeline);
+    if (r) break;
+    for (int16_t c = 0; c < pipeline.channel_count; ++c) {
+      exr_coding_channel_info_t& channel = pipeline.channels[c];
+      channel.encode_from_ptr = values +
+                                (static_cast<size_t>(chunk.start_y) * p.width) * pixelBytes +
+                                static_cast<size_t>(order[c]) * valueBytes;
+      channel.user_pixel_stride = pixelBytes;
+      channel.user_line_stride = pixelBytes * p.width;
+      channel.user_bytes_per_element = static_cast<int16_t>(valueBytes);
+      channel.user_data_type = p.isFloat ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF;
+    }
+    if (!started) r = exr_encoding_choose_default_routines(context, 0, &pipeline);
+    started = true;
+    if (!r) r = exr_encoding_run(context, 0, &pipeline);
+    y = chunk.start_y + chunk.height;
+  }
+  if (started) {
+    const exr_result_t destroyed = exr_encoding_destroy(context, &pipeline);
+    if (!r) r = destroyed;
+  }
+  return r;
+}
+
 exr_result_t writeChunks(exr_context_t context, const ExrPixels& p, ExrCodec codec,
                          const std::vector<int>& order) {
+  if (codec == ExrCodec::Piz) return writePizChunks(context, p, order);
   int32_t linesPerChunk = 1;
   if (const exr_result_t r = exr_get_scanlines_per_chunk(context, 0, &linesPerChunk)) return r;
   const size_t valueBytes = p.isFloat ? 4 : 2;

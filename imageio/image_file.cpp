@@ -80,7 +80,7 @@ std::optional<bool> writePngDirectly(const std::string& file, const ImageWriteSp
   return writeWholeFile(file, bytes.data(), bytes.size(), error);
 }
 
-/// An EXR of half or float values by exr_encoder.h; nullopt for PIZ, other
+/// An EXR of half or float values by exr_encoder.h; nullopt for other
 /// settings, or more than 4 unnamed channels.
 std::optional<bool> writeExrDirectly(const std::string& file, const ImageWriteSpec& s,
                                      const void* pixels, std::string& error) {
@@ -100,6 +100,8 @@ std::optional<bool> writeExrDirectly(const std::string& file, const ImageWriteSp
       codec = ExrCodec::Rle;
     else if (value == "zips")
       codec = ExrCodec::Zips;
+    else if (value == "piz")
+      codec = ExrCodec::Piz;
     else if (value != "zip")
       return std::nullopt;
   }

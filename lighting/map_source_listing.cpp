@@ -1,4 +1,4 @@
-#include "dataset/map_source_listing.h"
+#include "lighting/map_source_listing.h"
 
 #include <numbers>
 

@@ -1,6 +1,6 @@
 #pragma once
-// A map's sources (lighting/map_sources.h) in a batch: turned with each
-// frame's rotation, and listed as reports and manifests give them
+// A map's sources (lighting/map_sources.h) in a frame: turned with its
+// rotation, and listed as reports, manifests and frame headers give them
 // (docs/formats.md, "Batch manifest").
 #include <array>
 #include <nlohmann/json.hpp>

@@ -27,7 +27,9 @@ void BatchFlags::add(CLI::App& sub, BatchRelightOptions& o, const std::string& o
   sub.add_option("--format", o.format,
                  concat(kImageFormatNames.list(),
                         " (png: 8-bit, png16: 16-bit), a comma-separated list of them, or both "
-                        "(exr,png); default: from --out, exr in a batch"));
+                        "(exr,png); default: from --out, exr in a batch. EXR and PNG frames carry "
+                        "their colour space, camera and lighting in their header; npy holds "
+                        "none (a batch's manifest.jsonl lists it)"));
   sub.add_option("--tone", tone,
                  "PNG tone curve: clamp (default) or aces (Narkowicz's ACES filmic fit)");
   sub.add_option("--exr-compression", exrCompression,

@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "dataset/map_source_listing.h"
 #include "lighting/envmap_export.h"
+#include "lighting/map_source_listing.h"
 #include "lighting/map_sources.h"
 #include "lighting/rotation.h"
 #include "tools/cli_common.h"

@@ -6,10 +6,14 @@
 #include <opencv2/highgui.hpp>  // the mouse events' codes; calls go through windowSystem()
 #include <opencv2/imgproc.hpp>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_hash.h"
 #include "core/stopwatch.h"
 #include "core/warning.h"
+#include "imageio/image_output.h"
 #include "lighting/envmap_export.h"
+#include "lighting/map_source_listing.h"
 #include "model/model.h"
 #include "pictures/pictures.h"
 #include "relight/lamp_light.h"
@@ -54,6 +58,7 @@ Viewer::Viewer(const ViewerOptions& options) : options_(options) {
   if (envs_.empty()) throw ParameterError("environment", "", "give at least one lighting");
   const TransportHeader& g = relighter_->geometry();
   domain_ = std::make_unique<DomainLighting>(g);
+  sh_ = std::make_unique<ShProjector>(*domain_);
   requireBackgroundShown(g, options.background, options.modelPath);
   composer_ = std::make_unique<ImageComposer>(g);
   context_.envs = static_cast<int>(envs_.size());
@@ -108,6 +113,9 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
     Stopwatch t;
     // The lattice lights what the sources leave; the background is the whole map.
     lighting_ = (*domain_)(split.rest ? *split.rest : env, rotation, options_.rotationMode);
+    const std::vector<MapSource> sources = turnedSources(split.sources, rotation);
+    sh9_ = sh9Json(sh_->project(lighting_), sources);
+    sources_ = sourcesJson(sources);
     times_.lighting = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
     // Into the buffer of the last frame's map part, with the composer made
@@ -157,6 +165,9 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   frame.linear = linear_;
   frame.state = state;
   frame.serial = serial;
+  frame.sh9 = sh9_;
+  frame.sources = sources_;
+  frame.costPerPixel = relighter_->costMetricPerPixel();
   return frame;
 }
 
@@ -294,13 +305,48 @@ void Viewer::savePictures(const std::string& stem) const {
                             ? fs::path(options_.saveDir) /
                                   concat("view_", envs_[s.env]->name(), "_", rotationOf(s).label())
                             : fs::path(stem);
+  const FrameMetadata header = headerOf(onScreen_);
   for (ImageFormat format : {ImageFormat::Exr, ImageFormat::Png}) {
     const std::string path = base.string() + imageExtension(format);
-    writeImage(*onScreen_.linear, path, format, s.exposure);
+    ImageEncoding encoding;
+    encoding.metadata = &header;
+    AtomicOutput output(path);
+    encodeImage(*onScreen_.linear, output.tempPath(), path, format, s.exposure, encoding);
+    output.commit();
     std::string lights;  // what relight --light takes, to make the same image in a batch
     for (const LocalLight& light : s.lights) lights += " --light " + light.canonicalSpec();
     say(concat("saved ", path, lights.empty() ? "" : " under" + lights));
   }
+}
+
+FrameMetadata Viewer::headerOf(const Frame& frame) const {
+  const ViewState& s = frame.state;
+  if (fileHashes_.empty()) {  // once: the model's hash reads the whole file
+    fileHashes_.push_back(sha256OfFile(options_.modelPath));
+    for (const std::string& spec : options_.envSpecs)
+      fileHashes_.push_back(isAnalyticEnvironment(spec) ? "" : sha256OfFile(spec));
+  }
+  nlohmann::json lights = nlohmann::json::array();
+  for (const LocalLight& light : s.lights) lights.push_back(light.canonicalSpec());
+  const EnvRotation rotation = rotationOf(s);
+  FrameMetadata m;
+  m.fields = {{"env", options_.envSpecs[s.env]},
+              {"yaw", rotation.yaw},
+              {"pitch", rotation.pitch},
+              {"roll", rotation.roll},
+              {"exposure", s.exposure},
+              {"lights", lights},
+              {"sh9", frame.sh9},
+              {"sources", frame.sources},
+              {"source", std::filesystem::path(options_.modelPath).filename().string()},
+              {"source_sha256", fileHashes_[0]},
+              {"method", relighter_->packed()->method},
+              {"cost_per_pixel", frame.costPerPixel},
+              {"version", ACPCA_VERSION}};
+  if (!fileHashes_[s.env + 1].empty()) m.fields["env_sha256"] = fileHashes_[s.env + 1];
+  const TransportHeader& g = relighter_->geometry();
+  if (!g.isLightSet()) m.setCamera(g.camera.worldToCamera(), g.camera.worldToNdc());
+  return m;
 }
 
 void Viewer::writeScreenshot(const std::string& path) const {

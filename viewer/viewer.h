@@ -12,11 +12,13 @@
 #include <thread>
 #include <vector>
 
+#include "imageio/frame_metadata.h"
 #include "imageio/image_output.h"
 #include "lighting/domain_lighting.h"
 #include "lighting/environment.h"
 #include "lighting/lighting.h"
 #include "lighting/map_sources.h"
+#include "lighting/sh_lighting.h"
 #include "relight/image_composer.h"
 #include "relight/lamp_light.h"
 #include "relight/local_columns.h"
@@ -64,6 +66,8 @@ class Viewer {
     std::shared_ptr<const Image> linear;  ///< the relit image (for saving)
     ViewState state;
     long long serial = 0;
+    nlohmann::json sh9, sources;  ///< its lighting's SH and the map's sources, as a manifest's
+    double costPerPixel = 0;      ///< the cost metric per pixel at its rank limit
   };
   // Worker side.
   void workerLoop();
@@ -93,6 +97,8 @@ class Viewer {
   void applyWheel(double notches);
   void applyEvent(const ScriptEvent& event);
   void savePictures(const std::string& stem) const;
+  /// What a saved frame says of itself: a batch frame's header for the same view.
+  FrameMetadata headerOf(const Frame& frame) const;
   /// After a script: how long the frames took (the worker idle).
   std::string frameSummary();
   void say(const std::string& text) const {
@@ -107,7 +113,10 @@ class Viewer {
   ViewerOptions options_;
   std::unique_ptr<ModelRelighter> relighter_;
   std::vector<std::unique_ptr<Environment>> envs_;
-  std::unique_ptr<DomainLighting> domain_;  ///< the lattice, or a captured light set's cells
+  std::unique_ptr<DomainLighting> domain_;       ///< the lattice, or a captured light set's cells
+  std::unique_ptr<ShProjector> sh_;              ///< a frame's sh9, for the headers of saved frames
+  nlohmann::json sh9_, sources_;                 ///< the last relit map's sh9 and sources
+  mutable std::vector<std::string> fileHashes_;  ///< the model's, then each map's ("" unhashed)
   int width_ = 0, height_ = 0, maxRank_ = 0;
   std::vector<int> clusterOfPixel_;  ///< -1 for background
   ViewContext context_;

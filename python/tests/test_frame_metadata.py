@@ -8,6 +8,7 @@ import json
 import os
 
 import numpy as np
+import pytest
 
 from adaptive_cpca.io import read_frame_metadata, read_image
 from relight_support import TRANSPORT, WORLD, cli
@@ -76,5 +77,6 @@ def test_torch_frame_fields_are_the_cli_frames_header(model, tmp_path):
         assert fields[key] == header[key], key
     assert fields["env"] == header["env"] == world
     assert np.allclose(np.ravel(fields["sh9"]), header["sh9"], rtol=1e-5, atol=1e-7)
+    assert fields["cost_per_pixel"] == pytest.approx(header["cost_per_pixel"], rel=1e-12)
     for key in ("worldToCamera", "worldToNDC"):
         assert np.allclose(fields[key], header[key], rtol=1e-6, atol=1e-6), key

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "core/text.h"
+#include "imageio/frame_metadata.h"
 #include "lighting/local_light.h"
 #include "model/model_file.h"
 #include "tests/cli/run_cli.h"
@@ -158,11 +159,39 @@ TEST_F(Viewer, ScriptedKeysToggleOverlaysAndSaveWritesTheBatchImage) {
                              "--format both --quiet --out " +
                              out.file("batch.png"));
   ASSERT_EQ(b.status, 0) << b.output;
+  ASSERT_EQ(runCli("relight " + model() +
+                   " --env sun:50,30,4,1000 --rotate 120 --exposure 1.5 --quiet --out " +
+                   out.file("full.exr"))
+                .status,
+            0);
   const Picture saved = readPicture(out.file("saved.png")),
                 batch = readPicture(out.file("batch.png"));
   ASSERT_EQ(saved.bytes.size(), batch.bytes.size());
   EXPECT_EQ(saved.bytes, batch.bytes);
-  EXPECT_TRUE(std::filesystem::exists(out.file("saved.exr")));
+  // Its header is relight's header for the same view (docs/formats.md, "Frame metadata").
+  for (const char* ext : {".exr", ".png"}) {
+    const nlohmann::json mine = readFrameMetadata(out.file(concat("saved", ext))),
+                         theirs = readFrameMetadata(out.file(concat("batch", ext)));
+    for (const char* key :
+         {"env", "yaw", "pitch", "roll", "exposure", "lights", "sources", "source", "source_sha256",
+          "method", "version", "colorInteropID", "worldToCamera", "worldToNDC"})
+      EXPECT_EQ(mine[key], theirs[key]) << ext << " " << key;
+    EXPECT_NEAR(mine["cost_per_pixel"].get<double>(), theirs["cost_per_pixel"].get<double>(),
+                1e-9 * theirs["cost_per_pixel"].get<double>())
+        << ext;
+    EXPECT_LT(mine["cost_per_pixel"].get<double>(),
+              readFrameMetadata(out.file("full.exr"))["cost_per_pixel"].get<double>())
+        << "half of each cluster's bases cost less";
+    const auto flat = [](const nlohmann::json& sh9) {
+      std::vector<double> values;
+      for (const auto& v : sh9.flatten()) values.push_back(v.get<double>());
+      return values;
+    };
+    const std::vector<double> a = flat(mine["sh9"]), b = flat(theirs["sh9"]);
+    ASSERT_EQ(a.size(), 27u) << ext;
+    ASSERT_EQ(b.size(), 27u) << ext;
+    for (size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-5 * (1 + std::abs(b[k])));
+  }
 }
 
 /// Where the lamp tests put a lamp: between the eye and the plant, above the

@@ -4,6 +4,7 @@
 #include <OpenEXR/ImfChromaticitiesAttribute.h>
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFloatVectorAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfMatrixAttribute.h>
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "imageio/frame_metadata.h"
@@ -84,6 +86,45 @@ TEST(FrameMetadata, ExrHeaderHoldsTypedAttributesThatOpenExrReads) {
   const std::string a = bytesOfFile(plain), b = bytesOfFile(tagged);
   const size_t pixelBytes = 9 * 5 * 3 * 2;
   EXPECT_EQ(a.substr(a.size() - pixelBytes / 2), b.substr(b.size() - pixelBytes / 2));
+}
+
+TEST(FrameMetadata, PizFilesCarryTheSameHeaderAndTheirPixels) {
+  // PIZ goes through OpenEXR's own encode pipeline, in the same header writer.
+  test::TempDir dir;
+  const Image image = sampleImage(4);
+  const auto metadata = sampleMetadata();
+  for (bool isFloat : {false, true}) {
+    ImageEncoding encoding;
+    encoding.exrFloat = isFloat;
+    encoding.exrCompression = ExrCompression::Piz;
+    encoding.metadata = metadata.get();
+    const std::string path = dir.file("piz.exr"), again = dir.file("again.exr");
+    encodeImage(image, path, path, ImageFormat::Exr, 0, encoding);
+    encodeImage(image, again, again, ImageFormat::Exr, 0, encoding);
+    EXPECT_EQ(bytesOfFile(path), bytesOfFile(again)) << "no clock in the file";
+    Imf::InputFile in(path.c_str());
+    const Imf::Header& h = in.header();
+    EXPECT_EQ(h.compression(), Imf::PIZ_COMPRESSION);
+    EXPECT_EQ(h.find("capDate"), h.end());
+    EXPECT_NE(h.findTypedAttribute<Imf::ChromaticitiesAttribute>("chromaticities"), nullptr);
+    EXPECT_NE(h.findTypedAttribute<Imf::M44fAttribute>("worldToNDC"), nullptr);
+    EXPECT_EQ(h.typedAttribute<Imf::DoubleAttribute>("acpca:yaw").value(), 137.5);
+    // Every value back as written (half: the value's nearest half).
+    const Imath::Box2i window = h.dataWindow();
+    const int width = window.max.x + 1, height = window.max.y + 1;
+    ASSERT_EQ(width, image.width);
+    std::vector<float> read(static_cast<size_t>(width) * height * 4);
+    Imf::FrameBuffer buffer;
+    const char* names[] = {"R", "G", "B", "A"};
+    for (int c = 0; c < 4; ++c)
+      buffer.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(read.data() + c),
+                                         4 * sizeof(float), 4 * sizeof(float) * width));
+    in.setFrameBuffer(buffer);
+    in.readPixels(0, height - 1);
+    for (size_t k = 0; k < read.size(); ++k)
+      ASSERT_NEAR(read[k], image.pixels[k], isFloat ? 0 : 1e-3 * std::max(1.0f, image.pixels[k]))
+          << "value " << k << (isFloat ? " float" : " half");
+  }
 }
 
 TEST(FrameMetadata, LabelsAreTaggedAsData) {

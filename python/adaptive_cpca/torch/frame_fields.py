@@ -26,7 +26,7 @@ def frame_fields(relighter, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0):
     """A dict of env, yaw, pitch, roll, exposure, lights, sh9 (of the
     lattice lighting, as the manifest's), colorInteropID, worldToCamera and
     worldToNDC (16 floats, row by row, OpenEXR's conventions), source,
-    source_sha256, method and version. env: a spec or map file (a file's
+    source_sha256, method, cost_per_pixel (a model's) and version. env: a spec or map file (a file's
     digest as env_sha256)."""
     env_spec = env if isinstance(env, str) else getattr(env, "spec", None)
     fields = {"env": env_spec or "", "yaw": float(yaw), "pitch": float(pitch),
@@ -43,6 +43,9 @@ def frame_fields(relighter, env, yaw=0.0, pitch=0.0, roll=0.0, exposure=0.0):
         fields["worldToNDC"] = to_ndc.astype(np.float32).ravel().tolist()
     with h5py.File(relighter.path, "r") as f:
         method = f.attrs.get("method", "")
+        cost = f.attrs.get("cost_per_pixel")
+    if cost is not None:  # a model, relit at its full ranks
+        fields["cost_per_pixel"] = float(cost)
     fields.update(source=os.path.basename(relighter.path),
                   source_sha256=file_digest(relighter.path),
                   method=method.decode() if isinstance(method, bytes) else str(method),
