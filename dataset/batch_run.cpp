@@ -46,6 +46,7 @@
 #include "relight/dense_relight.h"
 #include "relight/image_composer.h"
 #include "relight/model_relighter.h"
+#include "relight/rank_limit.h"
 #include "relight/relight_source.h"
 
 namespace acpca {
@@ -115,7 +116,7 @@ size_t relightView(BatchRun& run, const RelightSource& source, BatchView view) {
   LocalLightRows localRows(source, run.sets, a.anchorSpread, a.lamps, stages.localLights);
   const bool exactSources = view.exactSources = sourcesLitExactly(run, source, view.input);
   view.method = source.method;
-  if (source.model) view.costPerPixel = source.model->costMetricPerPixel();
+  if (source.model) view.costPerPixel = costMetricPerPixel(*source.model);
   const long long raysBefore = source.lampShadowRays();
   // Frames in groups: each group streams T once; memory stays flat for any count.
   const std::vector<BatchFrame>& frames = run.viewFrames;

@@ -7,7 +7,6 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "model/model_summary.h"
 #include "relight/rank_limit.h"
 #include "relight/relight_kernels.h"
 
@@ -84,14 +83,6 @@ double ModelRelighter::costPerPixel() const {
     cost += (activeRanks_[c] + (m_.hasMean ? 1 : 0)) * double(m_.globalBases) +
             activeRanks_[c] * double(std::min<long long>(rowsOf[c], rows()));
   return rows() ? cost / rows() : 0;
-}
-
-double ModelRelighter::costMetricPerPixel() const {
-  std::vector<std::int64_t> rowOffsets(activeRanks_.size() + 1, 0);
-  for (int c : packed_->clusterOfRow()) ++rowOffsets[c + 1];
-  for (size_t c = 1; c < rowOffsets.size(); ++c) rowOffsets[c] += rowOffsets[c - 1];
-  const std::vector<std::int32_t> ranks(activeRanks_.begin(), activeRanks_.end());
-  return rows() ? clustersCost(ranks, rowOffsets, m_.hasMean, m_.globalBases) / rows() : 0;
 }
 
 void ModelRelighter::reserveGroup(size_t frames) {

@@ -67,10 +67,6 @@ class ModelRelighter {
   long long bytesPerFrame(size_t groupFrames = 1) const;
   /// Multiply-adds per pixel at the current rank limit (eq. 18, per channel).
   double costPerPixel() const;
-  /// The cost metric per pixel at the current rank limit: the sum over
-  /// clusters of n_c (p_c + N) over the pixels (eq. 17/19, a mean counted
-  /// as a basis), which `compress` and `info` report at full ranks.
-  double costMetricPerPixel() const;
 
  private:
   /// Where a frame's values go: rgb[stride * target[lane] + c] (= or += weight).

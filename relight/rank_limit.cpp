@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "lighting/spec_parsing.h"
+#include "model/model_summary.h"
 #include "relight/model_relighter.h"
 
 namespace acpca {
@@ -69,6 +70,16 @@ std::vector<int> ranksOfFraction(const std::vector<int>& ranks, double fraction)
 void RankLimit::applyTo(ModelRelighter& relighter) const {
   if (kind_ == Kind::Rank) relighter.setMaxRank(rank_);
   if (kind_ == Kind::Fraction) relighter.setRankFraction(fraction_);
+}
+
+double costMetricPerPixel(const ModelRelighter& relighter) {
+  const PackedModel& m = *relighter.packed();
+  std::vector<std::int64_t> rowOffsets(m.ranks.size() + 1, 0);
+  for (int c : m.clusterOfRow()) ++rowOffsets[c + 1];
+  for (size_t c = 1; c < rowOffsets.size(); ++c) rowOffsets[c] += rowOffsets[c - 1];
+  const std::vector<int>& active = relighter.activeRanks();
+  const std::vector<std::int32_t> ranks(active.begin(), active.end());
+  return m.rows() ? clustersCost(ranks, rowOffsets, m.hasMean, m.globalBases) / m.rows() : 0;
 }
 
 }  // namespace acpca

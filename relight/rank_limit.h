@@ -36,6 +36,11 @@ class RankLimit {
   std::string text_;
 };
 
+/// The cost metric per pixel at the relighter's current rank limit: the sum
+/// over clusters of n_c (p_c + N) over the pixels ([Mahajan07] eq. 17/19, a
+/// mean counted as a basis), which `compress` and `info` report at full ranks.
+double costMetricPerPixel(const ModelRelighter& relighter);
+
 /// Each rank cut to at most k (k < 0: unchanged).
 std::vector<int> ranksUpTo(const std::vector<int>& ranks, int k);
 /// Each rank r cut to ceil(fraction x r); throws UserError unless fraction is in [0, 1].

@@ -18,6 +18,7 @@
 #include "pictures/pictures.h"
 #include "relight/lamp_light.h"
 #include "relight/local_relight.h"
+#include "relight/rank_limit.h"
 #include "viewer/window_system.h"
 
 namespace acpca {
@@ -167,7 +168,7 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   frame.serial = serial;
   frame.sh9 = sh9_;
   frame.sources = sources_;
-  frame.costPerPixel = relighter_->costMetricPerPixel();
+  frame.costPerPixel = costMetricPerPixel(*relighter_);
   return frame;
 }
 

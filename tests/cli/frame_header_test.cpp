@@ -78,6 +78,20 @@ TEST(FrameHeaders, PositionsLandOnTheirPixelCentresThroughWorldToNdc) {
     EXPECT_GT(covered, 50) << "view " << v;
     EXPECT_LT(worst, 0.01) << "view " << v << ": pixels off their centres";
   }
+  // Each view's manifest line and its frame's header name the same view and frame.
+  std::ifstream lines(dir.file("set/manifest.jsonl"));
+  int frames = 0;
+  for (std::string text; std::getline(lines, text); ++frames) {
+    const nlohmann::json line = nlohmann::json::parse(text);
+    const nlohmann::json header =
+        readFrameMetadata(dir.file("set/" + line["outputs"][0].get<std::string>()));
+    for (const char* key : {"view", "frame", "env", "yaw", "source", "source_sha256"})
+      if (line.contains(key)) {
+        EXPECT_EQ(header[key], line[key]) << key << " of " << text;
+      }
+    EXPECT_EQ(header["view"], frames);
+  }
+  EXPECT_EQ(frames, 3);
 }
 
 // OpenEXR's exrheader lists the attributes with their types; OpenImageIO
