@@ -159,7 +159,6 @@ exr_compression_t compressionOf(ExrCodec codec) {
 /// OpenEXR's default ZIP level (its C++ and core writers alike).
 constexpr int kZipLevel = 4;
 
-/// Writes the chunks of a part whose header is written.
 /// PIZ chunks by OpenEXR's own encode pipeline (its wavelet and Huffman
 /// code), reading each channel where it lies in the interleaved pixels.
 exr_result_t writePizChunks(exr_context_t context, const ExrPixels& p,
@@ -199,6 +198,7 @@ exr_result_t writePizChunks(exr_context_t context, const ExrPixels& p,
   return r;
 }
 
+/// Writes the chunks of a part whose header is written.
 exr_result_t writeChunks(exr_context_t context, const ExrPixels& p, ExrCodec codec,
                          const std::vector<int>& order) {
   if (codec == ExrCodec::Piz) return writePizChunks(context, p, order);

@@ -119,6 +119,7 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
     sources_ = sourcesJson(sources);
     times_.lighting = t.milliseconds();
     relighter_->setRankFraction(state.rankPercent / 100.0);
+    costPerPixel_ = costMetricPerPixel(*relighter_);  // walks every row: once a relight
     // Into the buffer of the last frame's map part, with the composer made
     // at open (its background rays are the camera's): a 1024x1024 frame
     // spent a third of its time making both anew.
@@ -168,7 +169,7 @@ Viewer::Frame Viewer::render(const ViewState& state, long long serial) {
   frame.serial = serial;
   frame.sh9 = sh9_;
   frame.sources = sources_;
-  frame.costPerPixel = costMetricPerPixel(*relighter_);
+  frame.costPerPixel = costPerPixel_;
   return frame;
 }
 

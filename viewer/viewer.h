@@ -116,6 +116,7 @@ class Viewer {
   std::unique_ptr<DomainLighting> domain_;       ///< the lattice, or a captured light set's cells
   std::unique_ptr<ShProjector> sh_;              ///< a frame's sh9, for the headers of saved frames
   nlohmann::json sh9_, sources_;                 ///< the last relit map's sh9 and sources
+  double costPerPixel_ = 0;                      ///< its cost metric at its rank limit
   mutable std::vector<std::string> fileHashes_;  ///< the model's, then each map's ("" unhashed)
   int width_ = 0, height_ = 0, maxRank_ = 0;
   std::vector<int> clusterOfPixel_;  ///< -1 for background
