@@ -39,6 +39,30 @@ std::string lampsInWords(const TransportHeader& h, const PixelDatasets& d,
   return "  lamps        exact: shadow rays from each camera sample\n";
 }
 
+/// The scene's materials by geometry, as the file records them.
+nlohmann::json materialsJson(const PixelDatasets& d) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Material& m : d.materials) {
+    nlohmann::json j = {{"type", kMaterialTypeNames.name(m.type)}};
+    if (m.type != Material::Type::Diffuse) j["specular"] = m.specular;
+    if (m.type == Material::Type::Phong) j["exponent"] = m.exponent;
+    if (m.type == Material::Type::Ggx) j["roughness_u"] = m.alphaU(), j["roughness_v"] = m.alphaV();
+    if (m.type == Material::Type::AshikhminShirley) j["nu"] = m.nu, j["nv"] = m.nv;
+    if (m.type == Material::Type::Ggx || m.type == Material::Type::AshikhminShirley)
+      j["rotation"] = m.rotationDegrees;
+    list.push_back(j);
+  }
+  return list;
+}
+
+std::string materialsInWords(const PixelDatasets& d) {
+  if (d.materials.empty()) return "";
+  std::string text;
+  for (size_t k = 0; k < d.materials.size(); ++k)
+    text += concat(k ? "; " : "", describeMaterial(d.materials[k]));
+  return concat("  materials    ", text, "\n");
+}
+
 /// The AOVs the file can give, by name.
 nlohmann::json labelsJson(const TransportHeader& h, const PixelDatasets& d) {
   nlohmann::json names = nlohmann::json::array();
@@ -117,6 +141,7 @@ nlohmann::json describeModel(const ModelSummary& m) {
       {"positions", m.pixels.positions},
       {"exact_lamps", m.pixels.lamps && m.geometry.bounces == 0},
       {"labels", labelsJson(m.geometry, m.pixels)},
+      {"materials", materialsJson(m.pixels)},
       {"settings", nlohmann::json::parse(m.settings, nullptr, false)}};
 }
 
@@ -147,7 +172,8 @@ nlohmann::json describeTransport(const TransportSummary& t) {
           {"stored_values", rows * static_cast<long long>(h.rowLength())},
           {"positions", t.pixels.positions},
           {"exact_lamps", t.pixels.lamps && h.bounces == 0},
-          {"labels", labelsJson(h, t.pixels)}};
+          {"labels", labelsJson(h, t.pixels)},
+          {"materials", materialsJson(t.pixels)}};
 }
 
 namespace {
@@ -233,6 +259,7 @@ std::string describeInWords(const ModelSummary& m, const std::string& path) {
       << "  error        " << m.transportError << " relative to T (Frobenius)\n"
       << positionsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport")
       << lampsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport")
+      << materialsInWords(m.pixels)
       << labelsInWords(m.geometry, m.pixels, "compress (or build) it again from a new transport");
   return out.str();
 }
@@ -267,7 +294,7 @@ std::string describeInWords(const TransportSummary& t, const std::string& path) 
       << formatBytes(t.fileBytes) << " on disk\n"
       << "  relight cost " << h.latticeSize() << " multiply-adds of RGB triples per pixel (dense)\n"
       << positionsInWords(h, t.pixels, "precompute it again")
-      << lampsInWords(h, t.pixels, "precompute it again")
+      << lampsInWords(h, t.pixels, "precompute it again") << materialsInWords(t.pixels)
       << labelsInWords(h, t.pixels, "precompute it again");
   return out.str();
 }

@@ -20,13 +20,14 @@ namespace {
 /// The mask picture's deflate level: written once a view, so small beats fast.
 constexpr int kMaskPngLevel = 9;
 
-constexpr std::array<Aov, 7> kAllAovs{Aov::Albedo, Aov::Normal, Aov::Depth,  Aov::Position,
-                                      Aov::Mask,   Aov::Object, Aov::Shading};
+constexpr std::array<Aov, 8> kAllAovs{Aov::Albedo,   Aov::Normal, Aov::Tangent, Aov::Depth,
+                                      Aov::Position, Aov::Mask,   Aov::Object,  Aov::Shading};
 
 std::vector<Aov> presetAovs(const std::string& name) {
   if (name == "all") return {kAllAovs.begin(), kAllAovs.end()};
   if (name == "intrinsic") return {Aov::Albedo, Aov::Mask, Aov::Shading};
-  if (name == "geometry") return {Aov::Normal, Aov::Depth, Aov::Position, Aov::Mask, Aov::Object};
+  if (name == "geometry")
+    return {Aov::Normal, Aov::Tangent, Aov::Depth, Aov::Position, Aov::Mask, Aov::Object};
   return {kAovNames.parse(name)};
 }
 
@@ -37,6 +38,8 @@ bool fileGives(bool lightSet, const PixelDatasets& d, Aov aov) {
       return !lightSet;
     case Aov::Normal:
       return d.normals;
+    case Aov::Tangent:
+      return d.tangents;
     case Aov::Depth:
     case Aov::Position:
       return d.positions;
@@ -54,6 +57,8 @@ std::vector<std::string> exrChannels(Aov aov) {
       return {"albedo.R", "albedo.G", "albedo.B"};
     case Aov::Normal:
       return {"N.X", "N.Y", "N.Z"};
+    case Aov::Tangent:
+      return {"T.X", "T.Y", "T.Z"};
     case Aov::Depth:
       return {"Z"};
     case Aov::Position:
@@ -86,6 +91,9 @@ LabelLayer layerOf(const TransportHeader& h, Aov aov) {
         break;
       case Aov::Normal:
         std::copy_n(&h.normals[3 * r], 3, out);
+        break;
+      case Aov::Tangent:  // the row's first traced camera sample's
+        std::copy_n(&h.lamps.tangent[3 * static_cast<size_t>(h.lamps.sampleStart[r])], 3, out);
         break;
       case Aov::Depth:  // planar: along the view axis, not from the eye
         out[0] = static_cast<float>((Vec3(p[0], p[1], p[2]) - eye).dot(forward));
@@ -192,9 +200,10 @@ void requireAovs(const TransportHeader& header, const std::vector<Aov>& aovs,
               : "run precompute again with this version";
     throw UserError(concat(path, ": cannot give the '", kAovNames.name(aov),
                            "' label: the file was made before it kept each pixel's ",
-                           aov == Aov::Normal   ? "normal"
-                           : aov == Aov::Object ? "object"
-                                                : "position",
+                           aov == Aov::Normal    ? "normal"
+                           : aov == Aov::Tangent ? "tangent"
+                           : aov == Aov::Object  ? "object"
+                                                 : "position",
                            "; ", remedy));
   }
 }

@@ -12,10 +12,11 @@
 
 namespace acpca {
 
-enum class Aov { Albedo, Normal, Depth, Position, Mask, Object, Shading };
-inline constexpr EnumNames<Aov, 7> kAovNames{"AOV",
+enum class Aov { Albedo, Normal, Tangent, Depth, Position, Mask, Object, Shading };
+inline constexpr EnumNames<Aov, 8> kAovNames{"AOV",
                                              {{{Aov::Albedo, "albedo"},
                                                {Aov::Normal, "normal"},
+                                               {Aov::Tangent, "tangent"},
                                                {Aov::Depth, "depth"},
                                                {Aov::Position, "position"},
                                                {Aov::Mask, "mask"},
@@ -23,14 +24,16 @@ inline constexpr EnumNames<Aov, 7> kAovNames{"AOV",
                                                {Aov::Shading, "shading"}}}};
 
 /// A comma-separated list of AOV names and presets ("all"; "intrinsic":
-/// albedo, shading, mask; "geometry": normal, depth, position, mask, object),
+/// albedo, shading, mask; "geometry": normal, tangent, depth, position, mask,
+/// object),
 /// each AOV once, in kAovNames' order. Empty text: none. ParameterError
 /// ("AOV") naming what is not an AOV.
 std::vector<Aov> parseAovList(const std::string& text);
 
 /// The AOVs a file's per-pixel data can give: all but what older files lack
 /// (normals before model version 5, positions before transport version 2 and
-/// model version 4, objects before transport 3 and model 5).
+/// model version 4, objects before transport 3 and model 5, tangents before
+/// transport 6 and model 8).
 std::vector<Aov> availableAovs(const TransportHeader& header);
 /// The same for a header read without its arrays (what the datasets hold).
 std::vector<Aov> availableAovs(const TransportHeader& attributes, const PixelDatasets& datasets);

@@ -14,9 +14,10 @@ inline constexpr const char* kModelFormat = "adaptive-cpca model";
 /// 2: one i8 scale per cluster basis; 3: no timing or memory figures (equal
 /// inputs give equal bytes); 4: each pixel's world position (local lights);
 /// 5: each pixel's normal and object (per-pixel labels); 6: the light set of
-/// a captured transport. Versions 2 to 5 are read as well (without what came later; version 2's
-/// compress_seconds and peak_memory_bytes are ignored).
-inline constexpr int kModelVersion = 7;
+/// a captured transport; 7: the lamp samples and surfaces; 8: their tangents
+/// and anisotropic materials. Versions 2 to 7 are read as well (without what
+/// came later; version 2's compress_seconds and peak_memory_bytes are ignored).
+inline constexpr int kModelVersion = 8;
 inline constexpr int kOldestModelVersion = 2;
 
 /// What a file written by ModelFileWriter holds: a whole model, or only

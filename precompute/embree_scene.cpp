@@ -40,8 +40,9 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     // Zero-area triangles (repeated or collinear corners) have no normal and
     // cover nothing: they are left out rather than risk a NaN normal on a hit.
     std::vector<Eigen::Vector3i> kept;
-    std::vector<Eigen::Vector3f> keptNormals;  // three per kept triangle
-    std::vector<Eigen::Vector2f> keptUvs;      // three per kept triangle, with a texture
+    std::vector<Eigen::Vector3f> keptNormals;   // three per kept triangle
+    std::vector<Eigen::Vector3f> keptTangents;  // three per kept triangle
+    std::vector<Eigen::Vector2f> keptUvs;       // three per kept triangle, with a texture
     kept.reserve(mesh.triangles.size());
     for (size_t i = 0; i < mesh.triangles.size(); ++i) {
       const auto& tri = mesh.triangles[i];
@@ -55,6 +56,9 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         if (!mesh.normals.empty())
           keptNormals.insert(keptNormals.end(), mesh.normals.begin() + 3 * i,
                              mesh.normals.begin() + 3 * i + 3);
+        if (!mesh.tangents.empty())
+          keptTangents.insert(keptTangents.end(), mesh.tangents.begin() + 3 * i,
+                              mesh.tangents.begin() + 3 * i + 3);
         if (mesh.albedoTexture)
           keptUvs.insert(keptUvs.end(), mesh.uvs.begin() + 3 * i, mesh.uvs.begin() + 3 * i + 3);
       } else {
@@ -77,6 +81,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     materials_.push_back(mesh.material);
     sphereOfGeometry_.push_back(nullptr);
     cornerNormals_.push_back(std::move(keptNormals));
+    cornerTangents_.push_back(std::move(keptTangents));
     textures_.push_back(mesh.albedoTexture);
     cornerUvs_.push_back(std::move(keptUvs));
   }
@@ -94,6 +99,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     materials_.push_back(sphere.material);
     sphereOfGeometry_.push_back(&sphere);
     cornerNormals_.emplace_back();
+    cornerTangents_.emplace_back();
     textures_.emplace_back();
     cornerUvs_.emplace_back();
   }
@@ -140,27 +146,35 @@ EmbreeScene::Hit EmbreeScene::intersect(const Vec3& origin, const Vec3& directio
         hit.albedo.cwiseProduct(texture->sample((1 - u - v) * uv[0] + u * uv[1] + v * uv[2]));
   }
   const Sphere* sphere = sphereOfGeometry_[rh.hit.geomID];
+  Vec3 tangentHint = Vec3::UnitX();
   if (sphere) {
     // Exact normal, and the hit point snapped back onto the true sphere.
     hit.normal = (hit.position - sphere->center).normalized();
     hit.position = sphere->center + sphere->radius * hit.normal;
     hit.shadingNormal = hit.normal;
+    tangentHint = Vec3::UnitY().cross(hit.normal);  // along the parallels about +Y
   } else {
     hit.normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
     hit.shadingNormal = hit.normal;
-    const auto& corners = cornerNormals_[rh.hit.geomID];
-    if (!corners.empty()) {
-      // Embree's barycentrics: p = (1 - u - v) p0 + u p1 + v p2.
-      const double u = rh.hit.u, v = rh.hit.v;
-      const size_t first = 3 * static_cast<size_t>(rh.hit.primID);
-      const Vec3 n = (1 - u - v) * corners[first].cast<double>() +
-                     u * corners[first + 1].cast<double>() + v * corners[first + 2].cast<double>();
+    // Embree's barycentrics: p = (1 - u - v) p0 + u p1 + v p2.
+    const double u = rh.hit.u, v = rh.hit.v;
+    const size_t first = 3 * static_cast<size_t>(rh.hit.primID);
+    const auto interpolate = [&](const std::vector<Eigen::Vector3f>& corners) -> Vec3 {
+      return (1 - u - v) * corners[first].cast<double>() + u * corners[first + 1].cast<double>() +
+             v * corners[first + 2].cast<double>();
+    };
+    if (const auto& corners = cornerNormals_[rh.hit.geomID]; !corners.empty()) {
+      const Vec3 n = interpolate(corners);
       if (n.norm() > 1e-12) hit.shadingNormal = n.normalized();
     }
+    if (const auto& corners = cornerTangents_[rh.hit.geomID]; !corners.empty())
+      tangentHint = interpolate(corners);
   }
   if (hit.normal.dot(direction) > 0) hit.normal = -hit.normal;  // two-sided: face the viewer
   // The shading normal lies on the side of the surface the viewer sees.
   if (hit.shadingNormal.dot(hit.normal) < 0) hit.shadingNormal = -hit.shadingNormal;
+  hit.tangent = turnedTangent(hit.shadingNormal, tangentAcross(hit.shadingNormal, tangentHint),
+                              materials_[rh.hit.geomID].rotationDegrees);
   return hit;
 }
 
@@ -184,6 +198,7 @@ GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int sample
   GBuffer g;
   g.size = camera.size;
   g.samplesPerPixel = samplesPerPixel;
+  for (const Material& m : scene.materials()) g.anisotropic.push_back(m.anisotropic());
   g.samples.resize(static_cast<size_t>(camera.size.pixels()) * samplesPerPixel);
   const float epsilon = scene.rayEpsilon();
   tbb::parallel_for(tbb::blocked_range<int>(0, camera.size.height), [&](const auto& rows) {
@@ -199,6 +214,7 @@ GBuffer renderGBuffer(const EmbreeScene& scene, const Camera& camera, int sample
           if (hit.material < 0) continue;
           ps.normal = hit.shadingNormal.cast<float>();
           ps.geometricNormal = hit.normal.cast<float>();
+          ps.tangent = hit.tangent.cast<float>();
           ps.toViewer = (-dir).cast<float>();
           ps.albedo = hit.albedo;
           // Pushed off along the geometric normal so shadow rays miss their own

@@ -38,8 +38,11 @@ class EmbreeScene {
   struct Hit {
     int material = -1;
     Vec3 position;
-    Vec3 normal;             ///< geometric, unit, turned to face the ray's origin
-    Vec3 shadingNormal;      ///< interpolated (the geometric one when flat), on normal's side
+    Vec3 normal;         ///< geometric, unit, turned to face the ray's origin
+    Vec3 shadingNormal;  ///< interpolated (the geometric one when flat), on normal's side
+    /// Unit, across shadingNormal, the material's rotation applied
+    /// (docs/scenes.md, "Tangents"): what orients an anisotropic lobe.
+    Vec3 tangent;
     Eigen::Vector3f albedo;  ///< the material's, times its texture at the hit
   };
   Hit intersect(const Vec3& origin, const Vec3& direction) const;
@@ -55,6 +58,8 @@ class EmbreeScene {
   std::vector<const Sphere*> sphereOfGeometry_;  // nullptr for meshes
   /// Per geometry: three shading normals per kept triangle (empty: flat).
   std::vector<std::vector<Eigen::Vector3f>> cornerNormals_;
+  /// Per geometry: three tangents per kept triangle (empty: world +X across the normal).
+  std::vector<std::vector<Eigen::Vector3f>> cornerTangents_;
   /// Per geometry: its albedo texture (may be null) and, with one, three
   /// texture coordinates per kept triangle.
   std::vector<std::shared_ptr<const Texture>> textures_;
@@ -66,6 +71,7 @@ struct PixelSample {
   Eigen::Vector3f origin;           ///< hit point pushed off along the geometric normal
   Eigen::Vector3f normal;           ///< shading normal: unit, on the viewer's side
   Eigen::Vector3f geometricNormal;  ///< unit, facing the viewer
+  Eigen::Vector3f tangent;          ///< unit, across normal (Hit::tangent)
   Eigen::Vector3f toViewer;         ///< unit
   Eigen::Vector3f albedo;           ///< textured albedo at the hit
   int material = -1;                ///< -1: the sample missed (background)
@@ -76,6 +82,8 @@ struct GBuffer {
   ImageSize size;
   int samplesPerPixel = 1;
   std::vector<PixelSample> samples;
+  /// Per material: whether its lobe turns with the tangent.
+  std::vector<bool> anisotropic;
   const PixelSample& at(int x, int y, int s) const {
     return samples[(static_cast<size_t>(y) * size.width + x) * samplesPerPixel + s];
   }

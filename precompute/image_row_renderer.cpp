@@ -73,7 +73,7 @@ std::uint64_t ImageRowRenderer::sampleSeed(int x, int y, int s) const {
 
 long long ImageRowRenderer::traceDirect(const PixelSample& ps, float weight, float* row) const {
   const Material& m = shadows_.scene().materials()[ps.material];
-  const LobeShape shape(m, ps.normal, ps.toViewer);
+  const LobeShape shape(m, ps.normal, ps.tangent, ps.toViewer);
   const TexelDirections& dirs = shadows_.directions();
   return shadows_.trace(
       ps.origin, ps.normal, ps.geometricNormal, 0.0f, [&](int j, size_t q, float cosine) {

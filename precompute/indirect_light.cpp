@@ -122,7 +122,8 @@ long long IndirectLight::walk(const PixelSample& ps, std::uint64_t seed, Visit&&
   }
   long long rays = 0;
   for (int i = 0; i < samples; ++i) {
-    PathVertex at{ps.origin, ps.normal, ps.geometricNormal, ps.toViewer, ps.albedo, ps.material};
+    PathVertex at{ps.origin,   ps.normal, ps.geometricNormal, ps.tangent,
+                  ps.toViewer, ps.albedo, ps.material};
     Eigen::Array3f beta = Eigen::Array3f::Ones();
     bool first = true;
     for (int bounce = 1; bounce <= settings_.bounces; ++bounce) {
@@ -131,7 +132,7 @@ long long IndirectLight::walk(const PixelSample& ps, std::uint64_t seed, Visit&&
       // From below the true surface the surface itself is in the way.
       if (d.dot(at.geometricNormal) <= 0) break;
       const Material& m = materials[at.material];
-      const LobeShape shape(m, at.normal, at.toViewer);
+      const LobeShape shape(m, at.normal, at.tangent, at.toViewer);
       // f cos / (cos / pi) = pi f: the albedo, times pi shape where not diffuse;
       // the pixel's own albedo is left out (rows are divided by it).
       const float lobe =
@@ -145,6 +146,7 @@ long long IndirectLight::walk(const PixelSample& ps, std::uint64_t seed, Visit&&
       at.origin = (hit.position + double(scene_.rayEpsilon()) * hit.normal).cast<float>();
       at.normal = hit.shadingNormal.cast<float>();
       at.geometricNormal = hit.normal.cast<float>();
+      at.tangent = hit.tangent.cast<float>();
       at.toViewer = -d;
       at.albedo = hit.albedo;
       at.material = hit.material;
@@ -207,7 +209,7 @@ IndirectLight::Rays IndirectLight::add(const PixelSample& ps, std::uint64_t seed
 
 long long IndirectLight::gatherExact(const PathVertex& v, const Eigen::Array3f& beta,
                                      float* row) const {
-  const LobeShape shape(scene_.materials()[v.material], v.normal, v.toViewer);
+  const LobeShape shape(scene_.materials()[v.material], v.normal, v.tangent, v.toViewer);
   const TexelDirections& dirs = shadows_.directions();
   const int channels = settings_.channels;
   return shadows_.trace(
@@ -222,7 +224,7 @@ long long IndirectLight::gatherExact(const PathVertex& v, const Eigen::Array3f& 
 /// its cosines, horizons and lobe are the vertex's.
 void IndirectLight::gatherCached(const std::uint64_t* bits, const PathVertex& v,
                                  const Eigen::Array3f& beta, float* row) const {
-  const LobeShape shape(scene_.materials()[v.material], v.normal, v.toViewer);
+  const LobeShape shape(scene_.materials()[v.material], v.normal, v.tangent, v.toViewer);
   const TexelDirections& dirs = shadows_.directions();
   const int k = dirs.raysPerTexel, channels = settings_.channels;
   const Eigen::Vector3f n = v.normal, ng = v.geometricNormal;

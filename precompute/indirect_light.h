@@ -32,6 +32,7 @@ struct PathVertex {
   Eigen::Vector3f origin;           ///< pushed off the surface towards the viewer's side
   Eigen::Vector3f normal;           ///< shading, on the viewer's side
   Eigen::Vector3f geometricNormal;  ///< facing the viewer
+  Eigen::Vector3f tangent;          ///< across the shading normal, the material's rotation applied
   Eigen::Vector3f toViewer;
   Eigen::Vector3f albedo;
   int material = -1;

@@ -116,6 +116,7 @@ void sendModel(Writer& w, const ImportedModel& m) {
     w.array(p.positions);
     w.array(p.normals);
     w.array(p.uvs);
+    w.array(p.tangents);
     w.array(p.corners);
   }
 }
@@ -144,6 +145,7 @@ ImportedModel receiveModel(Reader& r) {
     p.positions = r.array<float>();
     p.normals = r.array<float>();
     p.uvs = r.array<float>();
+    p.tangents = r.array<float>();
     p.corners = r.array<std::uint32_t>();
   }
   return m;
@@ -223,6 +225,14 @@ void collectParts(const aiScene* ai, const aiNode* node, const aiMatrix4x4& pare
         part.normals.insert(part.normals.end(), {n.x, n.y, n.z});
       }
     }
+    if (mesh->mTangents && vertices > 0) {
+      const aiMatrix3x3 linear(transform);  // tangents lie in the surface
+      part.tangents.reserve(3 * size_t(vertices));
+      for (unsigned v = 0; v < vertices; ++v) {
+        const aiVector3D t = linear * mesh->mTangents[v];
+        part.tangents.insert(part.tangents.end(), {t.x, t.y, t.z});
+      }
+    }
     const unsigned uvSet =
         part.material < out.materials.size() ? out.materials[part.material].uvSet : 0;
     if (uvSet < AI_MAX_NUMBER_OF_TEXTURECOORDS && mesh->mTextureCoords[uvSet] && vertices > 0)
@@ -244,7 +254,10 @@ void collectParts(const aiScene* ai, const aiNode* node, const aiMatrix4x4& pare
 ImportedModel importModel(const std::string& path) {
   Assimp::Importer importer;
   // No vertex joining or normal generation: the file's normals or our own.
-  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType);
+  // Tangents: the file's (glTF TANGENT), else from the first texture
+  // coordinates where a part has them and normals.
+  const aiScene* ai = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_CalcTangentSpace);
   if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
     const std::string reason = importer.GetErrorString();
     // assimp reports its exceptions' what(); a malformed count asks for GBs.

@@ -34,9 +34,12 @@ struct ImportedMaterial {
 struct ImportedPart {
   std::string name;
   unsigned material = 0;
-  std::vector<float> positions;        ///< 3 per vertex
-  std::vector<float> normals;          ///< 3 per vertex (inverse transpose), or none
-  std::vector<float> uvs;              ///< 2 per vertex of the material's uv set, or none
+  std::vector<float> positions;  ///< 3 per vertex
+  std::vector<float> normals;    ///< 3 per vertex (inverse transpose), or none
+  std::vector<float> uvs;        ///< 2 per vertex of the material's uv set, or none
+  /// 3 per vertex, or none: the file's, or assimp's from the first uv set
+  /// (aiProcess_CalcTangentSpace), node transform applied; unchecked.
+  std::vector<float> tangents;
   std::vector<std::uint32_t> corners;  ///< 3 per triangle, unchecked
 };
 

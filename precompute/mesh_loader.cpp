@@ -2,6 +2,7 @@
 // other formats it reads. Parts are gathered per material, in the file's coordinates (node
 // transforms applied), with the file's vertex normals as shading normals or
 // smooth ones of our own, and the material's base colour and texture.
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -105,7 +106,9 @@ void gather(const ImportedModel& model, bool normals, Gathered& out) {
     const size_t vertices = part.positions.size() / 3;
     if (part.positions.size() % 3 != 0 ||
         (!part.normals.empty() && part.normals.size() != 3 * vertices) ||
-        (!part.uvs.empty() && part.uvs.size() != 2 * vertices) || part.corners.size() % 3 != 0)
+        (!part.uvs.empty() && part.uvs.size() != 2 * vertices) ||
+        (!part.tangents.empty() && part.tangents.size() != 3 * vertices) ||
+        part.corners.size() % 3 != 0)
       throw UserError(concat(what, ": its vertex arrays do not match in length"));
     if (mesh.vertices.size() + vertices > size_t(std::numeric_limits<int>::max()))
       throw UserError(concat(what, ": more vertices than the renderer indexes"));
@@ -132,6 +135,11 @@ void gather(const ImportedModel& model, bool normals, Gathered& out) {
         const size_t v = corner[k];
         mesh.uvs.emplace_back(textured ? part.uvs[2 * v] : 0.0f,
                               textured ? part.uvs[2 * v + 1] : 0.0f);
+        // Every corner gets one; zero where the part has none (tangentsAcross).
+        mesh.tangents.push_back(part.tangents.empty() ? Eigen::Vector3f::Zero()
+                                                      : Eigen::Vector3f(part.tangents[3 * v],
+                                                                        part.tangents[3 * v + 1],
+                                                                        part.tangents[3 * v + 2]));
         if (!normals) continue;
         mesh.normals.push_back(hasNormals
                                    ? Eigen::Vector3f(part.normals[3 * v], part.normals[3 * v + 1],
@@ -162,6 +170,27 @@ long long repairFileNormals(TriangleMesh& mesh, double creaseDegrees) {
   return replaced;
 }
 
+/// Tangents that are undefined (no texture coordinates, degenerate ones) or
+/// parallel to their corner's normal become zero: the stated fallback,
+/// world +X across the normal, is taken where they are (docs/scenes.md,
+/// "Tangents"). Returns how many corners have none.
+long long clearUnusableTangents(TriangleMesh& mesh) {
+  long long cleared = 0;
+  for (size_t c = 0; c < mesh.tangents.size(); ++c) {
+    Eigen::Vector3f& t = mesh.tangents[c];
+    const Eigen::Vector3i& tri = mesh.triangles[c / 3];
+    const Eigen::Vector3f n = mesh.normals.empty()
+                                  ? (mesh.vertices[tri[1]] - mesh.vertices[tri[0]])
+                                        .cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]])
+                                        .normalized()
+                                  : mesh.normals[c].normalized();
+    const bool usable =
+        t.allFinite() && n.allFinite() && (t - n.dot(t) * n).norm() > 1e-4f * t.norm();
+    if (!usable) t.setZero(), ++cleared;
+  }
+  return cleared;
+}
+
 /// The triangles of one group as their own mesh (vertices renumbered).
 TriangleMesh groupMesh(const Gathered& g, std::pair<unsigned, bool> group) {
   TriangleMesh mesh;
@@ -177,6 +206,7 @@ TriangleMesh groupMesh(const Gathered& g, std::pair<unsigned, bool> group) {
       }
       tri[k] = v;
       if (!g.all.normals.empty()) mesh.normals.push_back(g.all.normals[3 * t + k]);
+      mesh.tangents.push_back(g.all.tangents[3 * t + k]);
       if (group.second) mesh.uvs.push_back(g.all.uvs[3 * t + k]);
     }
     mesh.triangles.push_back(tri);
@@ -223,6 +253,7 @@ std::vector<TriangleMesh> loadMeshFile(const std::string& path, NormalMode norma
   }
   if (normals == NormalMode::Smooth) smoothNormals(all, creaseDegrees);
   if (normals == NormalMode::Flat) all.normals.clear();
+  clearUnusableTangents(all);
 
   std::map<std::pair<unsigned, bool>, int> groups;  // ordered: same meshes every run
   for (const auto& group : gathered.groupOfTriangle) groups[group] = 0;
@@ -235,6 +266,11 @@ std::vector<TriangleMesh> loadMeshFile(const std::string& path, NormalMode norma
     mesh.material.type = Material::Type::Diffuse;
     mesh.material.albedo = material.color;
     if (group.second) mesh.albedoTexture = material.texture;  // nullptr without one
+    // Whether a part's tangents are usable matters only once a scene file
+    // makes it anisotropic (scene_json.cpp warns then).
+    if (std::all_of(mesh.tangents.begin(), mesh.tangents.end(),
+                    [](const Eigen::Vector3f& t) { return t.isZero(); }))
+      mesh.tangents.clear();
     meshes.push_back(std::move(mesh));
   }
   return meshes;

@@ -48,6 +48,9 @@ bool samplesAgree(const GBuffer& g, int x, int y) {
     const PixelSample& ps = g.at(x, y, s);
     if (ps.material != centre.material) return false;
     if (ps.normal.dot(centre.normal) < 0.99f) return false;
+    // An anisotropic lobe turns with the tangent (either sign is the same lobe).
+    if (g.anisotropic[centre.material] && std::abs(ps.tangent.dot(centre.tangent)) < 0.99f)
+      return false;
     const Eigen::Vector3f step = ps.origin - centre.origin;
     if (std::abs(step.dot(centre.geometricNormal)) > 0.1f * step.norm()) return false;
   }

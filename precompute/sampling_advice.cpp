@@ -26,10 +26,13 @@ int texelRaysForHalfWidth(double halfWidth, int cubemapResolution) {
 double lobeHalfWidth(const Material& m) {
   if (m.specular <= 0) return 0;
   if (m.type == Material::Type::Phong) return m.exponent > 0 ? phongHalfWidth(m.exponent) : 0;
+  if (m.type == Material::Type::AshikhminShirley)  // in half vectors: twice as wide in light
+    return 2 * phongHalfWidth(std::max(m.nu, m.nv));
   if (m.type == Material::Type::Ggx) {
     // D falls to half its peak where cos^2 theta_h = (1 - sqrt2 a^2) / (1 - a^2);
     // mirrored about the normal, the lobe of light directions is twice as wide.
-    const double a2 = m.roughness * m.roughness;
+    // Anisotropic: across its narrower axis.
+    const double a = std::min(m.alphaU(), m.alphaV()), a2 = a * a;
     if (std::sqrt(2.0) * a2 >= 1) return 0;  // wider than any lattice misses
     return 2 * std::acos(std::sqrt((1 - std::sqrt(2.0) * a2) / (1 - a2)));
   }
@@ -46,9 +49,10 @@ std::vector<std::string> samplingWarnings(const Scene& scene, const PrecomputeOp
   const auto check = [&](const Material& m, const std::string& object) {
     const double halfWidth = lobeHalfWidth(m);
     if (halfWidth <= 0 || spacing <= halfWidth) return;  // two samples across the half maximum
-    const std::string lobe = m.type == Material::Type::Phong
-                                 ? concat("Phong exponent ", m.exponent)
-                                 : concat("GGX roughness ", m.roughness);
+    const std::string lobe = m.type == Material::Type::Phong ? concat("Phong exponent ", m.exponent)
+                             : m.type == Material::Type::Ggx
+                                 ? concat("GGX roughness ", std::min(m.alphaU(), m.alphaV()))
+                                 : concat("Ashikhmin-Shirley exponent ", std::max(m.nu, m.nv));
     warnings.push_back(concat(object, ": ", lobe, " has a lobe ", 2 * halfWidth * 180 / M_PI,
                               " degrees wide at half maximum, under two direction samples across (",
                               spacing * 180 / M_PI, " degrees apart on 6x",

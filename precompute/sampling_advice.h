@@ -13,7 +13,8 @@ namespace acpca {
 /// 6 x R x R lattice (1 when texel centres already do).
 int texelRaysForLobe(double exponent, int cubemapResolution);
 /// Half the width at half maximum (radians) of a material's specular lobe over
-/// light directions: Phong's, or GGX's mirrored distribution; 0 without one.
+/// light directions: Phong's, GGX's mirrored distribution or Ashikhmin-
+/// Shirley's lobe (across the narrower axis when anisotropic); 0 without one.
 double lobeHalfWidth(const Material& m);
 /// One line per Phong or GGX material whose lobe the lattice under-samples: fewer than
 /// two direction samples (2/R radians apart at a face's centre, over

@@ -51,19 +51,8 @@ namespace {
 void validateMaterial(const Material& m, const std::string& what) {
   if (!m.albedo.allFinite() || (m.albedo.array() < 0).any())
     throw UserError(concat(what, ": albedo must be finite and >= 0"));
-  if (m.type == Material::Type::Ggx) {
-    if (!(m.specular >= 0 && m.specular <= 1))
-      throw UserError(concat(what, ": specular ", m.specular, " is outside [0, 1]"));
-    if (!(m.roughness >= kMinRoughness && m.roughness <= 1))
-      throw UserError(
-          concat(what, ": GGX roughness ", m.roughness, " is outside [", kMinRoughness, ", 1]"));
-  }
-  if (m.type == Material::Type::Phong) {
-    if (!(m.specular >= 0 && m.specular <= 1))
-      throw UserError(concat(what, ": specular ", m.specular, " is outside [0, 1]"));
-    if (!(m.exponent >= 0 && m.exponent <= 1e6))
-      throw UserError(concat(what, ": exponent ", m.exponent, " is outside [0, 1e6]"));
-  }
+  if (const std::string problem = materialProblem(m); !problem.empty())
+    throw UserError(concat(what, ": ", kMaterialTypeNames.name(m.type), " ", problem));
 }
 }  // namespace
 
@@ -97,6 +86,11 @@ void Scene::validate() const {
     if (!m.uvs.empty() && m.uvs.size() != 3 * m.triangles.size())
       throw UserError(concat(what, ": ", m.uvs.size(), " texture coordinates for ",
                              m.triangles.size(), " triangles (three per triangle)"));
+    if (!m.tangents.empty() && m.tangents.size() != 3 * m.triangles.size())
+      throw UserError(concat(what, ": ", m.tangents.size(), " tangents for ", m.triangles.size(),
+                             " triangles (three per triangle)"));
+    for (const auto& tangent : m.tangents)
+      if (!tangent.allFinite()) throw UserError(concat(what, ": a tangent is NaN or infinite"));
     for (const auto& uv : m.uvs)
       if (!uv.allFinite())
         throw UserError(concat(what, ": a texture coordinate is NaN or infinite"));
@@ -152,12 +146,15 @@ void appendMesh(TriangleMesh& a, const TriangleMesh& b) {
               "appending meshes with and without shading normals");
   ACPCA_CHECK(a.uvs.empty() == b.uvs.empty() || a.triangles.empty(),
               "appending meshes with and without texture coordinates");
+  ACPCA_CHECK(a.tangents.empty() == b.tangents.empty() || a.triangles.empty(),
+              "appending meshes with and without tangents");
   ACPCA_CHECK(a.albedoTexture == b.albedoTexture, "appending meshes with different textures");
   const int offset = static_cast<int>(a.vertices.size());
   a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
   for (const auto& t : b.triangles) a.triangles.push_back(t.array() + offset);
   a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
   a.uvs.insert(a.uvs.end(), b.uvs.begin(), b.uvs.end());
+  a.tangents.insert(a.tangents.end(), b.tangents.begin(), b.tangents.end());
 }
 
 Scene loadScene(const std::string& nameOrPath) {

@@ -25,6 +25,11 @@ struct TriangleMesh {
   /// their edge), interpolated across each triangle; empty: flat shading with
   /// the geometric normal.
   std::vector<Eigen::Vector3f> normals;
+  /// Tangents, three per triangle like the normals (the file's, or from its
+  /// texture coordinates), interpolated and then taken across the shading
+  /// normal; empty: world +X across the normal (+Z where the normal is
+  /// along X), as for planes (docs/scenes.md, "Tangents").
+  std::vector<Eigen::Vector3f> tangents;
   /// Texture coordinates, three per triangle like the normals (empty: none).
   std::vector<Eigen::Vector2f> uvs;
   /// Multiplies material.albedo at each point (the file's base colour or

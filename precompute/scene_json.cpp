@@ -2,6 +2,7 @@
 // Every key is checked: unknown, missing or mistyped keys are errors naming the
 // key and where it is.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/warning.h"
 #include "precompute/scene.h"
 
 namespace acpca {
@@ -157,6 +159,63 @@ struct MaterialSpec {
   std::shared_ptr<const Texture> texture;
 };
 
+/// Keys only some material types take, and which: named in the error when
+/// another type has them, rather than "unknown key".
+void refuseOtherKindsKeys(const Reader& r, const std::string& type) {
+  static const std::vector<std::pair<std::string, std::set<std::string>>> owners = {
+      {"specular", {"phong", "ggx", "ashikhmin-shirley"}},
+      {"exponent", {"phong"}},
+      {"roughness", {"ggx"}},
+      {"anisotropy", {"ggx"}},
+      {"roughness_u", {"ggx"}},
+      {"roughness_v", {"ggx"}},
+      {"nu", {"ashikhmin-shirley"}},
+      {"nv", {"ashikhmin-shirley"}},
+      {"rotation", {"ggx", "ashikhmin-shirley"}}};
+  for (const auto& [key, types] : owners) {
+    if (!r.has(key) || types.count(type)) continue;
+    std::string list;
+    for (const auto& t : types) list += (list.empty() ? "" : ", ") + t;
+    throw UserError(
+        concat(r.path(key), ": a ", type, " material has no '", key, "' (only ", list, ")"));
+  }
+}
+
+/// An Ashikhmin-Shirley exponent: > 0, or the lobe has no peak.
+double positiveExponent(const Reader& r, const std::string& key) {
+  const double v = r.number(key);
+  if (!(v > 0 && v <= 1e6)) throw UserError(concat(r.path(key), ": ", v, " is outside (0, 1e6]"));
+  return v;
+}
+
+/// GGX: "roughness" alpha, made anisotropic by "anisotropy" t in [0, 1) as
+/// Cycles' Principled BSDF does (alpha / aspect along the tangent, alpha x
+/// aspect along the bitangent, aspect = sqrt(1 - 0.9 t)), or the two alphas
+/// as "roughness_u" and "roughness_v".
+void readGgx(const Reader& r, Material& m) {
+  r.allowOnly({"type", "albedo", "texture", "specular", "roughness", "anisotropy", "roughness_u",
+               "roughness_v", "rotation"});
+  m.specular = r.numberIn("specular", 0, 1);
+  const bool axes = r.has("roughness_u") || r.has("roughness_v");
+  if (axes) {
+    if (r.has("roughness") || r.has("anisotropy"))
+      throw UserError(concat(r.where(),
+                             ": give 'roughness' (and 'anisotropy') or 'roughness_u' and "
+                             "'roughness_v', not both"));
+    m.roughness = r.numberIn("roughness_u", kMinRoughness, kMaxRoughness);
+    m.roughnessV = r.numberIn("roughness_v", kMinRoughness, kMaxRoughness);
+    return;
+  }
+  m.roughness = r.numberIn("roughness", kMinRoughness, 1);
+  if (!r.has("anisotropy")) return;
+  const double t = r.number("anisotropy");
+  if (!(t >= 0 && t < 1))
+    throw UserError(concat(r.path("anisotropy"), ": ", t, " is outside [0, 1)"));
+  const double alpha = m.roughness, aspect = std::sqrt(1 - 0.9 * t);
+  m.roughness = std::max(kMinRoughness, alpha / aspect);
+  m.roughnessV = std::max(kMinRoughness, alpha * aspect);
+}
+
 MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
   const std::string type = r.text("type");
   MaterialSpec spec;
@@ -167,17 +226,21 @@ MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
     throw UserError(concat(r.path("type"), ": unknown material type '", type, "' (",
                            kMaterialTypeNames.list(), ")"));
   }
+  refuseOtherKindsKeys(r, type);
   if (m.type == Material::Type::Diffuse) r.allowOnly({"type", "albedo", "texture"});
   if (m.type == Material::Type::Phong) {
     r.allowOnly({"type", "albedo", "texture", "specular", "exponent"});
     m.specular = r.numberIn("specular", 0, 1);
     m.exponent = r.numberIn("exponent", 0, 1e6);
   }
-  if (m.type == Material::Type::Ggx) {
-    r.allowOnly({"type", "albedo", "texture", "specular", "roughness"});
+  if (m.type == Material::Type::Ggx) readGgx(r, m);
+  if (m.type == Material::Type::AshikhminShirley) {
+    r.allowOnly({"type", "albedo", "texture", "specular", "nu", "nv", "rotation"});
     m.specular = r.numberIn("specular", 0, 1);
-    m.roughness = r.numberIn("roughness", kMinRoughness, 1);
+    m.nu = positiveExponent(r, "nu");
+    m.nv = positiveExponent(r, "nv");
   }
+  if (r.has("rotation")) m.rotationDegrees = r.number("rotation");
   // A texture scales the albedo, which then defaults to white.
   if (r.has("texture")) {
     try {
@@ -217,6 +280,22 @@ void overrideMaterial(TriangleMesh& mesh, const MaterialSpec& spec, const std::s
   } else {
     mesh.material.albedo = file.albedo;
   }
+}
+
+/// An anisotropic lobe on a part without tangents of its own (no texture
+/// coordinates or normals to take them from, or degenerate ones) turns
+/// about world +X across the normal there: said once per part.
+void warnOfMissingTangents(const TriangleMesh& mesh, const std::string& where) {
+  if (!mesh.material.anisotropic()) return;
+  const auto missing = mesh.tangents.empty()
+                           ? static_cast<long long>(3 * mesh.triangles.size())
+                           : std::count_if(mesh.tangents.begin(), mesh.tangents.end(),
+                                           [](const Eigen::Vector3f& t) { return t.isZero(); });
+  if (missing == 0) return;
+  warn(concat(where, ": part '", mesh.name, "' has no usable tangent at ", missing, " of ",
+              3 * mesh.triangles.size(),
+              " corners (no texture coordinates, or degenerate ones): its anisotropic "
+              "lobe is turned from world +X across the normal there"));
 }
 
 /// Row-major 4x4 affine transform of a mesh object.
@@ -272,7 +351,10 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
     }
     if (r.has("material")) {
       const MaterialSpec spec = readMaterial(r.child("material"), baseDir);
-      for (auto& mesh : parts) overrideMaterial(mesh, spec, r.path("material"));
+      for (auto& mesh : parts) {
+        overrideMaterial(mesh, spec, r.path("material"));
+        warnOfMissingTangents(mesh, r.path("mesh"));
+      }
     }
     if (r.has("transform")) {
       const Eigen::Matrix4d t = readTransform(r.child("transform"));
@@ -283,6 +365,9 @@ void readObject(const Reader& r, const fs::path& baseDir, Scene& scene) {
           v = (t.topLeftCorner<3, 3>() * v.cast<double>() + t.topRightCorner<3, 1>()).cast<float>();
         for (auto& n : mesh.normals)
           n = (normalMatrix * n.cast<double>()).normalized().cast<float>();
+        // Tangents lie in the surface: they follow the matrix itself.
+        for (auto& tangent : mesh.tangents)
+          tangent = (t.topLeftCorner<3, 3>() * tangent.cast<double>()).cast<float>();
       }
     }
     for (auto& mesh : parts) scene.meshes.push_back(std::move(mesh));

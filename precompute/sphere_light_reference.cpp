@@ -51,7 +51,7 @@ Eigen::Vector3d shadeSample(const EmbreeScene& embree, const PixelSample& ps,
       ray.tnear = embree.rayEpsilon(), ray.tfar = float(t), ray.mask = ~0u;
       rtcOccluded1(embree.handle(), &context, &ray);
       if (ray.tfar < 0) continue;  // occluded
-      sum += brdfShape(material, n, toViewer, w) * cosine;
+      sum += brdfShape(material, n, ps.tangent.cast<double>(), toViewer, w) * cosine;
     }
   return sum * share * ps.albedo.cast<double>().cwiseProduct(light.radiance);
 }

@@ -66,6 +66,7 @@ void appendLampSamples(const GBuffer& gbuffer, int x, int y, Antialiasing mode,
     lamps.normal.insert(lamps.normal.end(), ps.normal.data(), ps.normal.data() + 3);
     lamps.geometricNormal.insert(lamps.geometricNormal.end(), ps.geometricNormal.data(),
                                  ps.geometricNormal.data() + 3);
+    lamps.tangent.insert(lamps.tangent.end(), ps.tangent.data(), ps.tangent.data() + 3);
     lamps.weight.push_back(weights[s]);
     lamps.material.push_back(ps.material);
   }

@@ -43,7 +43,7 @@ LampRay lampRay(const TransportHeader& h, const LocalLight& lamp, long long s) {
   if (irradiance <= 0) return ray;
   const Vec3 toViewer = (h.camera.eye - origin).normalized();
   ray.light = g.weight[s] * irradiance * cosine *
-              brdfShape(g.materials[g.material[s]], n, toViewer, direction);
+              brdfShape(g.materials[g.material[s]], n, g.tangentAt(s), toViewer, direction);
   ray.origin = origin.cast<float>();
   ray.direction = direction.cast<float>();
   // Stopped short of the lamp: what lies beyond it casts no shadow.
@@ -89,7 +89,8 @@ long long addDistantPoint(const TransportHeader& h, const SceneOccluder& occlude
       if (!(cosine > 0 && vec3At(g.geometricNormal, s).dot(direction) > 0)) continue;
       const Vec3 toViewer = (h.camera.eye - origin).normalized();
       const double light =
-          g.weight[s] * cosine * brdfShape(g.materials[g.material[s]], n, toViewer, direction);
+          g.weight[s] * cosine *
+          brdfShape(g.materials[g.material[s]], n, g.tangentAt(s), toViewer, direction);
       batch.add(origin.cast<float>(), towards, std::numeric_limits<float>::infinity(), r, light);
     }
   batch.flush();

@@ -198,6 +198,7 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, in
              ng = vec3At(g.geometricNormal, s);
   const Vec3 toViewer = (h.camera.eye - origin).normalized();
   const Material& material = g.materials[g.material[s]];
+  const Vec3 tangent = g.tangentAt(s);
   // Jittered and turned by the sample's seed: neighbouring samples' strata
   // differ, and a lamp that moves keeps each sample's.
   const auto seed = static_cast<std::uint64_t>(s);
@@ -213,7 +214,7 @@ double sumStrata(const TransportHeader& h, const SphereCap& cap, long long s, in
     const Vec3 w = cap.direction({c * p.x() - sn * p.y(), sn * p.x() + c * p.y()});
     const double cosine = n.dot(w);
     if (!(cosine > 0 && ng.dot(w) > 0)) continue;  // both horizons, as the precompute's rays
-    const double value = brdfShape(material, n, toViewer, w) * cosine;
+    const double value = brdfShape(material, n, tangent, toViewer, w) * cosine;
     sum += value;
     if (!chosen) continue;
     trace->add(origin.cast<float>(), w.cast<float>(), stopBefore(cap.reach(w)), s, value);

@@ -16,6 +16,14 @@ struct FrameComponents {
   T t, b, n;
 };
 
+/// a + b, the same bits for (a, b) and (b, a) whatever products the compiler
+/// fuses into the sum: a quarter turn of the frame then swaps the two tangent
+/// axes exactly.
+template <typename T>
+T unorderedSum(T a, T b) {
+  return std::min(a, b) + std::max(a, b);
+}
+
 /// [Ashikhmin00]'s specular lobe without its Fresnel factor:
 ///   sqrt((nu + 1)(nv + 1)) / (8 pi) (n.h)^((nu (h.t)^2 + nv (h.b)^2) / (1 - (n.h)^2))
 ///   / ((h.k) max(n.k1, n.k2)),
@@ -25,8 +33,9 @@ template <typename T>
 T ashikhminShirleyLobe(T cosI, T cosO, const FrameComponents<T>& h, T cosHk, T nu, T nv) {
   if (cosI <= 0 || cosO <= 0 || h.n <= 0 || cosHk <= 0) return 0;
   // (h.t)^2 + (h.b)^2 = 1 - (n.h)^2, written as the sum so that h = n stays finite.
-  const T across = h.t * h.t + h.b * h.b;
-  const T exponent = across > T(1e-12) ? (nu * h.t * h.t + nv * h.b * h.b) / across : (nu + nv) / 2;
+  const T across = unorderedSum(h.t * h.t, h.b * h.b);
+  const T exponent =
+      across > T(1e-12) ? unorderedSum(nu * h.t * h.t, nv * h.b * h.b) / across : (nu + nv) / 2;
   const T norm = std::sqrt((nu + 1) * (nv + 1)) / (8 * T(std::numbers::pi));
   return norm * std::pow(h.n, exponent) / (cosHk * std::max(cosI, cosO));
 }
@@ -54,7 +63,7 @@ T ashikhminShirleyDiffuse(T cosI, T cosO, T rs) {
 template <typename T>
 T anisotropicGgxDistribution(const FrameComponents<T>& h, T au, T av) {
   if (h.n <= 0) return 0;
-  const T x = h.t / au, y = h.b / av, d = x * x + y * y + h.n * h.n;
+  const T x = h.t / au, y = h.b / av, d = unorderedSum(x * x, y * y) + h.n * h.n;
   return 1 / (T(std::numbers::pi) * au * av * d * d);
 }
 
@@ -63,7 +72,7 @@ T anisotropicGgxDistribution(const FrameComponents<T>& h, T au, T av) {
 template <typename T>
 T anisotropicGgxLambda(const FrameComponents<T>& w, T au, T av) {
   const T x = au * w.t, y = av * w.b;
-  return (std::sqrt(1 + (x * x + y * y) / (w.n * w.n)) - 1) / 2;
+  return (std::sqrt(1 + unorderedSum(x * x, y * y) / (w.n * w.n)) - 1) / 2;
 }
 
 /// Anisotropic GGX's specular term without Fresnel, D G2 / (4 cos_i cos_o),

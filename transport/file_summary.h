@@ -13,7 +13,11 @@ namespace acpca {
 struct PixelDatasets {
   long long rows = 0;
   bool normals = false, positions = false, objects = false;
-  bool lamps = false;  ///< the lamp samples and surfaces (transport/lamp_geometry.h)
+  bool lamps = false;     ///< the lamp samples and surfaces (transport/lamp_geometry.h)
+  bool tangents = false;  ///< the lamp samples' tangents (transport 6, model 8)
+  /// The scene's materials by geometry (lamp_materials; albedo unused):
+  /// what `info` prints. Empty without lamp geometry.
+  std::vector<Material> materials;
   /// Those of a header whose arrays were read.
   static PixelDatasets of(const TransportHeader& header);
 };

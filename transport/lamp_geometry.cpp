@@ -12,6 +12,13 @@ namespace {
 /// The largest counts a file may claim: checked before anything is allocated.
 constexpr long long kMaxSamplesPerRow = 1024;
 constexpr long long kMaxSceneElements = 1LL << 31;
+/// lamp_materials' columns: type, ks, Phong's exponent, GGX's alpha u, from
+/// version 6 also alpha v (0: isotropic), nu, nv and the rotation in degrees.
+constexpr hsize_t kMaterialColumns = 8, kIsotropicMaterialColumns = 4;
+
+Vec3 vec3At(const std::vector<float>& values, long long i) {
+  return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
+}
 
 bool allFinite(const std::vector<float>& values) {
   for (float v : values)
@@ -31,6 +38,11 @@ long long countOf(hid_t f, const char* name, hsize_t columns, long long most,
 
 }  // namespace
 
+Vec3 LampGeometry::tangentAt(long long s) const {
+  if (!tangent.empty()) return vec3At(tangent, s);
+  return tangentAcross(vec3At(normal, s), Vec3(Vec3::UnitX()));
+}
+
 void LampGeometry::validate(long long rows, const std::string& ctx) const {
   if (empty()) return;
   const auto bad = [&](const std::string& what) {
@@ -45,17 +57,19 @@ void LampGeometry::validate(long long rows, const std::string& ctx) const {
       throw bad(concat("of row ", r, " are out of order"));
   const size_t n = static_cast<size_t>(samples());
   if (origin.size() != 3 * n || normal.size() != 3 * n || geometricNormal.size() != 3 * n ||
-      material.size() != n)
+      (!tangent.empty() && tangent.size() != 3 * n) || material.size() != n)
     throw bad("differ in count");
   if (!allFinite(origin) || !allFinite(normal) || !allFinite(geometricNormal) ||
-      !allFinite(weight) || !allFinite(vertices) || !allFinite(spheres))
+      !allFinite(tangent) || !allFinite(weight) || !allFinite(vertices) || !allFinite(spheres))
     throw bad("or surfaces hold a value that is not finite");
   for (int32_t m : material)
     if (m < 0 || m >= static_cast<int32_t>(materials.size())) throw bad("name no material");
   for (const Material& m : materials)
-    if (!(m.specular >= 0 && m.specular <= 1 && m.exponent >= 0 && m.roughness >= kMinRoughness &&
-          m.roughness <= 1))
-      throw bad("have a material out of range");
+    if (const std::string problem = materialProblem(m); !problem.empty())
+      throw bad(concat("have a ", kMaterialTypeNames.name(m.type), " material whose ", problem));
+  if (tangent.empty())
+    for (const Material& m : materials)
+      if (m.anisotropic()) throw bad("have an anisotropic material but no tangents");
   const long long vertexCount = static_cast<long long>(vertices.size() / 3);
   if (vertices.size() % 3 != 0 || triangles.size() % 3 != 0 || spheres.size() % 4 != 0)
     throw bad("have surfaces of the wrong shape");
@@ -71,17 +85,47 @@ void writeLampGeometry(hid_t f, const LampGeometry& g, const std::string& ctx) {
   h5::writeDataset(f, "lamp_sample_origin", {n, 3}, g.origin.data(), ctx);
   h5::writeDataset(f, "lamp_sample_normal", {n, 3}, g.normal.data(), ctx);
   h5::writeDataset(f, "lamp_sample_geometric_normal", {n, 3}, g.geometricNormal.data(), ctx);
+  if (!g.tangent.empty()) h5::writeDataset(f, "lamp_sample_tangent", {n, 3}, g.tangent.data(), ctx);
   h5::writeDataset(f, "lamp_sample_weight", {n}, g.weight.data(), ctx);
   h5::writeDataset(f, "lamp_sample_material", {n}, g.material.data(), ctx);
   std::vector<double> materials;
   for (const Material& m : g.materials)
-    materials.insert(materials.end(),
-                     {static_cast<double>(m.type), m.specular, m.exponent, m.roughness});
-  h5::writeDataset(f, "lamp_materials", {g.materials.size(), 4}, materials.data(), ctx);
+    materials.insert(materials.end(), {static_cast<double>(m.type), m.specular, m.exponent,
+                                       m.roughness, m.roughnessV, m.nu, m.nv, m.rotationDegrees});
+  h5::writeDataset(f, "lamp_materials", {g.materials.size(), kMaterialColumns}, materials.data(),
+                   ctx);
   h5::writeDataset(f, "scene_vertices", {g.vertices.size() / 3, 3}, g.vertices.data(), ctx);
   h5::writeDataset(f, "scene_triangles", {g.triangles.size() / 3, 3}, g.triangles.data(), ctx);
   h5::writeDataset(f, "scene_spheres", {g.spheres.size() / 4, 4}, g.spheres.data(), ctx);
   h5::writeAttribute(f, "lamp_ray_epsilon", static_cast<double>(g.rayEpsilon), ctx);
+}
+
+std::vector<Material> readLampMaterials(hid_t f, const std::string& ctx) {
+  // Files from before tangents have four columns, and isotropic materials.
+  const bool tangents = h5::hasDataset(f, "lamp_sample_tangent");
+  const hsize_t columns = tangents ? kMaterialColumns : kIsotropicMaterialColumns;
+  const long long count = countOf(f, "lamp_materials", columns, kMaxSceneElements, ctx);
+  std::vector<double> table(columns * static_cast<size_t>(count));
+  h5::readTyped(f, "lamp_materials", H5T_NATIVE_DOUBLE, table.data(), ctx);
+  std::vector<Material> materials;
+  for (long long m = 0; m < count; ++m) {
+    const double* row = &table[columns * m];
+    const double type = row[0];
+    if (type != 0 && type != 1 && type != 2 && !(tangents && type == 3))
+      throw UserError(concat(ctx, ": dataset 'lamp_materials' names material type ", type));
+    Material material;
+    material.type = static_cast<Material::Type>(static_cast<int>(type));
+    material.specular = row[1];
+    material.exponent = row[2];
+    material.roughness = row[3];
+    if (tangents) {
+      material.roughnessV = row[4];
+      material.nu = row[5], material.nv = row[6];
+      material.rotationDegrees = row[7];
+    }
+    materials.push_back(material);
+  }
+  return materials;
 }
 
 bool hasLampGeometry(hid_t f) {
@@ -100,7 +144,9 @@ LampGeometry readLampGeometry(hid_t f, long long rows, const std::string& ctx) {
       throw UserError(concat(ctx, ": dataset '", name, "' has the wrong shape"));
   if (countOf(f, "lamp_sample_material", 0, n, ctx) != n)
     throw UserError(concat(ctx, ": dataset 'lamp_sample_material' has the wrong shape"));
-  const long long materials = countOf(f, "lamp_materials", 4, kMaxSceneElements, ctx);
+  const bool tangents = h5::hasDataset(f, "lamp_sample_tangent");
+  if (tangents && countOf(f, "lamp_sample_tangent", 3, n, ctx) != n)
+    throw UserError(concat(ctx, ": dataset 'lamp_sample_tangent' has the wrong shape"));
   const long long vertices = countOf(f, "scene_vertices", 3, kMaxSceneElements, ctx);
   const long long triangles = countOf(f, "scene_triangles", 3, kMaxSceneElements, ctx);
   const long long spheres = countOf(f, "scene_spheres", 4, kMaxSceneElements, ctx);
@@ -112,21 +158,13 @@ LampGeometry readLampGeometry(hid_t f, long long rows, const std::string& ctx) {
   h5::readDataset(f, "lamp_sample_origin", g.origin.data(), ctx);
   h5::readDataset(f, "lamp_sample_normal", g.normal.data(), ctx);
   h5::readDataset(f, "lamp_sample_geometric_normal", g.geometricNormal.data(), ctx);
+  if (tangents) {
+    g.tangent.resize(3 * un);
+    h5::readDataset(f, "lamp_sample_tangent", g.tangent.data(), ctx);
+  }
   h5::readDataset(f, "lamp_sample_weight", g.weight.data(), ctx);
   h5::readDataset(f, "lamp_sample_material", g.material.data(), ctx);
-  std::vector<double> table(4 * static_cast<size_t>(materials));
-  h5::readTyped(f, "lamp_materials", H5T_NATIVE_DOUBLE, table.data(), ctx);
-  for (long long m = 0; m < materials; ++m) {
-    const double type = table[4 * m];
-    if (type != 0 && type != 1 && type != 2)
-      throw UserError(concat(ctx, ": dataset 'lamp_materials' names material type ", type));
-    Material material;
-    material.type = static_cast<Material::Type>(static_cast<int>(type));
-    material.specular = table[4 * m + 1];
-    material.exponent = table[4 * m + 2];
-    material.roughness = table[4 * m + 3];
-    g.materials.push_back(material);
-  }
+  g.materials = readLampMaterials(f, ctx);
   g.vertices.resize(3 * static_cast<size_t>(vertices));
   g.triangles.resize(3 * static_cast<size_t>(triangles));
   g.spheres.resize(4 * static_cast<size_t>(spheres));

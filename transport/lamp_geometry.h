@@ -4,7 +4,8 @@
 // rays start, how they face, their weight in the row and their material),
 // and the scene's surfaces that can shadow them. Transport files from
 // version 5 and model files from version 7 hold it; older files, captured
-// light sets and scenes of no geometry do not (`empty()`).
+// light sets and scenes of no geometry do not (`empty()`). Tangents and
+// anisotropic materials came with transport version 6 and model version 8.
 #include <hdf5.h>
 
 #include <cstdint>
@@ -23,6 +24,9 @@ struct LampGeometry {
   std::vector<float> origin;
   std::vector<float> normal;           ///< 3 per sample: unit shading normal, facing the camera
   std::vector<float> geometricNormal;  ///< 3 per sample: unit, facing the camera
+  /// 3 per sample: unit, across the shading normal, the material's rotation
+  /// applied; empty in files from before tangents (all isotropic there).
+  std::vector<float> tangent;
   /// Per sample: its share of the row (docs/scenes.md, "Anti-aliasing"; a
   /// row's shares sum to 1).
   std::vector<float> weight;
@@ -37,6 +41,8 @@ struct LampGeometry {
   float rayEpsilon = 0;
 
   bool empty() const { return sampleStart.empty(); }
+  /// Sample s's tangent (any across its normal where the file has none).
+  Vec3 tangentAt(long long s) const;
   long long samples() const { return static_cast<long long>(weight.size()); }
   /// Throws UserError naming `context` when sizes, indices or values disagree.
   void validate(long long rows, const std::string& context) const;
@@ -44,6 +50,9 @@ struct LampGeometry {
 
 /// Writes the lamp datasets (nothing for empty geometry).
 void writeLampGeometry(hid_t file, const LampGeometry& lamps, const std::string& context);
+/// The scene's materials as the file records them (lamp_materials), read
+/// without the rest (the file must hold lamp geometry).
+std::vector<Material> readLampMaterials(hid_t file, const std::string& context);
 /// Whether the file holds them.
 bool hasLampGeometry(hid_t file);
 /// Reads them, every shape checked against `rows` before allocating, then

@@ -212,7 +212,8 @@ long long fileBytesOf(const std::string& path) {
 }  // namespace
 
 PixelDatasets PixelDatasets::of(const TransportHeader& h) {
-  return {h.rows(), h.hasNormals(), h.hasPositions(), h.hasObjects(), !h.lamps.empty()};
+  return {h.rows(),         h.hasNormals(),           h.hasPositions(), h.hasObjects(),
+          !h.lamps.empty(), !h.lamps.tangent.empty(), h.lamps.materials};
 }
 
 TransportSummary readTransportSummary(const std::string& path) {

@@ -26,8 +26,9 @@ inline constexpr const char* kTransportFormat = "adaptive-cpca transport";
 /// Version 2 added the per-pixel `position`, version 3 the per-pixel `object`
 /// and the scene's object names, version 4 the light set of captured
 /// transports, version 5 the lamp samples and surfaces (transport/
-/// lamp_geometry.h; docs/formats.md); earlier files are read without them.
-inline constexpr int kTransportVersion = 5;
+/// lamp_geometry.h; docs/formats.md), version 6 their tangents and
+/// anisotropic materials; earlier files are read without them.
+inline constexpr int kTransportVersion = 6;
 inline constexpr int kOldestTransportVersion = 1;
 
 /// Everything about a transport except its rows.

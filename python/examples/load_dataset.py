@@ -89,7 +89,7 @@ def shard_samples(directory):
 
 def view_labels(frame, directory):
     """The per-pixel labels of the frame's view by AOV name (albedo, normal,
-    depth, position, mask, object): from the .npy files where the batch wrote
+    tangent, depth, position, mask, object): from the .npy files where the batch wrote
     them, else from labels.exr's channels. Empty for a batch without --aov."""
     paths = [resolved(p, directory) for p in frame.get("labels", [])]
     npys = [p for p in paths if p.endswith(".npy")]
@@ -100,7 +100,7 @@ def view_labels(frame, directory):
     # labels.exr: channels grouped by layer, each AOV's in the order written.
     image = ac.read_image(paths[0])
     channels = {"albedo": ["albedo.R", "albedo.G", "albedo.B"], "normal": ["N.X", "N.Y", "N.Z"],
-                "depth": ["Z"], "position": ["P.X", "P.Y", "P.Z"], "mask": ["A"],
+                "tangent": ["T.X", "T.Y", "T.Z"], "depth": ["Z"], "position": ["P.X", "P.Y", "P.Z"], "mask": ["A"],
                 "object": ["object"]}
     names = ac.image_channel_names(paths[0])
     labels = {}

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import adaptive_cpca as ac
+from adaptive_cpca._contract import MODEL_VERSION
 from relight_support import CLI, TRANSPORT, WORLD, cli, cli_error, write_pfm
 
 MESH = os.path.join(os.path.dirname(__file__), "..", "..", "data", "meshes", "icosahedron.obj")
@@ -130,14 +131,26 @@ def test_models_of_the_previous_format_are_read_and_older_ones_refused(tmp_path,
     # Compared on the lattice: a file without surfaces lights the sky's sun there.
     current = ac.Relighter(model).relight(ac.Environment("sky"), sun="off")
     with h5py.File(model, "r") as f:
-        assert f.attrs["version"] == 7
+        assert f.attrs["version"] == MODEL_VERSION
         assert f["lamp_sample_start"].shape == (f["albedo"].shape[0] + 1,)
+        assert f["lamp_sample_tangent"].shape == f["lamp_sample_normal"].shape
         assert f["position"].shape == f["albedo"].shape == f["normal"].shape
         assert f["object"].shape == f["coverage"].shape
         assert "compress_seconds" not in f.attrs and "peak_memory_bytes" not in f.attrs
-    # Version 6 had no lamp samples or surfaces: read and relit as before.
+    # Version 7 had no tangents and four material columns: read as isotropic,
+    # its lamps lit exactly as before, and the tangent label refused.
     old = tmp_path / "v4.h5"
     old.write_bytes(open(model, "rb").read())
+    with h5py.File(old, "r+") as f:
+        f.attrs["version"] = 7
+        materials = f["lamp_materials"][:, :4]
+        del f["lamp_sample_tangent"], f["lamp_materials"]
+        f["lamp_materials"] = materials
+    assert np.array_equal(ac.Relighter(str(old)).relight(ac.Environment("sky")),
+                          ac.Relighter(model).relight(ac.Environment("sky")))
+    with pytest.raises(ac.Error, match="'tangent' label.*compress"):
+        ac.Relighter(str(old)).labels("tangent")
+    # Version 6 had no lamp samples or surfaces: read and relit as before.
     with h5py.File(old, "r+") as f:
         f.attrs["version"] = 6
         for name in [n for n in f if n.startswith(("lamp_", "scene_"))]:

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import adaptive_cpca as ac
+from adaptive_cpca._contract import TRANSPORT_VERSION
 
 CLI = os.environ["ACPCA_CLI"]
 
@@ -39,7 +40,7 @@ def test_an_imported_array_relights_as_the_sum_of_its_images_over_the_cells(tmp_
     assert report["lights"] == n and report["channels"] == 3
     assert report["occupied_pixels"] == h * w and calls[-1] == h
     with h5py.File(out) as f:
-        assert f.attrs["cubemap"] == 0 and f.attrs["version"] == 5
+        assert f.attrs["cubemap"] == 0 and f.attrs["version"] == TRANSPORT_VERSION
         cells = f["light_solid_angle"][:]
         assert abs(cells.sum() + report["uncovered_sr"] - 4 * np.pi) < 1e-6
     # Under constant radiance 1 each light's lighting is its cell's solid angle.

@@ -180,14 +180,14 @@ def test_labels_are_the_clis_files_and_the_files_own_pixels(tmp_path, model):
         "black", "--exr-float", "--aov", "all", "--label-format", "both", "--out", str(out))
     r = ac.Relighter(model)
     labels = r.labels()
-    assert list(labels) == ["albedo", "normal", "depth", "position", "mask", "object"]
+    assert list(labels) == ["albedo", "normal", "tangent", "depth", "position", "mask", "object"]
     for name, array in labels.items():
         on_disk = np.load(out / f"labels_{name}.npy")
         assert on_disk.dtype == array.dtype and np.array_equal(on_disk, array), name
     assert labels["object"].dtype == np.int32
     # The same numbers in the EXR, channel by channel (float: exact).
     exr = ac.read_image(str(out / "labels.exr"))
-    assert exr.shape == (40, 40, 12)
+    assert exr.shape == (40, 40, 15)
     # Against the model file itself, read by h5py.
     with h5py.File(model, "r") as f:
         pixels = f["pixels"][:]
@@ -198,6 +198,8 @@ def test_labels_are_the_clis_files_and_the_files_own_pixels(tmp_path, model):
         assert np.array_equal(labels["mask"][ys, xs], coverage)
         assert np.array_equal(labels["albedo"][ys, xs], albedo * coverage[:, None])
         assert np.array_equal(labels["normal"][ys, xs], f["normal"][:])
+        first = f["lamp_sample_start"][:-1]  # each row's first traced camera sample
+        assert np.array_equal(labels["tangent"][ys, xs], f["lamp_sample_tangent"][:][first])
         assert np.array_equal(labels["object"][ys, xs], f["object"][:])
     assert r.object_names == names and "ground" in names
     background = np.ones((40, 40), bool)

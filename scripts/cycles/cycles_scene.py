@@ -41,7 +41,50 @@ def texture_node(nodes, path):
     node.extension = "REPEAT"
     return node
 
-def our_bsdf(material, spec, color_socket_source):
+def ggx_alphas(spec):
+    """Our GGX alphas along the tangent and bitangent (precompute/scene_json.cpp):
+    roughness_u/v, or roughness made anisotropic as Cycles' Principled BSDF."""
+    if "roughness_u" in spec:
+        return spec["roughness_u"], spec["roughness_v"]
+    a, t = spec["roughness"], spec.get("anisotropy", 0.0)
+    if t == 0:
+        return a, a
+    aspect = math.sqrt(1 - 0.9 * t)
+    return max(1e-3, a / aspect), max(1e-3, a * aspect)
+
+def anisotropic_glossy(tree, alpha_u, alpha_v, rotation_deg, tangent_kind):
+    """Cycles 3.4's Anisotropic BSDF with our two alphas: its roughness r and
+    anisotropy A give alpha_x = r^2 (1 - A), alpha_y = r^2 / (1 - A) for A >= 0
+    and r^2 / (1 + A), r^2 (1 + A) below (kernel/svm/closure.h), x along the
+    tangent; the rotation in turns. The tangent is ours (docs/scenes.md,
+    "Tangents"): about Z (our +Y) for spheres, from the UV map for meshes,
+    world +X for planes; Cycles takes its part across the normal, as we do."""
+    node = tree.nodes.new("ShaderNodeBsdfAnisotropic")
+    r2 = math.sqrt(alpha_u * alpha_v)
+    anisotropy = (1 - math.sqrt(alpha_u / alpha_v) if alpha_v >= alpha_u
+                  else math.sqrt(alpha_v / alpha_u) - 1)
+    node.inputs["Roughness"].default_value = math.sqrt(r2)
+    node.inputs["Anisotropy"].default_value = anisotropy
+    node.inputs["Rotation"].default_value = (rotation_deg / 360.0) % 1.0
+    if tangent_kind == "sphere":
+        tangent = tree.nodes.new("ShaderNodeTangent")
+        tangent.direction_type = "RADIAL"
+        tangent.axis = "Z"
+        socket = tangent.outputs["Tangent"]
+    elif tangent_kind == "uv":
+        tangent = tree.nodes.new("ShaderNodeTangent")
+        tangent.direction_type = "UV_MAP"
+        socket = tangent.outputs["Tangent"]
+    else:  # a plane: world +X, +Z (Blender's -Y) where its normal is along X
+        along = tree.nodes.new("ShaderNodeCombineXYZ")
+        x_normal = tangent_kind == "plane-x"
+        along.inputs["X"].default_value = 0.0 if x_normal else 1.0
+        along.inputs["Y"].default_value = -1.0 if x_normal else 0.0
+        socket = along.outputs["Vector"]
+    tree.links.new(socket, node.inputs["Tangent"])
+    return node
+
+def our_bsdf(material, spec, color_socket_source, tangent_kind="plane"):
     """Replaces a material's nodes with ours: (1 - ks) Diffuse + ks Glossy GGX,
     both of colour `albedo` (x the texture), fed from `color_socket_source`
     (a function that links a colour into a socket) when given."""
@@ -61,11 +104,19 @@ def our_bsdf(material, spec, color_socket_source):
     if kind == "phong":
         raise SystemExit("Cycles has no Phong lobe: leave Phong scenes out of this comparison")
     color_inputs = [diffuse.inputs["Color"]]
+    if kind == "ashikhmin-shirley":
+        raise SystemExit("Cycles' Ashikhmin-Shirley is a microfacet distribution, not the paper's "
+                         "BRDF: leave ashikhmin-shirley scenes out of this comparison")
     if kind == "ggx" and spec.get("specular", 0) > 0:
-        glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+        alpha_u, alpha_v = ggx_alphas(spec)
+        if alpha_u == alpha_v:
+            glossy = tree.nodes.new("ShaderNodeBsdfGlossy")
+            # Cycles squares its roughness slider to get alpha.
+            glossy.inputs["Roughness"].default_value = math.sqrt(alpha_u)
+        else:
+            glossy = anisotropic_glossy(tree, alpha_u, alpha_v, spec.get("rotation", 0.0),
+                                        tangent_kind)
         glossy.distribution = "GGX"
-        # Cycles squares its roughness slider to get alpha.
-        glossy.inputs["Roughness"].default_value = math.sqrt(spec["roughness"])
         color_inputs.append(glossy.inputs["Color"])
         mix = tree.nodes.new("ShaderNodeMixShader")
         mix.inputs["Fac"].default_value = spec["specular"]
@@ -90,11 +141,11 @@ def constant_color(albedo, texture=None):
         tree.links.new(multiply.outputs["Color"], socket)
     return link
 
-def material_from(spec, base_dir, name):
+def material_from(spec, base_dir, name, tangent_kind="plane"):
     m = bpy.data.materials.new(name)
     texture = os.path.join(base_dir, spec["texture"]) if "texture" in spec else None
     albedo = spec.get("albedo", [1, 1, 1] if texture else [0.5, 0.5, 0.5])
-    our_bsdf(m, spec, constant_color(albedo, texture))
+    our_bsdf(m, spec, constant_color(albedo, texture), tangent_kind)
     return m
 
 def file_color_source(material):
@@ -132,7 +183,9 @@ def add_plane(o, index, base_dir):
     corners = [c - a - b, c + a - b, c + a + b, c - a + b]
     uvs = [(1, 1), (0, 1), (0, 0), (1, 0)]
     obj = add_mesh_object(f"plane{index}", corners, [(0, 1, 2, 3)], uvs)
-    obj.data.materials.append(material_from(o["material"], base_dir, f"plane{index}"))
+    along_x = abs(o["normal"][1]) < 1e-12 * abs(o["normal"][0]) and abs(o["normal"][2]) < 1e-12 * abs(o["normal"][0])
+    obj.data.materials.append(material_from(o["material"], base_dir, f"plane{index}",
+                                            "plane-x" if along_x else "plane"))
 
 def add_sphere(o, index, base_dir):
     # No analytic sphere in Blender: a fine UV sphere, smooth shaded.
@@ -141,7 +194,7 @@ def add_sphere(o, index, base_dir):
     obj = bpy.context.active_object
     for poly in obj.data.polygons:
         poly.use_smooth = True
-    obj.data.materials.append(material_from(o["material"], base_dir, f"sphere{index}"))
+    obj.data.materials.append(material_from(o["material"], base_dir, f"sphere{index}", "sphere"))
 
 def our_transform(t):
     m = mathutils.Matrix.Identity(4)
@@ -211,9 +264,9 @@ def add_model(o, index, base_dir):
             m.use_nodes = True
             if spec and ("albedo" in spec or "texture" in spec):
                 texture = os.path.join(base_dir, spec["texture"]) if "texture" in spec else None
-                our_bsdf(m, spec, constant_color(spec.get("albedo", [1, 1, 1]), texture))
+                our_bsdf(m, spec, constant_color(spec.get("albedo", [1, 1, 1]), texture), "uv")
             else:
-                our_bsdf(m, spec or {"type": "diffuse"}, file_color_source(m))
+                our_bsdf(m, spec or {"type": "diffuse"}, file_color_source(m), "uv")
 
 def add_camera(eye, target, up, fov, width, height):
     cam = bpy.data.cameras.new("camera")

@@ -254,7 +254,7 @@ TEST(Mpi, ASampledDatasetIsTheSameBytesForAnyRankCountAndItsSeedAlone) {
   };
   const auto alone = dataset("alone", "11", 1);
   // Frames, shading .exr/.npy; labels (and the mask PNG); manifests, dataset, transforms.json.
-  EXPECT_EQ(alone.size(), 7 * 3 + 8 + 4u);
+  EXPECT_EQ(alone.size(), 7 * 3 + 9 + 4u);
   EXPECT_EQ(alone.count("transforms.json"), 1u);
   EXPECT_EQ(dataset("again", "11", 1), alone);
   for (int ranks : {2, 3}) EXPECT_EQ(dataset("ranks" + std::to_string(ranks), "11", ranks), alone);

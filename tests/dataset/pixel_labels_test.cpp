@@ -16,10 +16,11 @@ namespace {
 
 TEST(AovList, NamesAndPresetsGiveEachAovOnceInTheirOrder) {
   EXPECT_EQ(parseAovList("shading,albedo,albedo"), (std::vector<Aov>{Aov::Albedo, Aov::Shading}));
-  EXPECT_EQ(parseAovList("all").size(), 7u);
+  EXPECT_EQ(parseAovList("all").size(), 8u);
   EXPECT_EQ(parseAovList("intrinsic"), (std::vector<Aov>{Aov::Albedo, Aov::Mask, Aov::Shading}));
   EXPECT_EQ(parseAovList("geometry,mask"),
-            (std::vector<Aov>{Aov::Normal, Aov::Depth, Aov::Position, Aov::Mask, Aov::Object}));
+            (std::vector<Aov>{Aov::Normal, Aov::Tangent, Aov::Depth, Aov::Position, Aov::Mask,
+                              Aov::Object}));
   EXPECT_TRUE(parseAovList("").empty());
   for (const char* bad : {"albedo,,mask", "albedo,", "Albedo", "diffuse", "normals"}) {
     try {

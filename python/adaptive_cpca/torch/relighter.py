@@ -251,12 +251,12 @@ class TorchRelighter:
         return self._rays
 
     # -- labels -------------------------------------------------------------
-    LABELS = ("albedo", "normal", "depth", "position", "mask", "object")
+    LABELS = ("albedo", "normal", "tangent", "depth", "position", "mask", "object")
 
     def labels(self, aovs="all"):
         """The view's per-pixel labels by name, numpy arrays H x W (x C) as
         `Relighter.labels()` gives them (docs/datasets.md, "The labels"):
-        albedo premultiplied by coverage, normal, planar depth, position,
+        albedo premultiplied by coverage, normal, tangent, planar depth, position,
         mask (coverage), object (int32, -1 for background); aovs 'all', or a
         comma-separated list of those names."""
         names = self.LABELS if aovs == "all" else tuple(aovs.split(","))
@@ -268,10 +268,11 @@ class TorchRelighter:
                 raise ValueError(f"{self.path}: cannot give the '{name}' label: a captured "
                                  "light set holds images, not the geometry or albedo under them")
         need = {"albedo": "albedo", "normal": "normal", "depth": "position",
-                "position": "position", "object": "object", "mask": "coverage"}
+                "position": "position", "object": "object", "mask": "coverage",
+                "tangent": "lamp_sample_tangent"}  # each row's first traced sample's
         with h5py.File(self.path, "r") as f:
-            rows = {key: f[key][:] for key in {need[n] for n in names} | {"coverage", "pixels"}
-                    if key in f}
+            keys = {need[n] for n in names} | {"coverage", "pixels", "lamp_sample_start"}
+            rows = {key: f[key][:] for key in keys if key in f}
         out = {}
         for name in names:
             if need[name] not in rows:
@@ -294,6 +295,8 @@ class TorchRelighter:
             return ((rows["position"].astype(np.float64) - eye) @ forward).astype(np.float32)
         if name == "object":
             return rows["object"].astype(np.int32)
+        if name == "tangent":
+            return rows["lamp_sample_tangent"][rows["lamp_sample_start"][:-1]]
         return rows[{"normal": "normal", "position": "position", "mask": "coverage"}[name]]
 
     # -- relighting ---------------------------------------------------------
