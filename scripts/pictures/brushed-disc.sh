@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # docs/images/brushed-disc.png (docs/scenes.md, "Tangents"): the brushed
 # disc of the Cycles check (data/scenes/cycles/brushed.json: anisotropic GGX,
-# anisotropy 0.8, tangent +X; beside it a sphere of the same lobe turned 30
-# degrees) under Blender's courtyard HDRI at yaw 0, 60 and 120 degrees, from
-# one transport. Below, the same disc made isotropic (roughness 0.25, no
-# anisotropy): its highlight is round where the brushed one is stretched
-# across the tangent and turns with the map.
+# roughness 0.12, anisotropy 0.8, tangent +X) seen from straight above,
+# under a map holding a 1-degree sun 30 degrees from the zenith, at yaw 0,
+# 45 and 90 degrees, from one transport. Below, the same disc made isotropic
+# (roughness 0.12, no anisotropy): its highlight is a spot where the brushed
+# one is drawn out along the tangent, whichever side the sun comes from.
 #
 #   bash scripts/pictures/brushed-disc.sh [OUT_PNG (default docs/images/brushed-disc.png)]
 set -euo pipefail
@@ -15,17 +15,24 @@ cli=$PWD/build/tools/adaptive-cpca
 [ -x "$cli" ] || bash scripts/build.sh >/dev/null
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-map=/usr/share/blender/datafiles/studiolights/world/courtyard.exr
-[ -f "$map" ] || { echo "brushed-disc.sh: needs Debian's blender-data ($map)" >&2; exit 1; }
-sed -e 's/, *"anisotropy": 0.8//g' -e 's/, "rotation": 30//' \
-  -e 's|\.\./\.\./meshes|'"$PWD"'/data/meshes|' data/scenes/cycles/brushed.json >"$work/round.json"
+python3 - data/scenes/cycles/brushed.json "$work" <<'PY'
+import json, os, sys
+scene = json.load(open(sys.argv[1]))
+scene["objects"][0]["mesh"] = os.path.abspath("data/meshes/disc.obj")
+scene["camera"] = {"eye": [0, 1.25, 0.01], "target": [0, 0, 0], "up": [0, 0, -1], "fov": 80}
+json.dump(scene, open(f"{sys.argv[2]}/brushed.json", "w"))
+for o in scene["objects"]:
+    o["material"].pop("anisotropy", None)
+    o["material"].pop("rotation", None)
+json.dump(scene, open(f"{sys.argv[2]}/round.json", "w"))
+PY
 tiles=()
-for scene in data/scenes/cycles/brushed.json "$work/round.json"; do
-  name=$(basename "$scene" .json)
-  "$cli" precompute --scene "$scene" --size 288x192 --spp 4 --aa full --quiet --out "$work/$name.h5"
-  for yaw in 0 60 120; do
-    "$cli" relight "$work/$name.h5" --env "$map" --rotate "$yaw" --background black --quiet \
-      --out "$work/$name-$yaw.png"
+for name in brushed round; do
+  "$cli" precompute --scene "$work/$name.json" --size 288x192 --spp 4 --aa full --quiet \
+    --out "$work/$name.h5"
+  for yaw in 0 45 90; do
+    "$cli" relight "$work/$name.h5" --env sun:30,0,1,3000 --rotate "$yaw" --exposure -4 \
+      --background black --quiet --out "$work/$name-$yaw.png"
     tiles+=("$work/$name-$yaw.png")
   done
 done
