@@ -240,7 +240,7 @@ MaterialSpec readMaterial(const Reader& r, const fs::path& baseDir) {
     m.nu = positiveExponent(r, "nu");
     m.nv = positiveExponent(r, "nv");
   }
-  if (r.has("rotation")) m.rotationDegrees = r.number("rotation");
+  if (r.has("rotation")) m.rotationDegrees = r.numberIn("rotation", -3600, 3600);
   // A texture scales the albedo, which then defaults to white.
   if (r.has("texture")) {
     try {

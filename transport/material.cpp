@@ -6,6 +6,10 @@ namespace acpca {
 
 namespace {
 
+/// Ten turns either way: enough for any scene, and far from where a turn
+/// count stops being exact.
+constexpr double kMaxRotationDegrees = 3600;
+
 /// "field: value is outside [lo, hi]" unless lo <= value <= hi.
 std::string outside(const char* field, double value, double lo, double hi) {
   if (value >= lo && value <= hi) return {};
@@ -31,7 +35,9 @@ std::string materialProblem(const Material& m) {
     if (!(m.nu > 0 && m.nu <= 1e6)) return concat("nu ", m.nu, " is outside (0, 1e6]");
     if (!(m.nv > 0 && m.nv <= 1e6)) return concat("nv ", m.nv, " is outside (0, 1e6]");
   }
-  if (!std::isfinite(m.rotationDegrees)) return "rotation is not finite";
+  if (auto p = outside("rotation", m.rotationDegrees, -kMaxRotationDegrees, kMaxRotationDegrees);
+      !p.empty())
+    return p;
   return {};
 }
 

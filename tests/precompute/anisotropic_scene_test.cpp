@@ -80,6 +80,8 @@ TEST(AnisotropicScenes, BadValuesAreRefusedNamingTheObjectTheFieldAndTheRange) {
       R"({"type": "ggx", "albedo": [1, 1, 1], "specular": 1, "roughness": 0.3, )";
   expectRefused(dir, ggx + R"("anisotropy": 1})", "anisotropy", "outside [0, 1)");
   expectRefused(dir, ggx + R"("anisotropy": -0.2})", "anisotropy", "outside [0, 1)");
+  expectRefused(dir, ggx + R"("anisotropy": 0.5, "rotation": 4000})", "rotation",
+                "outside [-3600, 3600]");
   expectRefused(dir, R"({"type": "diffuse", "albedo": [1, 1, 1], "nu": 40})", "nu",
                 "only ashikhmin-shirley");
   expectRefused(dir, R"({"type": "phong", "albedo": [1, 1, 1], "specular": 0.1, "exponent": 5,
