@@ -200,13 +200,14 @@ TransportHeader readImageHeaderAttributes(hid_t f, bool requireNormals, const st
     h.objectNames = splitNames(h5::readStringAttribute(f, "object_names", ctx));
   }
   // As TransportHeader's has*(): a file without rows gives every array.
+  const bool lamps = hasLampGeometry(f);
   datasets = {n,
               n == 0 || withNormals,
               n == 0 || withPositions,
               n == 0 || withObjects,
-              hasLampGeometry(f),
+              lamps,
               h5::hasDataset(f, "lamp_sample_tangent"),
-              hasLampGeometry(f) ? readLampMaterials(f, ctx) : std::vector<Material>{}};
+              lamps ? readLampMaterials(f, ctx) : std::vector<Material>{}};
   return h;
 }
 
